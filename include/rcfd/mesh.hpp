@@ -1,0 +1,57 @@
+// Finite-volume mesh: cells and faces, stored face-addressed so that an
+// unstructured mesh can be used later.  Every rank holds the whole mesh
+// (a few MB for the paper's 56,000 cells); only the state is distributed.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace rcfd {
+
+using Vec3 = std::array<double, 3>;
+
+/// Axis-aligned box divided into nx * ny * nz equal cells.
+/// Cell (i, j, k) has the natural index i + nx * (j + ny * k): x runs fastest.
+struct BoxSpec {
+  int nx = 40, ny = 10, nz = 140;
+  Vec3 origin{0.0, 0.0, 0.0};
+  Vec3 length{0.2, 0.05, 0.7};
+
+  int numCells() const { return nx * ny * nz; }
+  int cellIndex(int i, int j, int k) const { return i + nx * (j + ny * k); }
+  Vec3 spacing() const { return {length[0] / nx, length[1] / ny, length[2] / nz}; }
+  /// Index of the cell holding point p, or -1 when p is outside the box.
+  int locate(const Vec3 &p) const;
+};
+
+class Mesh {
+public:
+  /// Box mesh with internal faces and the six boundary patches
+  /// (0: x-, 1: x+, 2: y-, 3: y+, 4: z-, 5: z+).
+  static Mesh box(const BoxSpec &spec);
+
+  int numCells() const { return static_cast<int>(cellVolume.size()); }
+  int numFaces() const { return static_cast<int>(faceOwner.size()); }
+  int numBoundaryFaces() const { return static_cast<int>(boundaryOwner.size()); }
+  bool isBox() const { return hasBox; }
+  const BoxSpec &boxSpec() const { return spec; }
+  double totalVolume() const;
+
+  // Cells.
+  std::vector<Vec3> cellCentre;
+  std::vector<double> cellVolume;
+  // Internal faces: the area vector points from owner to neighbour.
+  std::vector<int> faceOwner, faceNeighbour;
+  std::vector<Vec3> faceArea;
+  // Boundary faces: the area vector points out of the domain.
+  std::vector<int> boundaryOwner, boundaryPatch;
+  std::vector<Vec3> boundaryArea;
+
+private:
+  bool hasBox = false;
+  BoxSpec spec;
+};
+
+} // namespace rcfd

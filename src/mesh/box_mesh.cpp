@@ -1,0 +1,73 @@
+#include "rcfd/mesh.hpp"
+
+#include <cmath>
+#include <numeric>
+
+namespace rcfd {
+
+int BoxSpec::locate(const Vec3 &p) const {
+  const Vec3 h = spacing();
+  int idx[3];
+  const int n[3] = {nx, ny, nz};
+  for (int a = 0; a < 3; ++a) {
+    const double s = (p[a] - origin[a]) / h[a];
+    if (!(s >= 0.0) || s > n[a]) return -1; // also rejects NaN
+    idx[a] = std::min(static_cast<int>(std::floor(s)), n[a] - 1);
+  }
+  return cellIndex(idx[0], idx[1], idx[2]);
+}
+
+Mesh Mesh::box(const BoxSpec &spec) {
+  Mesh m;
+  m.hasBox = true;
+  m.spec = spec;
+  const Vec3 h = spec.spacing();
+  const int N = spec.numCells();
+  m.cellCentre.resize(N);
+  m.cellVolume.assign(N, h[0] * h[1] * h[2]);
+  for (int k = 0; k < spec.nz; ++k)
+    for (int j = 0; j < spec.ny; ++j)
+      for (int i = 0; i < spec.nx; ++i)
+        m.cellCentre[spec.cellIndex(i, j, k)] = {spec.origin[0] + (i + 0.5) * h[0],
+                                                 spec.origin[1] + (j + 0.5) * h[1],
+                                                 spec.origin[2] + (k + 0.5) * h[2]};
+  const double area[3] = {h[1] * h[2], h[0] * h[2], h[0] * h[1]};
+  const int n[3] = {spec.nx, spec.ny, spec.nz};
+  // Internal faces in the order of their owner cell, then by direction, so
+  // that the face list is deterministic and local in memory.
+  for (int k = 0; k < spec.nz; ++k)
+    for (int j = 0; j < spec.ny; ++j)
+      for (int i = 0; i < spec.nx; ++i) {
+        const int ijk[3] = {i, j, k};
+        for (int a = 0; a < 3; ++a) {
+          if (ijk[a] + 1 >= n[a]) continue;
+          int nb[3] = {i, j, k};
+          ++nb[a];
+          Vec3 s{0.0, 0.0, 0.0};
+          s[a] = area[a];
+          m.faceOwner.push_back(spec.cellIndex(i, j, k));
+          m.faceNeighbour.push_back(spec.cellIndex(nb[0], nb[1], nb[2]));
+          m.faceArea.push_back(s);
+        }
+      }
+  for (int a = 0; a < 3; ++a)
+    for (int side = 0; side < 2; ++side)
+      for (int k = 0; k < spec.nz; ++k)
+        for (int j = 0; j < spec.ny; ++j)
+          for (int i = 0; i < spec.nx; ++i) {
+            const int ijk[3] = {i, j, k};
+            if (ijk[a] != (side == 0 ? 0 : n[a] - 1)) continue;
+            Vec3 s{0.0, 0.0, 0.0};
+            s[a] = side == 0 ? -area[a] : area[a];
+            m.boundaryOwner.push_back(spec.cellIndex(i, j, k));
+            m.boundaryPatch.push_back(2 * a + side);
+            m.boundaryArea.push_back(s);
+          }
+  return m;
+}
+
+double Mesh::totalVolume() const {
+  return std::accumulate(cellVolume.begin(), cellVolume.end(), 0.0);
+}
+
+} // namespace rcfd
