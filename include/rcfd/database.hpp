@@ -1,0 +1,102 @@
+// The recurrence database: a mesh, metadata and K frames, each the bulk solid
+// volume fraction alpha_s per cell and the shift matrix T_k.  See
+// docs/database-format.md for the file layout.
+#pragma once
+
+#include "rcfd/frames.hpp"
+#include "rcfd/handle.hpp"
+#include "rcfd/layout.hpp"
+#include "rcfd/mesh.hpp"
+
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace rcfd {
+
+inline constexpr long long kDatabaseFormatVersion = 1;
+
+struct DatabaseMetadata {
+  double dtRec = 5e-3;          // time between frames [s]
+  double solidDensity = 1440.0; // particle material density [kg/m^3]
+  Vec3 gravity{0.0, 0.0, -9.81}; // [m/s^2]
+  std::string source;           // how the database was made, for humans
+  std::string units = "SI";
+};
+
+/// Writes a database file from one process, frame by frame.  The file is
+/// written under a temporary name and renamed by finish(), so a file with the
+/// final name is always complete.  Throws std::runtime_error on bad input.
+class DatabaseWriter {
+public:
+  DatabaseWriter(const std::string &path, const Mesh &mesh, const DatabaseMetadata &meta);
+  ~DatabaseWriter();
+  DatabaseWriter(const DatabaseWriter &) = delete;
+  DatabaseWriter &operator=(const DatabaseWriter &) = delete;
+
+  void append(const FrameRecord &frame);
+  /// Store an extra 2-D dataset (e.g. the recurrence matrix) before finish().
+  void writeMatrix(const std::string &name, const std::vector<double> &rowMajor, int cols,
+                   const std::string &note);
+  void finish();
+  int numFrames() const { return frames; }
+
+private:
+  struct Impl;
+  std::unique_ptr<Impl> impl;
+  int frames = 0;
+};
+
+struct DatabaseLoadOptions {
+  double columnTolerance = 1e-9; // |column sum - 1| allowed before refusing a shift
+  int firstFrame = 0, lastFrame = -1; // frame window to load (-1: to the end)
+  bool loadShifts = true;
+};
+
+/// A database held in memory, distributed over the ranks of its layout.
+class Database {
+public:
+  /// Collective.  Reads the mesh on every rank, partitions it, and reads each
+  /// rank's rows of every frame.  Refuses, with a sentence naming the file and
+  /// the fault, files that are not rcfd databases, have another format
+  /// version, miss a group, have sizes that do not match the mesh, negative
+  /// or non-finite entries, or shift columns that do not sum to 1.  Columns
+  /// within tolerance are rescaled so that they sum to 1 to round-off.
+  static PetscErrorCode load(MPI_Comm comm, const std::string &path,
+                             const DatabaseLoadOptions &options, std::unique_ptr<Database> *db);
+  /// Read the options -db_column_tolerance, -db_frames first:last.
+  static PetscErrorCode optionsFromCommandLine(DatabaseLoadOptions *options);
+
+  const std::string &path() const { return path_; }
+  const Mesh &mesh() const { return mesh_; }
+  const Layout &layout() const { return layout_; }
+  const DatabaseMetadata &metadata() const { return meta; }
+  int numFrames() const { return static_cast<int>(alpha.size()); }
+  /// Bulk solid volume fraction of frame k (PETSc ordering, not to be modified).
+  Vec alphaS(int k) const { return alpha[k]; }
+  /// Shift matrix of frame k: moves solid mass from t_k to t_k + dt_rec.
+  Mat shift(int k) const { return shifts[k]; }
+  bool hasShifts() const { return !shifts.empty(); }
+  /// Local cell volumes in PETSc order.
+  const std::vector<double> &localVolumes() const { return volumes; }
+  /// Relative mass mismatch ||T_k V a_k - V a_{k+1}||_1 / ||V a_k||_1 of each
+  /// consecutive pair (collective).
+  PetscErrorCode consistency(std::vector<double> *residual) const;
+  /// Stored 2-D dataset written by DatabaseWriter::writeMatrix, read on every
+  /// rank; empty when absent.
+  PetscErrorCode readMatrix(const std::string &name, std::vector<double> *rowMajor,
+                            int *cols) const;
+  PetscErrorCode view(PetscViewer viewer) const;
+
+private:
+  std::string path_;
+  Mesh mesh_;
+  Layout layout_;
+  DatabaseMetadata meta;
+  std::vector<OwnedVec> alpha;
+  std::vector<OwnedMat> shifts;
+  std::vector<double> volumes;
+  double maxColumnError = 0.0;
+};
+
+} // namespace rcfd

@@ -1,0 +1,48 @@
+// Distribution of the mesh's cells over MPI ranks.  METIS partitions the cell
+// graph; cells are renumbered so that each rank owns a contiguous block of
+// PETSc rows.  Files always use the natural (mesh) numbering, so they do not
+// depend on the number of ranks.
+#pragma once
+
+#include "rcfd/handle.hpp"
+#include "rcfd/mesh.hpp"
+
+#include <utility>
+#include <vector>
+
+namespace rcfd {
+
+class Layout {
+public:
+  /// Partition the mesh over the ranks of comm (collective).  On one rank the
+  /// numbering is the natural one.  Reads -partition_view.
+  static PetscErrorCode create(MPI_Comm comm, const Mesh &mesh, Layout *layout);
+
+  MPI_Comm comm() const { return comm_; }
+  PetscInt numCells() const { return static_cast<PetscInt>(toNatural_.size()); }
+  PetscInt rowStart() const { return rstart; }
+  PetscInt rowEnd() const { return rend; }
+  PetscInt numLocal() const { return rend - rstart; }
+  /// PETSc row of a natural cell index, and back.
+  PetscInt petscRow(PetscInt natural) const { return toPetsc_[natural]; }
+  PetscInt naturalCell(PetscInt row) const { return toNatural_[row]; }
+  /// Natural indices of this rank's cells, ascending (= PETSc row order).
+  const std::vector<PetscInt> &ownedNatural() const { return owned; }
+  /// Maximal runs [begin, end) of consecutive natural indices among the owned cells.
+  std::vector<std::pair<PetscInt, PetscInt>> ownedNaturalRuns() const;
+  /// Number of cells whose faces cross to another rank, summed over ranks.
+  PetscInt numCutFaces() const { return cutFaces; }
+
+  /// Scatter between a PETSc-ordered Vec with block size bs and a
+  /// natural-ordered Vec (contiguous PETSC_DECIDE ownership); the natural Vec
+  /// is created here.  Forward: PETSc -> natural.
+  PetscErrorCode naturalScatter(PetscInt bs, Vec petscOrdered, Vec *natural,
+                                VecScatter *scatter) const;
+
+private:
+  MPI_Comm comm_ = MPI_COMM_NULL;
+  PetscInt rstart = 0, rend = 0, cutFaces = 0;
+  std::vector<PetscInt> toPetsc_, toNatural_, owned;
+};
+
+} // namespace rcfd

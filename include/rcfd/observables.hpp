@@ -1,0 +1,80 @@
+// What a run reports: centres of gravity and masses per fraction over time
+// (CSV), and fields for ParaView (HDF5 + XDMF).
+#pragma once
+
+#include "rcfd/database.hpp"
+#include "rcfd/fractions.hpp"
+
+#include <string>
+#include <vector>
+
+namespace rcfd {
+
+struct BedSample {
+  double time = 0.0;
+  std::vector<double> mass;  // total mass of each fraction [kg]
+  std::vector<double> zCog;  // centre of gravity of each fraction along "up" [m]
+  double zCogBed = 0.0;      // of all fractions together [m]
+  double deltaZ = 0.0;       // zCog(smallest) - zCog(largest) [m]
+  double minMass = 0.0;      // smallest mass in any cell and fraction [kg]
+};
+
+/// Heights of this rank's cells along -gravity, and the sums that turn a
+/// state into a BedSample.
+class CentreOfGravity {
+public:
+  PetscErrorCode setUp(const Database &db, const FractionSet &fractions);
+  /// Collective.
+  PetscErrorCode measure(double time, Vec masses, BedSample *sample) const;
+  const std::vector<double> &localHeights() const { return height; }
+
+private:
+  MPI_Comm comm = MPI_COMM_NULL;
+  std::vector<double> height;
+  int nf = 0, small = 0, large = 0;
+};
+
+/// A CSV time series, written by rank 0.  Rows are kept in memory and the
+/// file is rewritten atomically (temporary name, then rename) by flush(), so
+/// a reader never sees half a file.
+class CsvSeries {
+public:
+  CsvSeries(MPI_Comm comm, std::string path, std::string header);
+  void add(const std::string &row) { rows.push_back(row); }
+  PetscErrorCode flush() const;
+  size_t size() const { return rows.size(); }
+
+private:
+  MPI_Comm comm;
+  std::string path, header;
+  std::vector<std::string> rows;
+};
+
+/// Writes cell fields of the state, one HDF5 file per output time plus an
+/// XDMF index that ParaView opens as a time series.  Fields: alpha_s of the
+/// state, alpha_s of the database frame, alpha of each fraction, and the local
+/// Sauter diameter.
+class FieldWriter {
+public:
+  PetscErrorCode setUp(const Database &db, const FractionSet &fractions, double solidDensity,
+                       const std::string &directory, Vec stateTemplate);
+  PetscErrorCode write(double time, int frame, Vec masses);
+  int count() const { return static_cast<int>(times.size()); }
+
+private:
+  PetscErrorCode writeIndex() const;
+  const Database *db = nullptr;
+  const FractionSet *fractions = nullptr;
+  double rho = 0.0;
+  std::string dir;
+  OwnedVec natural, naturalAlpha;
+  OwnedScatter toNatural, alphaToNatural;
+  std::vector<double> times;
+};
+
+/// Atomically replace `path` with `text` (write to a temporary name, rename).
+PetscErrorCode writeFileAtomically(const std::string &path, const std::string &text);
+/// mkdir -p on rank 0 (collective).
+PetscErrorCode makeDirectories(MPI_Comm comm, const std::string &path);
+
+} // namespace rcfd

@@ -1,0 +1,130 @@
+// Operators act on the fraction state once per recurrence step.  Every
+// operator has PETSc's life cycle: create (by name, from a registry) ->
+// setFromOptions -> setUp -> apply ... -> view.  Researchers add their own by
+// registering a factory under a new name; `-pipeline shift,mine` then uses it.
+#pragma once
+
+#include "rcfd/database.hpp"
+#include "rcfd/fractions.hpp"
+
+#include <functional>
+#include <map>
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace rcfd {
+
+/// What an operator may read while it is set up.
+struct RunContext {
+  const Database &db;
+  const FractionSet &fractions;
+  double solidDensity; // [kg/m^3]
+};
+
+/// The step being taken: frame k moves the state from t_k to t_k + dt_rec.
+struct StepInfo {
+  long step = 0;      // 0-based step counter
+  double time = 0.0;  // simulated time at the start of the step [s]
+  double dt = 0.0;    // dt_rec [s]
+  int frame = 0;      // database frame used by this step
+  int nextFrame = 0;  // frame of the following step
+  bool jump = false;  // true when nextFrame != frame + 1 (wrap or stitching jump)
+};
+
+class Operator {
+public:
+  virtual ~Operator() = default;
+  /// Registered name of the implementation.
+  virtual std::string type() const = 0;
+  /// Options of this operator are read as -<prefix><name>; by default the
+  /// prefix is "<type>_".
+  void setOptionsPrefix(const std::string &p) { prefix = p; }
+  const std::string &optionsPrefix() const { return prefix; }
+  virtual PetscErrorCode setFromOptions(MPI_Comm) { return PETSC_SUCCESS; }
+  /// Whether this operator changes anything for the case; the pipeline
+  /// leaves out operators that do not (no drift for one fraction, ...).
+  virtual bool needed(const RunContext &) const { return true; }
+  virtual PetscErrorCode setUp(const RunContext &ctx) = 0;
+  /// Advance the state in place (an operator may work out of place on the
+  /// state's scratch vector and swap).
+  virtual PetscErrorCode apply(const StepInfo &step, FractionState &state) = 0;
+  virtual PetscErrorCode view(PetscViewer viewer) const;
+
+protected:
+  std::string prefix;
+};
+
+using OperatorFactory = std::function<std::unique_ptr<Operator>()>;
+
+/// Name -> factory.  One registry per program (no global state); the run
+/// owns one with the built-in operators, and users add theirs to it.
+class OperatorRegistry {
+public:
+  /// A registry holding rcfd's built-in operators.
+  static OperatorRegistry withBuiltins();
+  void add(const std::string &name, OperatorFactory factory, const std::string &help);
+  bool has(const std::string &name) const { return entries.count(name) > 0; }
+  /// Throws std::invalid_argument listing the known names if `name` is unknown.
+  std::unique_ptr<Operator> create(const std::string &name) const;
+  std::string listing() const;
+
+private:
+  struct Entry {
+    OperatorFactory factory;
+    std::string help;
+  };
+  std::map<std::string, Entry> entries;
+};
+
+/// An operator given as a callback, for quick experiments from user code.
+class ShellOperator : public Operator {
+public:
+  using Callback = std::function<PetscErrorCode(const StepInfo &, FractionState &)>;
+  ShellOperator(std::string name, Callback apply) : name(std::move(name)), callback(std::move(apply)) {}
+  std::string type() const override { return name; }
+  PetscErrorCode setUp(const RunContext &) override { return PETSC_SUCCESS; }
+  PetscErrorCode apply(const StepInfo &step, FractionState &state) override {
+    return callback(step, state);
+  }
+
+private:
+  std::string name;
+  Callback callback;
+};
+
+/// Applies a list of operators in order.  Operators are added before setUp;
+/// setUp drops those a case does not need and refuses changes afterwards.
+class Pipeline : public Operator {
+public:
+  std::string type() const override { return "pipeline"; }
+  PetscErrorCode add(std::unique_ptr<Operator> op);
+  PetscErrorCode setFromOptions(MPI_Comm comm) override;
+  PetscErrorCode setUp(const RunContext &ctx) override;
+  PetscErrorCode apply(const StepInfo &step, FractionState &state) override;
+  PetscErrorCode view(PetscViewer viewer) const override;
+  const std::vector<std::unique_ptr<Operator>> &operators() const { return ops; }
+  const std::vector<std::string> &skipped() const { return left; }
+
+private:
+  std::vector<std::unique_ptr<Operator>> ops;
+  std::vector<std::string> left;
+  bool isSetUp = false;
+};
+
+/// The shift operator: frame k's matrix applied to all fractions at once
+/// (a MAIJ view of the frame's AIJ matrix), exactly mass-conserving because
+/// the columns sum to one.
+class ShiftOperator : public Operator {
+public:
+  std::string type() const override { return "shift"; }
+  PetscErrorCode setUp(const RunContext &ctx) override;
+  PetscErrorCode apply(const StepInfo &step, FractionState &state) override;
+  PetscErrorCode view(PetscViewer viewer) const override;
+
+private:
+  std::vector<OwnedMat> perFrame; // MAIJ wrappers, one per frame
+  int nf = 0;
+};
+
+} // namespace rcfd

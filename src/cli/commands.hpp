@@ -1,0 +1,19 @@
+// The subcommands of the rcfd program.  Each reads its own options, does its
+// work collectively on PETSC_COMM_WORLD and returns a PETSc error code.
+#pragma once
+
+#include "rcfd/handle.hpp"
+
+namespace rcfd::cli {
+
+PetscErrorCode runCommand(MPI_Comm comm);
+PetscErrorCode synthCommand(MPI_Comm comm);
+PetscErrorCode infoCommand(MPI_Comm comm, const char *positional);
+
+/// Refuse options nobody read: a misspelt option must not silently fall back
+/// to a default.  Call after every object has read its options.
+PetscErrorCode rejectUnusedOptions(MPI_Comm comm, const char *command);
+/// True when -help was given: commands then print their options and stop.
+bool helpRequested();
+
+} // namespace rcfd::cli

@@ -1,0 +1,469 @@
+#include "rcfd/database.hpp"
+
+#include "util/collective.hpp"
+#include "util/h5.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <ctime>
+#include <numeric>
+#include <stdexcept>
+
+namespace rcfd {
+namespace {
+
+constexpr const char *kFormatName = "rcfd-database";
+
+std::string frameGroup(int k) {
+  char name[32];
+  std::snprintf(name, sizeof name, "/frames/%06d", k);
+  return name;
+}
+
+std::string nowUtc() {
+  char text[32];
+  const std::time_t t = std::time(nullptr);
+  std::strftime(text, sizeof text, "%Y-%m-%dT%H:%M:%SZ", std::gmtime(&t));
+  return text;
+}
+
+void writeMesh(const h5::File &f, const Mesh &mesh) {
+  f.createGroup("/mesh");
+  if (mesh.isBox()) {
+    const BoxSpec &b = mesh.boxSpec();
+    f.writeAttr("/mesh", "kind", std::string("box"));
+    f.writeAttr("/mesh", "box_cells", std::vector<long long>{b.nx, b.ny, b.nz});
+    f.writeAttr("/mesh", "box_origin", std::vector<double>(b.origin.begin(), b.origin.end()));
+    f.writeAttr("/mesh", "box_length", std::vector<double>(b.length.begin(), b.length.end()));
+  } else {
+    f.writeAttr("/mesh", "kind", std::string("unstructured"));
+  }
+  auto flat = [](const std::vector<Vec3> &v) {
+    std::vector<double> out;
+    out.reserve(3 * v.size());
+    for (const auto &p : v) out.insert(out.end(), p.begin(), p.end());
+    return out;
+  };
+  auto ints = [](const std::vector<int> &v) { return std::vector<int32_t>(v.begin(), v.end()); };
+  f.write("/mesh/cell_centres", flat(mesh.cellCentre), 3);
+  f.write("/mesh/cell_volumes", mesh.cellVolume);
+  f.write("/mesh/face_owner", ints(mesh.faceOwner));
+  f.write("/mesh/face_neighbour", ints(mesh.faceNeighbour));
+  f.write("/mesh/face_area", flat(mesh.faceArea), 3);
+  f.write("/mesh/boundary_owner", ints(mesh.boundaryOwner));
+  f.write("/mesh/boundary_patch", ints(mesh.boundaryPatch));
+  f.write("/mesh/boundary_area", flat(mesh.boundaryArea), 3);
+}
+
+Mesh readMesh(const h5::File &f) {
+  f.requireGroup("/mesh");
+  const std::string kind = f.readAttrString("/mesh", "kind");
+  if (kind != "box")
+    throw h5::Error("database '" + f.path() + "' has a mesh of kind '" + kind +
+                    "'; this version of rcfd reads box meshes only");
+  const auto n = f.readAttrInts("/mesh", "box_cells");
+  const auto origin = f.readAttrDoubles("/mesh", "box_origin");
+  const auto length = f.readAttrDoubles("/mesh", "box_length");
+  if (n.size() != 3 || origin.size() != 3 || length.size() != 3 || n[0] < 1 || n[1] < 1 ||
+      n[2] < 1 || !(length[0] > 0 && length[1] > 0 && length[2] > 0))
+    throw h5::Error("database '" + f.path() +
+                    "': /mesh attributes box_cells, box_origin and box_length must hold three "
+                    "positive values each");
+  BoxSpec spec;
+  spec.nx = static_cast<int>(n[0]);
+  spec.ny = static_cast<int>(n[1]);
+  spec.nz = static_cast<int>(n[2]);
+  std::copy(origin.begin(), origin.end(), spec.origin.begin());
+  std::copy(length.begin(), length.end(), spec.length.begin());
+  Mesh mesh = Mesh::box(spec);
+  // The stored arrays must describe the same mesh as the box attributes.
+  const auto volumes = f.read<double>("/mesh/cell_volumes");
+  if (volumes.size() != static_cast<size_t>(mesh.numCells()))
+    throw h5::Error("database '" + f.path() + "': /mesh/cell_volumes has " +
+                    std::to_string(volumes.size()) + " cells but the box is " +
+                    std::to_string(spec.nx) + " x " + std::to_string(spec.ny) + " x " +
+                    std::to_string(spec.nz) + " = " + std::to_string(mesh.numCells()) + " cells");
+  return mesh;
+}
+
+void checkFormat(const h5::File &f) {
+  if (!f.hasAttribute("/", "format") || f.readAttrString("/", "format") != kFormatName)
+    throw h5::Error("'" + f.path() + "' is not an rcfd database (its root has no attribute format = \"" +
+                    kFormatName + "\")");
+  const long long version = f.readAttrInt("/", "format_version");
+  if (version != kDatabaseFormatVersion)
+    throw h5::Error("database '" + f.path() + "' has format version " + std::to_string(version) +
+                    ", this rcfd reads version " + std::to_string(kDatabaseFormatVersion));
+}
+
+DatabaseMetadata readMetadata(const h5::File &f) {
+  f.requireGroup("/metadata");
+  DatabaseMetadata m;
+  m.dtRec = f.readAttrDouble("/metadata", "dt_rec");
+  m.solidDensity = f.readAttrDouble("/metadata", "solid_density");
+  const auto g = f.readAttrDoubles("/metadata", "gravity");
+  if (g.size() != 3) throw h5::Error("database '" + f.path() + "': /metadata gravity must have 3 components");
+  std::copy(g.begin(), g.end(), m.gravity.begin());
+  if (f.hasAttribute("/metadata", "source")) m.source = f.readAttrString("/metadata", "source");
+  if (f.hasAttribute("/metadata", "units")) m.units = f.readAttrString("/metadata", "units");
+  if (!(m.dtRec > 0) || !std::isfinite(m.dtRec))
+    throw h5::Error("database '" + f.path() + "': dt_rec must be a positive number of seconds");
+  if (!(m.solidDensity > 0))
+    throw h5::Error("database '" + f.path() + "': solid_density must be positive");
+  if (!(std::hypot(g[0], g[1], g[2]) > 0))
+    throw h5::Error("database '" + f.path() + "': gravity must not be the zero vector");
+  if (m.units != "SI")
+    throw h5::Error("database '" + f.path() + "' is in units '" + m.units + "'; rcfd expects SI");
+  return m;
+}
+
+// This rank's rows of one frame: alpha_s in PETSc order, and the shift as
+// local CSR with PETSc column numbers.  Throws on any inconsistency.
+struct LocalFrame {
+  std::vector<double> alpha;
+  std::vector<PetscInt> rowPtr, col;
+  std::vector<PetscScalar> val;
+};
+
+LocalFrame readLocalFrame(const h5::File &f, int k, const Layout &layout, bool withShift) {
+  const std::string g = frameGroup(k);
+  const std::string where = "database '" + f.path() + "', frame " + std::to_string(k);
+  f.requireGroup(g);
+  const hsize_t n = layout.numCells();
+  std::vector<std::pair<hsize_t, hsize_t>> cellRuns, ptrRuns;
+  for (auto [b, e] : layout.ownedNaturalRuns()) {
+    cellRuns.emplace_back(b, e);
+    ptrRuns.emplace_back(b, e + 1);
+  }
+  LocalFrame fr;
+  const auto alphaDims = f.extents(g + "/alpha_s");
+  if (alphaDims.size() != 1 || alphaDims[0] != n)
+    throw h5::Error(where + ": alpha_s has " + std::to_string(alphaDims.empty() ? 0 : alphaDims[0]) +
+                    " values but the mesh has " + std::to_string(n) + " cells");
+  fr.alpha = f.readRuns<double>(g + "/alpha_s", cellRuns);
+  for (size_t r = 0; r < fr.alpha.size(); ++r)
+    if (!std::isfinite(fr.alpha[r]) || fr.alpha[r] < 0.0 || fr.alpha[r] > 1.0)
+      throw h5::Error(where + ": alpha_s of cell " + std::to_string(layout.ownedNatural()[r]) +
+                      " is " + std::to_string(fr.alpha[r]) + ", expected a number in [0, 1]");
+  if (!withShift) return fr;
+
+  const auto ptrDims = f.extents(g + "/shift_row_ptr");
+  if (ptrDims.size() != 1 || ptrDims[0] != n + 1)
+    throw h5::Error(where + ": shift_row_ptr has " + std::to_string(ptrDims.empty() ? 0 : ptrDims[0]) +
+                    " entries, expected " + std::to_string(n + 1) + " (cells + 1)");
+  const hsize_t nnz = f.extents(g + "/shift_col").at(0);
+  if (f.extents(g + "/shift_val").at(0) != nnz)
+    throw h5::Error(where + ": shift_col and shift_val differ in length");
+  const auto ptr = f.readRuns<int64_t>(g + "/shift_row_ptr", ptrRuns);
+  std::vector<std::pair<hsize_t, hsize_t>> nzRuns;
+  size_t p = 0;
+  for (auto [b, e] : cellRuns) {
+    const int64_t first = ptr[p], last = ptr[p + (e - b)];
+    for (hsize_t r = 0; r < e - b; ++r)
+      if (ptr[p + r + 1] < ptr[p + r])
+        throw h5::Error(where + ": shift_row_ptr decreases at row " + std::to_string(b + r));
+    if (first < 0 || last > static_cast<int64_t>(nnz))
+      throw h5::Error(where + ": shift_row_ptr points outside shift_col (" + std::to_string(nnz) +
+                      " entries)");
+    if (last > first) nzRuns.emplace_back(first, last);
+    p += e - b + 1;
+  }
+  const auto col = f.readRuns<int32_t>(g + "/shift_col", nzRuns);
+  const auto val = f.readRuns<double>(g + "/shift_val", nzRuns);
+  fr.rowPtr.assign(1, 0);
+  fr.col.reserve(col.size());
+  fr.val.reserve(val.size());
+  size_t q = 0;
+  p = 0;
+  for (auto [b, e] : cellRuns) {
+    for (hsize_t r = 0; r < e - b; ++r) {
+      const int64_t len = ptr[p + r + 1] - ptr[p + r];
+      const size_t rowBegin = fr.col.size();
+      for (int64_t t = 0; t < len; ++t, ++q) {
+        if (col[q] < 0 || static_cast<hsize_t>(col[q]) >= n)
+          throw h5::Error(where + ": shift entry in row " + std::to_string(b + r) + " names cell " +
+                          std::to_string(col[q]) + ", outside the mesh's " + std::to_string(n) +
+                          " cells");
+        if (!std::isfinite(val[q]) || val[q] < 0.0)
+          throw h5::Error(where + ": shift entry (" + std::to_string(b + r) + ", " +
+                          std::to_string(col[q]) + ") is " + std::to_string(val[q]) +
+                          ", expected a non-negative share");
+        fr.col.push_back(layout.petscRow(col[q]));
+        fr.val.push_back(val[q]);
+      }
+      // PETSc wants sorted columns; renumbering may have reordered them.
+      std::vector<size_t> idx(fr.col.size() - rowBegin);
+      std::iota(idx.begin(), idx.end(), rowBegin);
+      std::sort(idx.begin(), idx.end(), [&](size_t a, size_t c) { return fr.col[a] < fr.col[c]; });
+      std::vector<PetscInt> c2(idx.size());
+      std::vector<PetscScalar> v2(idx.size());
+      for (size_t t = 0; t < idx.size(); ++t) c2[t] = fr.col[idx[t]], v2[t] = fr.val[idx[t]];
+      std::copy(c2.begin(), c2.end(), fr.col.begin() + rowBegin);
+      std::copy(v2.begin(), v2.end(), fr.val.begin() + rowBegin);
+      fr.rowPtr.push_back(static_cast<PetscInt>(fr.col.size()));
+    }
+    p += e - b + 1;
+  }
+  return fr;
+}
+
+} // namespace
+
+// ---------------------------------------------------------------- writer
+
+struct DatabaseWriter::Impl {
+  std::string finalPath, tmpPath;
+  h5::File file;
+  int cells = 0;
+  bool finished = false;
+};
+
+DatabaseWriter::DatabaseWriter(const std::string &path, const Mesh &mesh,
+                               const DatabaseMetadata &meta)
+    : impl(std::make_unique<Impl>()) {
+  if (!(meta.dtRec > 0)) throw std::invalid_argument("dt_rec must be positive");
+  if (!(meta.solidDensity > 0)) throw std::invalid_argument("the solid density must be positive");
+  impl->finalPath = path;
+  impl->tmpPath = path + ".tmp";
+  impl->cells = mesh.numCells();
+  impl->file = h5::File::create(impl->tmpPath);
+  const h5::File &f = impl->file;
+  f.writeAttr("/", "format", std::string(kFormatName));
+  f.writeAttr("/", "format_version", kDatabaseFormatVersion);
+  f.writeAttr("/", "created", nowUtc());
+  writeMesh(f, mesh);
+  f.createGroup("/metadata");
+  f.writeAttr("/metadata", "dt_rec", meta.dtRec);
+  f.writeAttr("/metadata", "solid_density", meta.solidDensity);
+  f.writeAttr("/metadata", "gravity", std::vector<double>(meta.gravity.begin(), meta.gravity.end()));
+  f.writeAttr("/metadata", "source", meta.source);
+  f.writeAttr("/metadata", "units", meta.units);
+  f.createGroup("/frames");
+}
+
+DatabaseWriter::~DatabaseWriter() {
+  if (impl && !impl->finished) {
+    impl->file = h5::File();
+    std::remove(impl->tmpPath.c_str());
+  }
+}
+
+void DatabaseWriter::append(const FrameRecord &frame) {
+  const int n = impl->cells;
+  if (frame.alphaS.size() != static_cast<size_t>(n) || frame.shift.n != n ||
+      frame.shift.rowPtr.size() != static_cast<size_t>(n) + 1)
+    throw std::invalid_argument("frame " + std::to_string(frames) +
+                                " does not match the mesh's " + std::to_string(n) + " cells");
+  const std::string g = frameGroup(frames);
+  impl->file.createGroup(g);
+  impl->file.write(g + "/alpha_s", frame.alphaS);
+  impl->file.write(g + "/shift_row_ptr", frame.shift.rowPtr);
+  impl->file.write(g + "/shift_col", frame.shift.col);
+  impl->file.write(g + "/shift_val", frame.shift.val);
+  ++frames;
+}
+
+void DatabaseWriter::writeMatrix(const std::string &name, const std::vector<double> &rowMajor,
+                                 int cols, const std::string &note) {
+  impl->file.createGroup("/extra");
+  impl->file.write("/extra/" + name, rowMajor, static_cast<hsize_t>(cols));
+  impl->file.writeAttr("/extra/" + name, "note", note);
+}
+
+void DatabaseWriter::finish() {
+  if (frames < 1) throw std::invalid_argument("a database needs at least one frame");
+  impl->file.writeAttr("/frames", "num_frames", static_cast<long long>(frames));
+  impl->file = h5::File(); // close before renaming
+  if (std::rename(impl->tmpPath.c_str(), impl->finalPath.c_str()) != 0)
+    throw std::runtime_error("could not rename '" + impl->tmpPath + "' to '" + impl->finalPath + "'");
+  impl->finished = true;
+}
+
+// ---------------------------------------------------------------- loader
+
+PetscErrorCode Database::optionsFromCommandLine(DatabaseLoadOptions *o) {
+  PetscInt window[2] = {o->firstFrame, o->lastFrame};
+  PetscInt nwindow = 2;
+  PetscFunctionBeginUser;
+  PetscOptionsBegin(PETSC_COMM_WORLD, nullptr, "Database loading", "rcfd");
+  PetscCall(PetscOptionsReal("-db_column_tolerance",
+                             "Largest |column sum - 1| of a shift matrix accepted on load", "",
+                             o->columnTolerance, &o->columnTolerance, nullptr));
+  PetscCall(PetscOptionsIntArray("-db_frames", "First and last frame to load (last -1: to the end)",
+                                 "", window, &nwindow, nullptr));
+  PetscOptionsEnd();
+  o->firstFrame = window[0];
+  o->lastFrame = window[1];
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode Database::load(MPI_Comm comm, const std::string &path,
+                              const DatabaseLoadOptions &options, std::unique_ptr<Database> *out) {
+  PetscFunctionBeginUser;
+  auto db = std::make_unique<Database>();
+  db->path_ = path;
+  h5::File file;
+  long long K = 0;
+  // The header is read on every rank from the same file, so any failure is
+  // the same everywhere; collectively() still guards against a rank that
+  // could not open the file.
+  PetscCall(collectively(comm, [&] {
+    file = h5::File::openRead(path, comm);
+    checkFormat(file);
+    db->meta = readMetadata(file);
+    db->mesh_ = readMesh(file);
+    file.requireGroup("/frames");
+    K = file.readAttrInt("/frames", "num_frames");
+    if (K < 1) throw h5::Error("database '" + path + "' has no frames");
+    for (long long k = 0; k < K; ++k)
+      if (!file.exists(frameGroup(static_cast<int>(k))))
+        throw h5::Error("database '" + path + "' says it has " + std::to_string(K) +
+                        " frames but group " + frameGroup(static_cast<int>(k)) + " is missing");
+  }));
+  const int first = options.firstFrame, last = options.lastFrame < 0 ? (int)K - 1 : options.lastFrame;
+  PetscCheck(first >= 0 && first <= last && last < K, comm, PETSC_ERR_ARG_OUTOFRANGE,
+             "-db_frames %d:%d is outside the %lld frames of database '%s'", first, last, K,
+             path.c_str());
+  PetscCall(Layout::create(comm, db->mesh_, &db->layout_));
+  const Layout &L = db->layout_;
+  for (PetscInt c : L.ownedNatural()) db->volumes.push_back(db->mesh_.cellVolume[c]);
+
+  OwnedVec ones, colSum;
+  for (int k = first; k <= last; ++k) {
+    LocalFrame fr;
+    PetscCall(collectively(comm, [&] { fr = readLocalFrame(file, k, L, options.loadShifts); }));
+    OwnedVec a;
+    PetscCall(VecCreateMPI(comm, L.numLocal(), L.numCells(), a.put()));
+    PetscScalar *pa;
+    PetscCall(VecGetArrayWrite(a, &pa));
+    std::copy(fr.alpha.begin(), fr.alpha.end(), pa);
+    PetscCall(VecRestoreArrayWrite(a, &pa));
+    db->alpha.push_back(std::move(a));
+    if (!options.loadShifts) continue;
+
+    OwnedMat T;
+    PetscCall(MatCreateMPIAIJWithArrays(comm, L.numLocal(), L.numLocal(), L.numCells(),
+                                        L.numCells(), fr.rowPtr.data(), fr.col.data(),
+                                        fr.val.data(), T.put()));
+    if (!ones) {
+      PetscCall(MatCreateVecs(T, ones.put(), colSum.put()));
+      PetscCall(VecSet(ones, 1.0));
+    }
+    PetscCall(MatMultTranspose(T, ones, colSum));
+    // Check every column, then rescale so that each sums to 1 to round-off.
+    PetscScalar *s;
+    PetscCall(VecGetArray(colSum, &s));
+    bool bad = false;
+    std::string why;
+    for (PetscInt r = 0; r < L.numLocal() && !bad; ++r) {
+      const double err = std::fabs(s[r] - 1.0);
+      db->maxColumnError = std::max(db->maxColumnError, err);
+      if (!(err <= options.columnTolerance)) {
+        bad = true;
+        char text[512];
+        std::snprintf(text, sizeof text,
+                      "database '%s', frame %d: shift column of cell %d sums to %.12g, expected 1 "
+                      "within %g (-db_column_tolerance)",
+                      path.c_str(), k, (int)L.ownedNatural()[r], s[r], options.columnTolerance);
+        why = text;
+      }
+      s[r] = 1.0 / s[r];
+    }
+    PetscCall(VecRestoreArray(colSum, &s));
+    PetscCall(agreeOnFailure(comm, bad, why));
+    PetscCall(MatDiagonalScale(T, nullptr, colSum));
+    db->shifts.push_back(std::move(T));
+  }
+  *out = std::move(db);
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode Database::consistency(std::vector<double> *residual) const {
+  PetscFunctionBeginUser;
+  residual->clear();
+  if (!hasShifts() || numFrames() < 2) PetscFunctionReturn(PETSC_SUCCESS);
+  OwnedVec vol, ma, mb, moved;
+  PetscCall(VecDuplicate(alpha[0], vol.put()));
+  PetscCall(VecDuplicate(alpha[0], ma.put()));
+  PetscCall(VecDuplicate(alpha[0], mb.put()));
+  PetscCall(VecDuplicate(alpha[0], moved.put()));
+  PetscScalar *pv;
+  PetscCall(VecGetArrayWrite(vol, &pv));
+  std::copy(volumes.begin(), volumes.end(), pv);
+  PetscCall(VecRestoreArrayWrite(vol, &pv));
+  for (int k = 0; k + 1 < numFrames(); ++k) {
+    PetscReal diff, total;
+    PetscCall(VecPointwiseMult(ma, vol, alpha[k]));
+    PetscCall(VecPointwiseMult(mb, vol, alpha[k + 1]));
+    PetscCall(MatMult(shifts[k], ma, moved));
+    PetscCall(VecNorm(ma, NORM_1, &total));
+    PetscCall(VecAXPY(moved, -1.0, mb));
+    PetscCall(VecNorm(moved, NORM_1, &diff));
+    residual->push_back(total > 0 ? diff / total : 0.0);
+  }
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode Database::readMatrix(const std::string &name, std::vector<double> *rowMajor,
+                                    int *cols) const {
+  PetscFunctionBeginUser;
+  rowMajor->clear();
+  *cols = 0;
+  PetscCall(collectively(layout_.comm(), [&] {
+    h5::File f = h5::File::openRead(path_, MPI_COMM_NULL);
+    const std::string ds = "/extra/" + name;
+    if (!f.exists(ds)) return;
+    const auto dims = f.extents(ds);
+    if (dims.size() != 2) throw h5::Error("database '" + path_ + "': " + ds + " is not a matrix");
+    *rowMajor = f.read<double>(ds);
+    *cols = static_cast<int>(dims[1]);
+  }));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode Database::view(PetscViewer viewer) const {
+  PetscFunctionBeginUser;
+  const Mesh &m = mesh_;
+  PetscCall(PetscViewerASCIIPrintf(viewer, "Database %s\n", path_.c_str()));
+  PetscCall(PetscViewerASCIIPushTab(viewer));
+  if (m.isBox()) {
+    const BoxSpec &b = m.boxSpec();
+    PetscCall(PetscViewerASCIIPrintf(
+        viewer, "mesh: box %d x %d x %d cells = %d, %.4g x %.4g x %.4g m from (%.4g, %.4g, %.4g)\n",
+        b.nx, b.ny, b.nz, m.numCells(), b.length[0], b.length[1], b.length[2], b.origin[0],
+        b.origin[1], b.origin[2]));
+  }
+  PetscCall(PetscViewerASCIIPrintf(viewer, "faces: %d internal, %d boundary\n", m.numFaces(),
+                                   m.numBoundaryFaces()));
+  PetscCall(PetscViewerASCIIPrintf(viewer, "frames: %d every %.6g s (%.6g s recorded)\n",
+                                   numFrames(), meta.dtRec, numFrames() * meta.dtRec));
+  PetscCall(PetscViewerASCIIPrintf(viewer, "solid density: %g kg/m^3, gravity (%g, %g, %g) m/s^2\n",
+                                   meta.solidDensity, meta.gravity[0], meta.gravity[1],
+                                   meta.gravity[2]));
+  PetscCall(PetscViewerASCIIPrintf(viewer, "source: %s\n", meta.source.c_str()));
+  if (hasShifts()) {
+    PetscInt nnz = 0;
+    for (const auto &T : shifts) {
+      MatInfo info;
+      PetscCall(MatGetInfo(T, MAT_GLOBAL_SUM, &info));
+      nnz += static_cast<PetscInt>(info.nz_used);
+    }
+    std::vector<double> res;
+    PetscCall(consistency(&res));
+    const double worst = res.empty() ? 0.0 : *std::max_element(res.begin(), res.end());
+    double colErr = maxColumnError;
+    PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, &colErr, 1, MPI_DOUBLE, MPI_MAX, layout_.comm()));
+    PetscCall(PetscViewerASCIIPrintf(viewer, "shift nonzeros: %.3g per column on average\n",
+                                     (double)nnz / numFrames() / m.numCells()));
+    PetscCall(PetscViewerASCIIPrintf(viewer, "largest |column sum - 1| before rescaling: %.3g\n",
+                                     colErr));
+    PetscCall(PetscViewerASCIIPrintf(
+        viewer, "mass consistency |T_k a_k - a_k+1|_1 / |a_k|_1: largest %.3g over %zu pairs\n",
+        worst, res.size()));
+  }
+  PetscCall(PetscViewerASCIIPopTab(viewer));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+} // namespace rcfd

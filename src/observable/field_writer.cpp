@@ -1,0 +1,133 @@
+#include "rcfd/observables.hpp"
+
+#include <petscviewerhdf5.h>
+
+#include <cstdio>
+
+namespace rcfd {
+namespace {
+
+std::string fieldFileName(int index) {
+  char name[40];
+  std::snprintf(name, sizeof name, "fields_%06d.h5", index);
+  return name;
+}
+
+} // namespace
+
+PetscErrorCode FieldWriter::setUp(const Database &database, const FractionSet &set,
+                                  double solidDensity, const std::string &directory,
+                                  Vec stateTemplate) {
+  PetscFunctionBeginUser;
+  db = &database;
+  fractions = &set;
+  rho = solidDensity;
+  dir = directory;
+  PetscCall(db->layout().naturalScatter(set.size(), stateTemplate, natural.put(), toNatural.put()));
+  PetscCall(db->layout().naturalScatter(1, db->alphaS(0), naturalAlpha.put(), alphaToNatural.put()));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode FieldWriter::write(double time, int frame, Vec masses) {
+  const int nf = fractions->size();
+  PetscFunctionBeginUser;
+  PetscCall(VecScatterBegin(toNatural, masses, natural, INSERT_VALUES, SCATTER_FORWARD));
+  PetscCall(VecScatterEnd(toNatural, masses, natural, INSERT_VALUES, SCATTER_FORWARD));
+  PetscCall(VecScatterBegin(alphaToNatural, db->alphaS(frame), naturalAlpha, INSERT_VALUES,
+                            SCATTER_FORWARD));
+  PetscCall(VecScatterEnd(alphaToNatural, db->alphaS(frame), naturalAlpha, INSERT_VALUES,
+                          SCATTER_FORWARD));
+  PetscInt first, last;
+  PetscCall(VecGetOwnershipRange(naturalAlpha, &first, &last));
+  const PetscInt n = last - first;
+
+  // Derived fields on the natural ordering: alpha_s of the state, alpha of
+  // each fraction, local Sauter diameter.
+  std::vector<OwnedVec> fields(nf + 2);
+  std::vector<std::string> names = {"alpha_s", "d32"};
+  for (int i = 0; i < nf; ++i) names.push_back("alpha_" + fractions->label(i));
+  std::vector<PetscScalar *> out(nf + 2);
+  for (int f = 0; f < nf + 2; ++f) {
+    PetscCall(VecDuplicate(naturalAlpha, fields[f].put()));
+    PetscCall(PetscObjectSetName((PetscObject)fields[f].get(), names[f].c_str()));
+    PetscCall(VecGetArrayWrite(fields[f], &out[f]));
+  }
+  const PetscScalar *m;
+  PetscCall(VecGetArrayRead(natural, &m));
+  const auto &vol = db->mesh().cellVolume;
+  for (PetscInt c = 0; c < n; ++c) {
+    const double solid = rho * vol[first + c];
+    double total = 0.0, surface = 0.0;
+    for (int i = 0; i < nf; ++i) {
+      const double mi = m[c * nf + i];
+      out[2 + i][c] = mi / solid;
+      total += mi;
+      surface += mi / fractions->diameter(i);
+    }
+    out[0][c] = total / solid;
+    out[1][c] = surface > 0 ? total / surface : 0.0;
+  }
+  PetscCall(VecRestoreArrayRead(natural, &m));
+  for (int f = 0; f < nf + 2; ++f) PetscCall(VecRestoreArrayWrite(fields[f], &out[f]));
+  PetscCall(PetscObjectSetName((PetscObject)naturalAlpha.get(), "alpha_s_database"));
+
+  const std::string file = dir + "/" + fieldFileName(count());
+  {
+    OwnedViewer v;
+    PetscCall(PetscViewerHDF5Open(db->layout().comm(), (file + ".tmp").c_str(), FILE_MODE_WRITE,
+                                  v.put()));
+    for (auto &f : fields) PetscCall(VecView(f, v));
+    PetscCall(VecView(naturalAlpha, v));
+  } // closed here, before the rename
+  PetscMPIInt rank;
+  PetscCallMPI(MPI_Comm_rank(db->layout().comm(), &rank));
+  if (rank == 0)
+    PetscCheck(std::rename((file + ".tmp").c_str(), file.c_str()) == 0, PETSC_COMM_SELF,
+               PETSC_ERR_FILE_WRITE, "Cannot rename '%s.tmp' to '%s'", file.c_str(), file.c_str());
+  times.push_back(time);
+  PetscCall(writeIndex());
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+// XDMF 2 index over all field files written so far, a temporal collection of
+// co-rectilinear grids (box meshes) that ParaView reads directly.
+PetscErrorCode FieldWriter::writeIndex() const {
+  PetscMPIInt rank;
+  PetscFunctionBeginUser;
+  PetscCallMPI(MPI_Comm_rank(db->layout().comm(), &rank));
+  if (rank != 0) PetscFunctionReturn(PETSC_SUCCESS);
+  const BoxSpec &b = db->mesh().boxSpec();
+  const Vec3 h = b.spacing();
+  const int n = db->mesh().numCells();
+  std::vector<std::string> names = {"alpha_s", "alpha_s_database", "d32"};
+  for (int i = 0; i < fractions->size(); ++i) names.push_back("alpha_" + fractions->label(i));
+  char line[512];
+  std::string x = "<?xml version=\"1.0\" ?>\n<Xdmf Version=\"2.0\">\n<Domain>\n"
+                  "<Grid Name=\"rcfd\" GridType=\"Collection\" CollectionType=\"Temporal\">\n";
+  for (size_t t = 0; t < times.size(); ++t) {
+    std::snprintf(line, sizeof line,
+                  "<Grid Name=\"t%zu\" GridType=\"Uniform\">\n<Time Value=\"%.9g\"/>\n"
+                  "<Topology TopologyType=\"3DCoRectMesh\" Dimensions=\"%d %d %d\"/>\n"
+                  "<Geometry GeometryType=\"ORIGIN_DXDYDZ\">\n"
+                  "<DataItem Dimensions=\"3\" Format=\"XML\">%.9g %.9g %.9g</DataItem>\n"
+                  "<DataItem Dimensions=\"3\" Format=\"XML\">%.9g %.9g %.9g</DataItem>\n"
+                  "</Geometry>\n",
+                  t, times[t], b.nz + 1, b.ny + 1, b.nx + 1, b.origin[2], b.origin[1], b.origin[0],
+                  h[2], h[1], h[0]);
+    x += line;
+    for (const auto &name : names) {
+      std::snprintf(line, sizeof line,
+                    "<Attribute Name=\"%s\" AttributeType=\"Scalar\" Center=\"Cell\">\n"
+                    "<DataItem Dimensions=\"%d\" NumberType=\"Float\" Precision=\"8\" "
+                    "Format=\"HDF\">%s:/%s</DataItem>\n</Attribute>\n",
+                    name.c_str(), n, fieldFileName(static_cast<int>(t)).c_str(), name.c_str());
+      x += line;
+    }
+    x += "</Grid>\n";
+  }
+  x += "</Grid>\n</Domain>\n</Xdmf>\n";
+  PetscCall(writeFileAtomically(dir + "/fields.xmf", x));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+} // namespace rcfd

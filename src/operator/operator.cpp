@@ -1,0 +1,85 @@
+#include "rcfd/operator.hpp"
+
+#include <stdexcept>
+
+namespace rcfd {
+
+PetscErrorCode Operator::view(PetscViewer viewer) const {
+  PetscFunctionBeginUser;
+  PetscCall(PetscViewerASCIIPrintf(viewer, "%s\n", type().c_str()));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+void OperatorRegistry::add(const std::string &name, OperatorFactory factory,
+                           const std::string &help) {
+  if (name.empty() || name.find_first_of(", \t") != std::string::npos)
+    throw std::invalid_argument("operator name '" + name + "' must be one word");
+  entries[name] = {std::move(factory), help};
+}
+
+std::unique_ptr<Operator> OperatorRegistry::create(const std::string &name) const {
+  const auto it = entries.find(name);
+  if (it == entries.end())
+    throw std::invalid_argument("-pipeline: unknown operator '" + name + "'; known operators: " +
+                                listing());
+  auto op = it->second.factory();
+  op->setOptionsPrefix(name + "_");
+  return op;
+}
+
+std::string OperatorRegistry::listing() const {
+  std::string out;
+  for (const auto &[name, e] : entries) out += (out.empty() ? "" : ", ") + name;
+  return out;
+}
+
+PetscErrorCode Pipeline::add(std::unique_ptr<Operator> op) {
+  PetscFunctionBeginUser;
+  PetscCheck(!isSetUp, PETSC_COMM_SELF, PETSC_ERR_ARG_WRONGSTATE,
+             "Operators cannot be added to a pipeline after it is set up (adding '%s')",
+             op->type().c_str());
+  ops.push_back(std::move(op));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode Pipeline::setFromOptions(MPI_Comm comm) {
+  PetscFunctionBeginUser;
+  for (auto &op : ops) PetscCall(op->setFromOptions(comm));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode Pipeline::setUp(const RunContext &ctx) {
+  PetscFunctionBeginUser;
+  PetscCheck(!isSetUp, PETSC_COMM_SELF, PETSC_ERR_ARG_WRONGSTATE, "The pipeline is already set up");
+  std::vector<std::unique_ptr<Operator>> kept;
+  for (auto &op : ops) {
+    if (!op->needed(ctx)) {
+      left.push_back(op->type());
+      continue;
+    }
+    PetscCall(op->setUp(ctx));
+    kept.push_back(std::move(op));
+  }
+  ops = std::move(kept);
+  isSetUp = true;
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode Pipeline::apply(const StepInfo &step, FractionState &state) {
+  PetscFunctionBeginUser;
+  for (auto &op : ops) PetscCall(op->apply(step, state));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode Pipeline::view(PetscViewer viewer) const {
+  PetscFunctionBeginUser;
+  PetscCall(PetscViewerASCIIPrintf(viewer, "Pipeline of %zu operators\n", ops.size()));
+  PetscCall(PetscViewerASCIIPushTab(viewer));
+  for (const auto &op : ops) PetscCall(op->view(viewer));
+  for (const auto &name : left)
+    PetscCall(PetscViewerASCIIPrintf(viewer, "(%s left out: not needed by this case)\n", name.c_str()));
+  PetscCall(PetscViewerASCIIPopTab(viewer));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+} // namespace rcfd

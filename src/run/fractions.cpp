@@ -1,0 +1,113 @@
+#include "rcfd/fractions.hpp"
+
+#include "util/collective.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+#include <stdexcept>
+
+namespace rcfd {
+
+FractionSet::FractionSet(std::vector<double> diameters, std::vector<double> massShares)
+    : d(std::move(diameters)), w(std::move(massShares)) {
+  if (d.empty()) throw std::invalid_argument("-fractions_diameters: at least one diameter is needed");
+  if (d.size() != w.size())
+    throw std::invalid_argument("-fractions_mass_shares has " + std::to_string(w.size()) +
+                                " values but -fractions_diameters has " + std::to_string(d.size()) +
+                                "; give one mass share per diameter");
+  for (size_t i = 0; i < d.size(); ++i)
+    if (!(d[i] > 0.0) || !std::isfinite(d[i]))
+      throw std::invalid_argument("-fractions_diameters: diameter " + std::to_string(i + 1) +
+                                  " is " + std::to_string(d[i]) + ", expected a positive length in m");
+  for (size_t i = 0; i < w.size(); ++i)
+    if (!(w[i] >= 0.0) || !std::isfinite(w[i]))
+      throw std::invalid_argument("-fractions_mass_shares: share " + std::to_string(i + 1) + " is " +
+                                  std::to_string(w[i]) + ", expected a number in [0, 1]");
+  const double sum = std::accumulate(w.begin(), w.end(), 0.0);
+  if (std::fabs(sum - 1.0) > 1e-6)
+    throw std::invalid_argument("-fractions_mass_shares sum to " + std::to_string(sum) +
+                                ", expected 1 (within 1e-6)");
+  for (double &x : w) x /= sum; // exact normalisation of what is within tolerance
+}
+
+PetscErrorCode FractionSet::fromOptions(MPI_Comm comm, FractionSet *set) {
+  PetscReal dd[256] = {1.95e-3, 2.82e-3}, ww[256] = {0.473, 0.527};
+  PetscInt nd = 256, nw = 256;
+  PetscBool setD = PETSC_FALSE, setW = PETSC_FALSE;
+  PetscFunctionBeginUser;
+  PetscOptionsBegin(comm, nullptr, "Particle-size fractions", "rcfd");
+  PetscCall(PetscOptionsRealArray("-fractions_diameters", "Diameter of each size fraction [m]", "",
+                                  dd, &nd, &setD));
+  PetscCall(PetscOptionsRealArray("-fractions_mass_shares",
+                                  "Share of the inventory's mass in each fraction (sums to 1)", "",
+                                  ww, &nw, &setW));
+  PetscOptionsEnd();
+  if (!setD) nd = 2;
+  if (!setW) nw = setD ? 0 : 2;
+  PetscCheck(setW || !setD || nd == 0, comm, PETSC_ERR_USER_INPUT,
+             "-fractions_diameters was given without -fractions_mass_shares; give one mass share "
+             "per diameter");
+  PetscCall(collectively(
+      comm, [&] { *set = FractionSet({dd, dd + nd}, {ww, ww + nw}); }, PETSC_ERR_USER_INPUT));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+double FractionSet::inventorySauterDiameter() const {
+  double s = 0.0;
+  for (int i = 0; i < size(); ++i) s += w[i] / d[i];
+  return 1.0 / s;
+}
+
+int FractionSet::smallest() const {
+  return static_cast<int>(std::min_element(d.begin(), d.end()) - d.begin());
+}
+int FractionSet::largest() const {
+  return static_cast<int>(std::max_element(d.begin(), d.end()) - d.begin());
+}
+
+std::string FractionSet::label(int i) const {
+  char text[32];
+  std::snprintf(text, sizeof text, "d%.3fmm", d[i] * 1e3);
+  return text;
+}
+
+PetscErrorCode FractionSet::view(PetscViewer viewer) const {
+  PetscFunctionBeginUser;
+  PetscCall(PetscViewerASCIIPrintf(viewer, "Fractions: %d, inventory Sauter diameter %.4g mm\n",
+                                   size(), inventorySauterDiameter() * 1e3));
+  for (int i = 0; i < size(); ++i)
+    PetscCall(PetscViewerASCIIPrintf(viewer, "  %d: d = %.4g mm, mass share %.4g\n", i,
+                                     d[i] * 1e3, w[i]));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode FractionState::create(const Layout &layout, int numFractions) {
+  PetscFunctionBeginUser;
+  nf = numFractions;
+  PetscCall(VecCreate(layout.comm(), a.put()));
+  PetscCall(VecSetSizes(a, layout.numLocal() * nf, layout.numCells() * nf));
+  PetscCall(VecSetBlockSize(a, nf));
+  PetscCall(VecSetType(a, VECMPI));
+  PetscCall(VecDuplicate(a, b.put()));
+  PetscCall(VecZeroEntries(a));
+  PetscCall(VecZeroEntries(b));
+  current = a;
+  spare = b;
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode FractionState::totals(std::vector<double> *perFraction) const {
+  PetscFunctionBeginUser;
+  perFraction->assign(nf, 0.0);
+  PetscCall(VecStrideSumAll(current, perFraction->data()));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode FractionState::minimum(double *value) const {
+  PetscFunctionBeginUser;
+  PetscCall(VecMin(current, nullptr, value));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+} // namespace rcfd

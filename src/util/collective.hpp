@@ -1,0 +1,33 @@
+// Turning C++ exceptions and rank-local failures into one PETSc error that
+// every rank of a communicator returns, with the first failing rank's text.
+#pragma once
+
+#include <petscsys.h>
+
+#include <exception>
+#include <string>
+
+namespace rcfd {
+
+/// Collective.  Every rank passes whether it failed and why; if any did, all
+/// return PETSC_ERR_FILE_UNEXPECTED (or `code`) with the lowest failing rank's message.
+PetscErrorCode agreeOnFailure(MPI_Comm comm, bool failed, const std::string &why,
+                              PetscErrorCode code = PETSC_ERR_FILE_UNEXPECTED);
+
+/// Collective.  Runs body(); an exception thrown on any rank becomes a PETSc
+/// error on all ranks carrying its message.
+template <typename Body>
+PetscErrorCode collectively(MPI_Comm comm, Body &&body,
+                            PetscErrorCode code = PETSC_ERR_FILE_UNEXPECTED) {
+  std::string why;
+  bool failed = false;
+  try {
+    body();
+  } catch (const std::exception &e) {
+    failed = true;
+    why = e.what();
+  }
+  return agreeOnFailure(comm, failed, why, code);
+}
+
+} // namespace rcfd

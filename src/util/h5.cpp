@@ -1,0 +1,323 @@
+#include "util/h5.hpp"
+
+#include <algorithm>
+#include <cstdint>
+#include <cstdio>
+#include <type_traits>
+#include <numeric>
+
+namespace rcfd::h5 {
+namespace {
+
+template <typename T> hid_t nativeType();
+template <> hid_t nativeType<double>() { return H5T_NATIVE_DOUBLE; }
+template <> hid_t nativeType<int32_t>() { return H5T_NATIVE_INT32; }
+template <> hid_t nativeType<int64_t>() { return H5T_NATIVE_INT64; }
+template <> hid_t nativeType<long long>() { return H5T_NATIVE_LLONG; }
+
+// HDF5 prints its own error stack by default; rcfd reports one sentence instead.
+void silenceHdf5() { H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr); }
+
+Id openObject(const File &f, const std::string &object) {
+  hid_t id = H5Oopen(f.id(), object.c_str(), H5P_DEFAULT);
+  if (id < 0) throw Error("HDF5 file '" + f.path() + "' has no object '" + object + "'");
+  return Id(id, H5Oclose);
+}
+
+Id openAttribute(const File &f, const std::string &object, const std::string &attr) {
+  Id obj = openObject(f, object);
+  if (H5Aexists(obj, attr.c_str()) <= 0)
+    throw Error("HDF5 file '" + f.path() + "' has no attribute '" + attr + "' on '" + object + "'");
+  return Id(H5Aopen(obj, attr.c_str(), H5P_DEFAULT), H5Aclose);
+}
+
+size_t attributeSize(const Id &a) {
+  Id space(H5Aget_space(a), H5Sclose);
+  hssize_t n = H5Sget_simple_extent_npoints(space);
+  return n < 0 ? 0 : static_cast<size_t>(n);
+}
+
+template <typename T>
+void writeAttrArray(const File &f, const std::string &object, const std::string &attr,
+                    const T *data, hsize_t n) {
+  Id obj = openObject(f, object);
+  if (H5Aexists(obj, attr.c_str()) > 0) H5Adelete(obj, attr.c_str());
+  Id space(n == 1 ? H5Screate(H5S_SCALAR) : H5Screate_simple(1, &n, nullptr), H5Sclose);
+  Id a(H5Acreate2(obj, attr.c_str(), nativeType<T>(), space, H5P_DEFAULT, H5P_DEFAULT), H5Aclose);
+  if (!a.valid() || H5Awrite(a, nativeType<T>(), data) < 0)
+    throw Error("could not write attribute '" + attr + "' to '" + f.path() + "'");
+}
+
+template <typename T>
+std::vector<T> readAttrArray(const File &f, const std::string &object, const std::string &attr) {
+  Id a = openAttribute(f, object, attr);
+  std::vector<T> v(attributeSize(a));
+  if (!v.empty() && H5Aread(a, nativeType<T>(), v.data()) < 0)
+    throw Error("HDF5 file '" + f.path() + "': attribute '" + attr + "' on '" + object +
+                "' is not numeric");
+  return v;
+}
+
+// Cover the runs with at most maxPieces contiguous pieces by closing the
+// smallest gaps: many small hyperslabs are slow in HDF5 1.10, a few extra
+// elements are not.
+std::vector<std::pair<hsize_t, hsize_t>>
+coalesce(const std::vector<std::pair<hsize_t, hsize_t>> &runs, size_t maxPieces) {
+  if (runs.size() <= maxPieces) return runs;
+  std::vector<size_t> gaps(runs.size() - 1);
+  std::iota(gaps.begin(), gaps.end(), size_t{0});
+  auto gap = [&](size_t g) { return runs[g + 1].first - runs[g].second; };
+  std::nth_element(gaps.begin(), gaps.begin() + (maxPieces - 1), gaps.end(),
+                   [&](size_t a, size_t b) { return gap(a) > gap(b); });
+  std::vector<bool> cut(runs.size(), false);
+  for (size_t p = 0; p + 1 < maxPieces; ++p) cut[gaps[p]] = true;
+  std::vector<std::pair<hsize_t, hsize_t>> pieces;
+  hsize_t begin = runs[0].first;
+  for (size_t r = 0; r < runs.size(); ++r)
+    if (r + 1 == runs.size() || cut[r]) {
+      pieces.emplace_back(begin, runs[r].second);
+      if (r + 1 < runs.size()) begin = runs[r + 1].first;
+    }
+  return pieces;
+}
+
+} // namespace
+
+File File::openRead(const std::string &path, MPI_Comm comm) {
+  silenceHdf5();
+  if (H5Fis_hdf5(path.c_str()) <= 0) {
+    FILE *probe = std::fopen(path.c_str(), "rb");
+    if (!probe) throw Error("cannot open file '" + path + "': it does not exist or is not readable");
+    std::fclose(probe);
+    throw Error("file '" + path + "' is not an HDF5 file");
+  }
+  Id fapl(H5Pcreate(H5P_FILE_ACCESS), H5Pclose);
+  if (comm != MPI_COMM_NULL) H5Pset_fapl_mpio(fapl, comm, MPI_INFO_NULL);
+  File f;
+  f.name = path;
+  f.file = Id(H5Fopen(path.c_str(), H5F_ACC_RDONLY, fapl), H5Fclose);
+  if (!f.file.valid()) throw Error("cannot open HDF5 file '" + path + "'");
+  return f;
+}
+
+File File::create(const std::string &path) {
+  silenceHdf5();
+  File f;
+  f.name = path;
+  f.file = Id(H5Fcreate(path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT), H5Fclose);
+  if (!f.file.valid()) throw Error("cannot create HDF5 file '" + path + "'");
+  return f;
+}
+
+File File::createParallel(const std::string &path, MPI_Comm comm) {
+  silenceHdf5();
+  Id fapl(H5Pcreate(H5P_FILE_ACCESS), H5Pclose);
+  H5Pset_fapl_mpio(fapl, comm, MPI_INFO_NULL);
+  File f;
+  f.name = path;
+  f.file = Id(H5Fcreate(path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, fapl), H5Fclose);
+  if (!f.file.valid()) throw Error("cannot create HDF5 file '" + path + "'");
+  return f;
+}
+
+File File::openReadWrite(const std::string &path) {
+  silenceHdf5();
+  File f;
+  f.name = path;
+  f.file = Id(H5Fopen(path.c_str(), H5F_ACC_RDWR, H5P_DEFAULT), H5Fclose);
+  if (!f.file.valid()) throw Error("cannot open HDF5 file '" + path + "' for writing");
+  return f;
+}
+
+bool File::exists(const std::string &object) const {
+  // Walk the path so that a missing parent group is not an HDF5 error.
+  size_t pos = 0;
+  while ((pos = object.find('/', pos + 1)) != std::string::npos)
+    if (H5Lexists(file, object.substr(0, pos).c_str(), H5P_DEFAULT) <= 0) return false;
+  return object == "/" || H5Lexists(file, object.c_str(), H5P_DEFAULT) > 0;
+}
+
+void File::requireGroup(const std::string &group) const {
+  if (!exists(group))
+    throw Error("HDF5 file '" + name + "' has no group '" + group + "'");
+}
+
+Id File::openDataset(const std::string &dataset) const {
+  if (!exists(dataset)) throw Error("HDF5 file '" + name + "' has no dataset '" + dataset + "'");
+  Id d(H5Dopen2(file, dataset.c_str(), H5P_DEFAULT), H5Dclose);
+  if (!d.valid()) throw Error("HDF5 file '" + name + "': '" + dataset + "' is not a dataset");
+  return d;
+}
+
+void File::createGroup(const std::string &group) const {
+  if (exists(group)) return;
+  Id g(H5Gcreate2(file, group.c_str(), H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), H5Gclose);
+  if (!g.valid()) throw Error("cannot create group '" + group + "' in '" + name + "'");
+}
+
+std::vector<hsize_t> File::extents(const std::string &dataset) const {
+  Id d = openDataset(dataset);
+  Id space(H5Dget_space(d), H5Sclose);
+  const int rank = H5Sget_simple_extent_ndims(space);
+  std::vector<hsize_t> dims(rank > 0 ? rank : 0);
+  if (rank > 0) H5Sget_simple_extent_dims(space, dims.data(), nullptr);
+  return dims;
+}
+
+bool File::hasAttribute(const std::string &object, const std::string &attr) const {
+  if (!exists(object)) return false;
+  Id obj = openObject(*this, object);
+  return H5Aexists(obj, attr.c_str()) > 0;
+}
+
+double File::readAttrDouble(const std::string &object, const std::string &attr) const {
+  auto v = readAttrArray<double>(*this, object, attr);
+  if (v.size() != 1)
+    throw Error("HDF5 file '" + name + "': attribute '" + attr + "' on '" + object +
+                "' should hold one number");
+  return v[0];
+}
+
+long long File::readAttrInt(const std::string &object, const std::string &attr) const {
+  auto v = readAttrArray<long long>(*this, object, attr);
+  if (v.size() != 1)
+    throw Error("HDF5 file '" + name + "': attribute '" + attr + "' on '" + object +
+                "' should hold one integer");
+  return v[0];
+}
+
+std::vector<double> File::readAttrDoubles(const std::string &object, const std::string &attr) const {
+  return readAttrArray<double>(*this, object, attr);
+}
+
+std::vector<long long> File::readAttrInts(const std::string &object,
+                                          const std::string &attr) const {
+  return readAttrArray<long long>(*this, object, attr);
+}
+
+std::string File::readAttrString(const std::string &object, const std::string &attr) const {
+  Id a = openAttribute(*this, object, attr);
+  Id type(H5Aget_type(a), H5Tclose);
+  if (H5Tget_class(type) != H5T_STRING)
+    throw Error("HDF5 file '" + name + "': attribute '" + attr + "' on '" + object +
+                "' should be a string");
+  if (H5Tis_variable_str(type) > 0) {
+    char *s = nullptr;
+    Id mem(H5Tcopy(H5T_C_S1), H5Tclose);
+    H5Tset_size(mem, H5T_VARIABLE);
+    H5Aread(a, mem, &s);
+    std::string out = s ? s : "";
+    H5free_memory(s);
+    return out;
+  }
+  std::string out(H5Tget_size(type), '\0');
+  H5Aread(a, type, out.data());
+  out.erase(std::find(out.begin(), out.end(), '\0'), out.end());
+  return out;
+}
+
+void File::writeAttr(const std::string &object, const std::string &attr, double v) const {
+  writeAttrArray(*this, object, attr, &v, 1);
+}
+void File::writeAttr(const std::string &object, const std::string &attr, long long v) const {
+  writeAttrArray(*this, object, attr, &v, 1);
+}
+void File::writeAttr(const std::string &object, const std::string &attr,
+                     const std::vector<double> &v) const {
+  writeAttrArray(*this, object, attr, v.data(), v.size());
+}
+void File::writeAttr(const std::string &object, const std::string &attr,
+                     const std::vector<long long> &v) const {
+  writeAttrArray(*this, object, attr, v.data(), v.size());
+}
+void File::writeAttr(const std::string &object, const std::string &attr,
+                     const std::string &v) const {
+  Id obj = openObject(*this, object);
+  if (H5Aexists(obj, attr.c_str()) > 0) H5Adelete(obj, attr.c_str());
+  Id type(H5Tcopy(H5T_C_S1), H5Tclose);
+  H5Tset_size(type, std::max<size_t>(1, v.size()));
+  H5Tset_strpad(type, H5T_STR_NULLPAD);
+  Id space(H5Screate(H5S_SCALAR), H5Sclose);
+  Id a(H5Acreate2(obj, attr.c_str(), type, space, H5P_DEFAULT, H5P_DEFAULT), H5Aclose);
+  std::string padded = v.empty() ? std::string(1, '\0') : v;
+  if (!a.valid() || H5Awrite(a, type, padded.data()) < 0)
+    throw Error("could not write attribute '" + attr + "' to '" + name + "'");
+}
+
+template <typename T>
+void File::write(const std::string &dataset, const std::vector<T> &data, hsize_t cols) const {
+  hsize_t dims[2] = {cols ? data.size() / cols : data.size(), cols};
+  Id space(H5Screate_simple(cols ? 2 : 1, dims, nullptr), H5Sclose);
+  Id d(H5Dcreate2(file, dataset.c_str(), nativeType<T>(), space, H5P_DEFAULT, H5P_DEFAULT,
+                  H5P_DEFAULT),
+       H5Dclose);
+  if (!d.valid() ||
+      (!data.empty() && H5Dwrite(d, nativeType<T>(), H5S_ALL, H5S_ALL, H5P_DEFAULT, data.data()) < 0))
+    throw Error("could not write dataset '" + dataset + "' to '" + name + "'");
+}
+
+template <typename T>
+std::vector<T> File::read(const std::string &dataset, size_t expected) const {
+  Id d = openDataset(dataset);
+  Id space(H5Dget_space(d), H5Sclose);
+  const hssize_t n = H5Sget_simple_extent_npoints(space);
+  if (expected && static_cast<size_t>(n) != expected)
+    throw Error("HDF5 file '" + name + "': dataset '" + dataset + "' has " + std::to_string(n) +
+                " values, expected " + std::to_string(expected));
+  std::vector<T> v(n);
+  if (n > 0 && H5Dread(d, nativeType<T>(), H5S_ALL, H5S_ALL, H5P_DEFAULT, v.data()) < 0)
+    throw Error("HDF5 file '" + name + "': dataset '" + dataset + "' could not be read as " +
+                (std::is_floating_point_v<T> ? "numbers" : "integers"));
+  return v;
+}
+
+template <typename T>
+std::vector<T> File::readRuns(const std::string &dataset,
+                              const std::vector<std::pair<hsize_t, hsize_t>> &runs) const {
+  Id d = openDataset(dataset);
+  Id space(H5Dget_space(d), H5Sclose);
+  const hssize_t n = H5Sget_simple_extent_npoints(space);
+  if (H5Sget_simple_extent_ndims(space) != 1)
+    throw Error("HDF5 file '" + name + "': dataset '" + dataset + "' should be one-dimensional");
+  std::vector<T> out;
+  if (runs.empty()) return out;
+  if (runs.back().second > static_cast<hsize_t>(n))
+    throw Error("HDF5 file '" + name + "': dataset '" + dataset + "' has " + std::to_string(n) +
+                " values, fewer than its row pointers require");
+  const auto pieces = coalesce(runs, 64);
+  hsize_t total = 0;
+  H5Sselect_none(space);
+  for (const auto &[b, e] : pieces) {
+    const hsize_t count = e - b;
+    H5Sselect_hyperslab(space, H5S_SELECT_OR, &b, nullptr, &count, nullptr);
+    total += count;
+  }
+  std::vector<T> buffer(total);
+  Id mem(H5Screate_simple(1, &total, nullptr), H5Sclose);
+  if (H5Dread(d, nativeType<T>(), mem, space, H5P_DEFAULT, buffer.data()) < 0)
+    throw Error("HDF5 file '" + name + "': dataset '" + dataset + "' could not be read");
+  // Pick the requested runs out of the coalesced pieces.
+  size_t p = 0;
+  hsize_t pieceOffset = 0;
+  for (const auto &[b, e] : runs) {
+    while (pieces[p].second < e) pieceOffset += pieces[p].second - pieces[p].first, ++p;
+    const auto *src = buffer.data() + pieceOffset + (b - pieces[p].first);
+    out.insert(out.end(), src, src + (e - b));
+  }
+  return out;
+}
+
+template void File::write(const std::string &, const std::vector<double> &, hsize_t) const;
+template void File::write(const std::string &, const std::vector<int32_t> &, hsize_t) const;
+template void File::write(const std::string &, const std::vector<int64_t> &, hsize_t) const;
+template std::vector<double> File::read(const std::string &, size_t) const;
+template std::vector<int32_t> File::read(const std::string &, size_t) const;
+template std::vector<int64_t> File::read(const std::string &, size_t) const;
+template std::vector<double> File::readRuns(const std::string &,
+                                            const std::vector<std::pair<hsize_t, hsize_t>> &) const;
+template std::vector<int32_t>
+File::readRuns(const std::string &, const std::vector<std::pair<hsize_t, hsize_t>> &) const;
+template std::vector<int64_t>
+File::readRuns(const std::string &, const std::vector<std::pair<hsize_t, hsize_t>> &) const;
+
+} // namespace rcfd::h5

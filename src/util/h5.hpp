@@ -1,0 +1,101 @@
+// Thin RAII layer over the HDF5 C API, private to the library.  Functions
+// throw rcfd::H5Error with a sentence naming the file and the object; the
+// PETSc boundary turns that into an error code.
+#pragma once
+
+#include <hdf5.h>
+
+#include <array>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace rcfd::h5 {
+
+struct Error : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
+/// Owner of one hid_t with the matching close function.
+class Id {
+public:
+  Id() = default;
+  Id(hid_t id, herr_t (*close)(hid_t)) : id(id), closer(close) {}
+  Id(const Id &) = delete;
+  Id &operator=(const Id &) = delete;
+  Id(Id &&o) noexcept : id(o.id), closer(o.closer) { o.id = -1; }
+  Id &operator=(Id &&o) noexcept {
+    if (this != &o) {
+      reset();
+      id = o.id;
+      closer = o.closer;
+      o.id = -1;
+    }
+    return *this;
+  }
+  ~Id() { reset(); }
+  void reset() {
+    if (id >= 0 && closer) closer(id);
+    id = -1;
+  }
+  operator hid_t() const { return id; } // NOLINT
+  bool valid() const { return id >= 0; }
+
+private:
+  hid_t id = -1;
+  herr_t (*closer)(hid_t) = nullptr;
+};
+
+/// An open HDF5 file and the name it was opened under, for messages.
+class File {
+public:
+  /// Open for reading; with comm != MPI_COMM_NULL through MPI-IO (collective).
+  static File openRead(const std::string &path, MPI_Comm comm);
+  /// Create (truncate) for writing by one process.
+  static File create(const std::string &path);
+  /// Create (truncate) for writing by all processes of comm through MPI-IO.
+  static File createParallel(const std::string &path, MPI_Comm comm);
+  /// Open an existing file for read-write by one process.
+  static File openReadWrite(const std::string &path);
+
+  hid_t id() const { return file; }
+  const std::string &path() const { return name; }
+
+  bool exists(const std::string &object) const;
+  void requireGroup(const std::string &group) const; // throws naming what is missing
+  Id openDataset(const std::string &dataset) const;
+  void createGroup(const std::string &group) const;
+  /// Extents of a dataset; throws if it is missing.
+  std::vector<hsize_t> extents(const std::string &dataset) const;
+
+  // Attributes on groups ("/" for the root).
+  bool hasAttribute(const std::string &object, const std::string &attr) const;
+  double readAttrDouble(const std::string &object, const std::string &attr) const;
+  long long readAttrInt(const std::string &object, const std::string &attr) const;
+  std::string readAttrString(const std::string &object, const std::string &attr) const;
+  std::vector<double> readAttrDoubles(const std::string &object, const std::string &attr) const;
+  std::vector<long long> readAttrInts(const std::string &object, const std::string &attr) const;
+  void writeAttr(const std::string &object, const std::string &attr, double v) const;
+  void writeAttr(const std::string &object, const std::string &attr, long long v) const;
+  void writeAttr(const std::string &object, const std::string &attr, const std::string &v) const;
+  void writeAttr(const std::string &object, const std::string &attr, const std::vector<double> &v) const;
+  void writeAttr(const std::string &object, const std::string &attr,
+                 const std::vector<long long> &v) const;
+
+  /// Write a whole dataset of rank 1 (cols == 0) or rank 2 (rows x cols).
+  template <typename T>
+  void write(const std::string &dataset, const std::vector<T> &data, hsize_t cols = 0) const;
+  /// Read a whole dataset; the element count must be `expected` (0: any).
+  template <typename T> std::vector<T> read(const std::string &dataset, size_t expected = 0) const;
+  /// Read the elements of a 1-D dataset in the given sorted, disjoint [begin, end) runs,
+  /// concatenated.  Used so that each rank reads only its own rows.
+  template <typename T>
+  std::vector<T> readRuns(const std::string &dataset,
+                          const std::vector<std::pair<hsize_t, hsize_t>> &runs) const;
+
+private:
+  Id file;
+  std::string name;
+};
+
+} // namespace rcfd::h5
