@@ -50,6 +50,10 @@ public:
   /// state's scratch vector and swap).
   virtual PetscErrorCode apply(const StepInfo &step, FractionState &state) = 0;
   virtual PetscErrorCode view(PetscViewer viewer) const;
+  /// False for operators that add or remove mass on purpose (feed,
+  /// discharge, growth between classes); the run's mass ledger then only
+  /// checks the conservative parts.
+  virtual bool conservesMass() const { return true; }
 
 protected:
   std::string prefix;
@@ -103,6 +107,7 @@ public:
   PetscErrorCode setUp(const RunContext &ctx) override;
   PetscErrorCode apply(const StepInfo &step, FractionState &state) override;
   PetscErrorCode view(PetscViewer viewer) const override;
+  bool conservesMass() const override;
   const std::vector<std::unique_ptr<Operator>> &operators() const { return ops; }
   const std::vector<std::string> &skipped() const { return left; }
 

@@ -4,6 +4,7 @@
 
 #include "rcfd/database.hpp"
 #include "rcfd/fractions.hpp"
+#include "rcfd/mass_ledger.hpp"
 #include "rcfd/observables.hpp"
 #include "rcfd/operator.hpp"
 
@@ -48,6 +49,7 @@ private:
   FractionState fstate;
   Pipeline ops;
   CentreOfGravity cog;
+  MassLedger ledger;
   FieldWriter fields;
   std::unique_ptr<CsvSeries> csv;
   std::vector<BedSample> samples;
@@ -56,7 +58,7 @@ private:
   std::string dbPath, outputDir = "rcfd-output", initKind = "mixed", initFile;
   std::string pipelineSpec = "shift";
   double tEnd = -1.0, fieldsEvery = 0.0, progressInterval = 2.0, solidDensity = -1.0;
-  PetscInt monitorEvery = 1;
+  PetscInt monitorEvery = 1, csvDigits = 10;
   long steps = 0;
   PetscBool quiet = PETSC_FALSE, writeFields = PETSC_TRUE;
   DatabaseLoadOptions loadOptions;

@@ -71,6 +71,12 @@ PetscErrorCode Pipeline::apply(const StepInfo &step, FractionState &state) {
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
+bool Pipeline::conservesMass() const {
+  for (const auto &op : ops)
+    if (!op->conservesMass()) return false;
+  return true;
+}
+
 PetscErrorCode Pipeline::view(PetscViewer viewer) const {
   PetscFunctionBeginUser;
   PetscCall(PetscViewerASCIIPrintf(viewer, "Pipeline of %zu operators\n", ops.size()));

@@ -22,9 +22,9 @@ std::vector<std::string> splitList(const std::string &text) {
   return out;
 }
 
-std::string formatRow(const BedSample &s) {
+std::string formatRow(const BedSample &s, int digits) {
   std::ostringstream row;
-  row.precision(10);
+  row.precision(digits);
   row << s.time << ',' << s.zCogBed;
   for (double z : s.zCog) row << ',' << z;
   row << ',' << s.deltaZ;
@@ -57,6 +57,8 @@ PetscErrorCode Run::setFromOptions() {
   if (set_) pipelineSpec = text;
   PetscCall(PetscOptionsInt("-monitor_every", "Steps between rows of cog.csv", "", monitorEvery,
                             &monitorEvery, nullptr));
+  PetscCall(PetscOptionsInt("-monitor_digits", "Significant digits in cog.csv", "", csvDigits,
+                            &csvDigits, nullptr));
   PetscCall(PetscOptionsBool("-fields", "Write HDF5 + XDMF fields", "", writeFields, &writeFields,
                              nullptr));
   PetscCall(PetscOptionsReal("-fields_every", "Simulated time between field outputs [s] (0: start and end only)",
@@ -92,6 +94,7 @@ PetscErrorCode Run::setFromOptions() {
       PETSC_ERR_USER_INPUT));
   for (auto &op : created) PetscCall(ops.add(std::move(op)));
   PetscCall(ops.setFromOptions(comm));
+  PetscCall(ledger.setFromOptions(comm));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
@@ -216,7 +219,7 @@ PetscErrorCode Run::monitor(const StepInfo &step, double time) {
   BedSample s;
   PetscCall(cog.measure(time, fstate.masses(), &s));
   samples.push_back(s);
-  csv->add(formatRow(s));
+  csv->add(formatRow(s, static_cast<int>(csvDigits)));
   (void)step;
   PetscFunctionReturn(PETSC_SUCCESS);
 }
@@ -241,6 +244,8 @@ PetscErrorCode Run::solve() {
   const double dt = db->metadata().dtRec;
   std::vector<double> initialMass;
   PetscCall(fstate.totals(&initialMass));
+  const bool ledgerOn = ops.conservesMass();
+  if (ledgerOn) PetscCall(ledger.start(fstate));
   StepInfo info;
   info.dt = dt;
   info.frame = 0;
@@ -256,6 +261,7 @@ PetscErrorCode Run::solve() {
     info.nextFrame = static_cast<int>((s + 1) % K);
     info.jump = info.nextFrame != info.frame + 1;
     PetscCall(ops.apply(info, fstate));
+    if (ledgerOn) PetscCall(ledger.check(s + 1, fstate));
     const double t = (s + 1) * dt;
     if ((s + 1) % monitorEvery == 0 || s + 1 == steps) PetscCall(monitor(info, t));
     if (writeFields && t >= nextFields - 1e-9 * dt && s + 1 < steps) {
@@ -283,9 +289,11 @@ PetscErrorCode Run::solve() {
     const double wall = MPI_Wtime() - wallStart;
     PetscCall(PetscPrintf(comm,
                           "Done: %ld steps, %.4g s simulated in %.3g s wall (%.3g wall s per simulated s)\n"
-                          "  largest relative change of a fraction's mass: %.2e; smallest cell mass: %.3g kg\n"
+                          "  largest relative change of a fraction's mass: %.2e (round-off removed by the ledger: %.2e);"
+                          " smallest cell mass: %.3g kg\n"
                           "  results: %s/cog.csv%s\n",
-                          steps, steps * dt, wall, steps > 0 ? wall / (steps * dt) : 0.0, worst, low,
+                          steps, steps * dt, wall, steps > 0 ? wall / (steps * dt) : 0.0, worst,
+                          ledger.largestCorrection(), low,
                           outputDir.c_str(), writeFields ? (", " + outputDir + "/fields.xmf").c_str() : ""));
   }
   PetscFunctionReturn(PETSC_SUCCESS);

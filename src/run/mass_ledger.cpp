@@ -1,0 +1,60 @@
+#include "rcfd/mass_ledger.hpp"
+
+#include <cmath>
+
+namespace rcfd {
+
+PetscErrorCode MassLedger::setFromOptions(MPI_Comm comm) {
+  PetscFunctionBeginUser;
+  PetscOptionsBegin(comm, nullptr, "Mass ledger", "rcfd");
+  PetscCall(PetscOptionsInt("-mass_check_every",
+                            "Steps between checks of every fraction's total mass (0: never)", "",
+                            checkEvery, &checkEvery, nullptr));
+  PetscCall(PetscOptionsReal("-mass_leak_tolerance",
+                             "Relative change of a fraction's mass treated as a leak, not round-off",
+                             "", leakTolerance, &leakTolerance, nullptr));
+  PetscOptionsEnd();
+  PetscCheck(checkEvery >= 0, comm, PETSC_ERR_USER_INPUT, "-mass_check_every must be >= 0");
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode MassLedger::start(const FractionState &state) {
+  PetscFunctionBeginUser;
+  PetscCall(state.totals(&reference));
+  lastStep = 0;
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode MassLedger::check(long step, FractionState &state) {
+  PetscFunctionBeginUser;
+  if (checkEvery == 0 || step % checkEvery != 0) PetscFunctionReturn(PETSC_SUCCESS);
+  std::vector<double> now;
+  PetscCall(state.totals(&now));
+  const int nf = state.numFractions();
+  std::vector<double> factor(nf, 1.0);
+  for (int i = 0; i < nf; ++i) {
+    if (reference[i] == 0.0) {
+      PetscCheck(now[i] == 0.0, PETSC_COMM_SELF, PETSC_ERR_PLIB,
+                 "Fraction %d had no mass but has %g kg after step %ld: an operator created mass", i,
+                 now[i], step);
+      continue;
+    }
+    const double change = now[i] / reference[i] - 1.0;
+    PetscCheck(std::fabs(change) <= leakTolerance, PETSC_COMM_SELF, PETSC_ERR_PLIB,
+               "Fraction %d changed its mass by %.3e (relative) between steps %ld and %ld, more "
+               "than round-off (-mass_leak_tolerance %g): an operator is not mass-conserving",
+               i, change, lastStep, step, (double)leakTolerance);
+    largest = std::fmax(largest, std::fabs(change));
+    factor[i] = reference[i] / now[i];
+  }
+  PetscScalar *m;
+  PetscInt n;
+  PetscCall(VecGetLocalSize(state.masses(), &n));
+  PetscCall(VecGetArray(state.masses(), &m));
+  for (PetscInt k = 0; k < n; ++k) m[k] *= factor[k % nf];
+  PetscCall(VecRestoreArray(state.masses(), &m));
+  lastStep = step;
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+} // namespace rcfd

@@ -1,0 +1,52 @@
+#!/usr/bin/env bash
+# Bad input gets one sentence naming the file or option and what was
+# expected: no traceback, no crash, a non-zero exit code.
+# usage: test_cli_errors.sh RCFD CSV_COMPARE DATA_DIR SOURCE_DIR
+set -u
+rcfd=$1 data=$3
+work=$(mktemp -d)
+trap 'rm -rf "$work"' EXIT
+failures=0 passed=0
+
+expect_error() { # expect_error "expected text" args...
+  local expected=$1
+  shift
+  local out rc
+  out=$("$rcfd" "$@" 2>&1 >/dev/null)
+  rc=$?
+  if [ $rc -eq 0 ]; then
+    echo "FAIL: rcfd $* succeeded; expected an error containing: $expected"
+    failures=$((failures + 1))
+  elif ! grep -qF -- "$expected" <<<"$out"; then
+    echo "FAIL: rcfd $*: expected '$expected', got: $out"
+    failures=$((failures + 1))
+  elif [ "$(grep -c . <<<"$out")" -ne 1 ] || grep -q "PETSC ERROR" <<<"$out"; then
+    echo "FAIL: rcfd $*: expected one line, got: $out"
+    failures=$((failures + 1))
+  else
+    passed=$((passed + 1))
+  fi
+}
+
+db=$data/default.h5
+expect_error "unknown command 'rnu'" rnu
+expect_error "No database given: pass -db FILE" run
+expect_error "cannot open file '$work/none.h5': it does not exist" run -db "$work/none.h5"
+echo "plain text" >"$work/text.h5"
+expect_error "file '$work/text.h5' is not an HDF5 file" run -db "$work/text.h5"
+expect_error "Unknown option -t_edn" run -db "$db" -t_edn 1
+expect_error "-fractions_diameters: diameter 2 is -0.002" run -db "$db" \
+  -fractions_diameters 1e-3,-2e-3 -fractions_mass_shares 0.5,0.5
+expect_error "-fractions_mass_shares sum to 0.9" run -db "$db" \
+  -fractions_diameters 1e-3,2e-3 -fractions_mass_shares 0.5,0.4
+expect_error "-fractions_mass_shares has 1 values but -fractions_diameters has 2" run -db "$db" \
+  -fractions_diameters 1e-3,2e-3 -fractions_mass_shares 1
+expect_error "-pipeline: unknown operator 'shfit'" run -db "$db" -pipeline shfit
+expect_error "-init sideways is not known" run -db "$db" -init sideways
+expect_error "-init file needs -init_file FILE" run -db "$db" -init file
+expect_error "-db_frames 5:2 is outside" run -db "$db" -db_frames 5,2
+expect_error "Unknown option -bogus" info "$db" -bogus
+expect_error "cannot open file 'nope.h5'" info nope.h5
+
+echo "$passed passed, $failures failed"
+[ $failures -eq 0 ]
