@@ -4,6 +4,7 @@
 #include "check.hpp"
 #include "rcfd/database.hpp"
 #include "rcfd/operator.hpp"
+#include "state_access.hpp"
 #include "util/h5.hpp"
 
 #include <cstdio>
@@ -11,6 +12,8 @@
 #include <numeric>
 
 using namespace rcfd;
+using rcfd::test::gatherNatural;
+using rcfd::test::setNatural;
 
 namespace {
 
@@ -69,35 +72,6 @@ void replaceDataset(const h5::File &f, const std::string &name, const std::vecto
   f.write(name, v);
 }
 
-// Masses gathered to every rank in natural cell order (nf per cell).
-std::vector<double> gatherNatural(const Database &db, Vec masses, int nf) {
-  OwnedVec natural, all;
-  OwnedScatter toNatural, toAll;
-  db.layout().naturalScatter(nf, masses, natural.put(), toNatural.put());
-  VecScatterBegin(toNatural, masses, natural, INSERT_VALUES, SCATTER_FORWARD);
-  VecScatterEnd(toNatural, masses, natural, INSERT_VALUES, SCATTER_FORWARD);
-  VecScatterCreateToAll(natural, toAll.put(), all.put());
-  VecScatterBegin(toAll, natural, all, INSERT_VALUES, SCATTER_FORWARD);
-  VecScatterEnd(toAll, natural, all, INSERT_VALUES, SCATTER_FORWARD);
-  const PetscScalar *a;
-  VecGetArrayRead(all, &a);
-  PetscInt n;
-  VecGetSize(all, &n);
-  std::vector<double> out(a, a + n);
-  VecRestoreArrayRead(all, &a);
-  return out;
-}
-
-// Set the state from natural-ordered values.
-void setNatural(const Database &db, FractionState &st, const std::vector<double> &values, int nf) {
-  PetscScalar *m;
-  VecGetArrayWrite(st.masses(), &m);
-  const auto &owned = db.layout().ownedNatural();
-  for (size_t r = 0; r < owned.size(); ++r)
-    for (int i = 0; i < nf; ++i) m[r * nf + i] = values[owned[r] * nf + i];
-  VecRestoreArrayWrite(st.masses(), &m);
-}
-
 void handMadeColumn() {
   const std::string path = dir + "/column.h5";
   if (rank == 0) writeColumn(path);
@@ -110,7 +84,7 @@ void handMadeColumn() {
   FractionSet set({1e-3, 2e-3}, {0.5, 0.5});
   FractionState st;
   st.create(db->layout(), 2);
-  setNatural(*db, st, {1, 2, 3, 4, 5, 6}, 2);
+  setNatural(*db, st, {1, 2, 3, 4, 5, 6});
   ShiftOperator shift;
   RunContext ctx{*db, set, 1440.0};
   RCFD_CHECK(shift.setUp(ctx) == 0);
@@ -157,7 +131,7 @@ void permutation() {
   st.create(db->layout(), nf);
   std::vector<double> start(n * nf);
   std::iota(start.begin(), start.end(), 1.0);
-  setNatural(*db, st, start, nf);
+  setNatural(*db, st, start);
   ShiftOperator shift;
   RunContext ctx{*db, set, 1440.0};
   shift.setUp(ctx);
@@ -228,8 +202,7 @@ int main(int argc, char **argv) {
   handMadeColumn();
   permutation();
   brokenFiles();
-  int failures = rcfd::test::failures(), total = 0;
-  MPI_Allreduce(&failures, &total, 1, MPI_INT, MPI_SUM, PETSC_COMM_WORLD);
+  const int total = rcfd::test::globalFailures();
   PetscFinalize();
   return total == 0 ? 0 : 1;
 }

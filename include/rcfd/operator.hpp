@@ -110,10 +110,13 @@ public:
   bool conservesMass() const override;
   const std::vector<std::unique_ptr<Operator>> &operators() const { return ops; }
   const std::vector<std::string> &skipped() const { return left; }
+  /// Print the view of every operator given -<prefix>view (e.g. -drift_view).
+  PetscErrorCode viewRequested(PetscViewer viewer) const;
 
 private:
   std::vector<std::unique_ptr<Operator>> ops;
   std::vector<std::string> left;
+  std::vector<bool> wantView;
   bool isSetUp = false;
 };
 

@@ -56,7 +56,7 @@ private:
 
   // Options.
   std::string dbPath, outputDir = "rcfd-output", initKind = "mixed", initFile;
-  std::string pipelineSpec = "shift";
+  std::string pipelineSpec = "shift,drift";
   double tEnd = -1.0, fieldsEvery = 0.0, progressInterval = 2.0, solidDensity = -1.0;
   PetscInt monitorEvery = 1, csvDigits = 10;
   long steps = 0;

@@ -1,4 +1,5 @@
 #include "rcfd/operator.hpp"
+#include "rcfd/swaps.hpp"
 
 namespace rcfd {
 
@@ -6,6 +7,10 @@ OperatorRegistry OperatorRegistry::withBuiltins() {
   OperatorRegistry r;
   r.add("shift", [] { return std::make_unique<ShiftOperator>(); },
         "move all fractions with the frame's shift matrix (bulk convection)");
+  r.add("drift", [] { return std::make_unique<DriftOperator>(); },
+        "fractional drift along gravity by face swaps (paper Eq. 4-6)");
+  r.add("dispersion", [] { return std::make_unique<DispersionOperator>(); },
+        "symmetric mixing of composition across all faces");
   return r;
 }
 

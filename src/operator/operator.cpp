@@ -44,7 +44,13 @@ PetscErrorCode Pipeline::add(std::unique_ptr<Operator> op) {
 
 PetscErrorCode Pipeline::setFromOptions(MPI_Comm comm) {
   PetscFunctionBeginUser;
-  for (auto &op : ops) PetscCall(op->setFromOptions(comm));
+  wantView.clear();
+  for (auto &op : ops) {
+    PetscBool flag = PETSC_FALSE;
+    PetscCall(op->setFromOptions(comm));
+    PetscCall(PetscOptionsGetBool(nullptr, op->optionsPrefix().c_str(), "-view", &flag, nullptr));
+    wantView.push_back(flag);
+  }
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
@@ -52,15 +58,18 @@ PetscErrorCode Pipeline::setUp(const RunContext &ctx) {
   PetscFunctionBeginUser;
   PetscCheck(!isSetUp, PETSC_COMM_SELF, PETSC_ERR_ARG_WRONGSTATE, "The pipeline is already set up");
   std::vector<std::unique_ptr<Operator>> kept;
-  for (auto &op : ops) {
-    if (!op->needed(ctx)) {
-      left.push_back(op->type());
+  std::vector<bool> keptView;
+  for (size_t k = 0; k < ops.size(); ++k) {
+    if (!ops[k]->needed(ctx)) {
+      left.push_back(ops[k]->type());
       continue;
     }
-    PetscCall(op->setUp(ctx));
-    kept.push_back(std::move(op));
+    PetscCall(ops[k]->setUp(ctx));
+    kept.push_back(std::move(ops[k]));
+    keptView.push_back(k < wantView.size() && wantView[k]);
   }
   ops = std::move(kept);
+  wantView = std::move(keptView);
   isSetUp = true;
   PetscFunctionReturn(PETSC_SUCCESS);
 }
@@ -68,6 +77,13 @@ PetscErrorCode Pipeline::setUp(const RunContext &ctx) {
 PetscErrorCode Pipeline::apply(const StepInfo &step, FractionState &state) {
   PetscFunctionBeginUser;
   for (auto &op : ops) PetscCall(op->apply(step, state));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode Pipeline::viewRequested(PetscViewer viewer) const {
+  PetscFunctionBeginUser;
+  for (size_t k = 0; k < ops.size(); ++k)
+    if (k < wantView.size() && wantView[k]) PetscCall(ops[k]->view(viewer));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 

@@ -278,6 +278,7 @@ PetscErrorCode Run::solve() {
   PetscCall(csv->flush());
   PetscCall(progress(steps, steps * dt, true));
 
+  PetscCall(ops.viewRequested(PETSC_VIEWER_STDOUT_(comm)));
   std::vector<double> finalMass;
   PetscCall(fstate.totals(&finalMass));
   double worst = 0.0;

@@ -1,0 +1,215 @@
+#include "database/particle_builder.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <stdexcept>
+#include <utility>
+
+namespace rcfd {
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+
+/// y = T x for a row-compressed T.
+void multiply(const CsrMatrix &T, const std::vector<double> &x, std::vector<double> &y) {
+  y.assign(T.n, 0.0);
+  for (int r = 0; r < T.n; ++r) {
+    double s = 0.0;
+    for (int64_t e = T.rowPtr[r]; e < T.rowPtr[r + 1]; ++e) s += T.val[e] * x[T.col[e]];
+    y[r] = s;
+  }
+}
+
+double maxAbsDiff(const std::vector<double> &a, const std::vector<double> &b) {
+  double m = 0.0;
+  for (std::size_t i = 0; i < a.size(); ++i) m = std::max(m, std::fabs(a[i] - b[i]));
+  return m;
+}
+
+} // namespace
+
+std::string ParticleBuildReport::summary() const {
+  char buf[1600];
+  std::snprintf(
+      buf, sizeof buf,
+      "snapshots %zu, frames %zu, cells %d, particles %zu (%.6g kg)\n"
+      "nonzeros per column: mean %.3f (occupied cells %.3f), max %d\n"
+      "appeared %zu (%.6g kg), vanished %zu (%.6g kg), entered mesh %zu (%.6g kg), left mesh %zu "
+      "(%.6g kg)\n"
+      "outside the mesh: %zu particle-snapshots, at most %zu in one snapshot\n"
+      "alpha_s: max %.4f, %zu cell-snapshots with alpha_s >= 1\n"
+      "max |T alpha_k - alpha_k+1| = %.3e, max |T m_k - m_k+1| = %.3e kg",
+      snapshots, frames, cells, particles, totalMass, meanNnzPerColumn, meanNnzPerOccupiedColumn,
+      maxNnzPerColumn, appeared, appearedMass, vanished, vanishedMass, enteredMesh, enteredMeshMass,
+      leftMesh, leftMeshMass, outside, maxOutsidePerSnapshot, maxAlphaS, cellsAlphaAtLeastOne,
+      maxAlphaResidual, maxMassResidual);
+  return buf;
+}
+
+std::vector<std::size_t> selectSnapshots(std::size_t available, const ParticleBuildOptions &opt) {
+  if (opt.stride < 1) throw std::invalid_argument("particle build: the stride must be at least 1");
+  if (opt.first >= available)
+    throw std::invalid_argument("particle build: the window starts at snapshot " +
+                                std::to_string(opt.first) + " but there are only " +
+                                std::to_string(available));
+  if (opt.last < opt.first)
+    throw std::invalid_argument("particle build: the window ends before it starts");
+  const std::size_t last = std::min(opt.last, available - 1);
+  std::vector<std::size_t> sel;
+  for (std::size_t s = opt.first; s <= last; s += static_cast<std::size_t>(opt.stride))
+    sel.push_back(s);
+  return sel;
+}
+
+ParticleFrameBuilder::ParticleFrameBuilder(const ParticleBuildOptions &options, FrameSink frameSink)
+    : opt(options), sink(std::move(frameSink)) {
+  opt.axes.validate();
+  const int n = opt.mesh.numCells();
+  if (n <= 0) throw std::invalid_argument("particle build: the mesh has no cells");
+  const Vec3 h = opt.mesh.spacing();
+  cellVolume = h[0] * h[1] * h[2];
+  if (!(cellVolume > 0.0))
+    throw std::invalid_argument("particle build: the mesh cells have no volume");
+  rep.cells = n;
+}
+
+// Cell of every particle, alpha_s and mass per cell; the list sorted by id
+// so that two snapshots can be matched by a merge.
+void ParticleFrameBuilder::place(const ParticleSnapshot &snap) {
+  const int n = opt.mesh.numCells();
+  cur.resize(snap.size());
+  alphaCur.assign(n, 0.0);
+  massCur.assign(n, 0.0);
+  std::size_t outside = 0;
+  for (std::size_t p = 0; p < snap.size(); ++p) {
+    const int c = opt.mesh.locate(opt.axes.apply(snap.position[p]));
+    cur[p] = {snap.id[p], c, snap.mass[p]};
+    if (c < 0) {
+      ++outside;
+      continue;
+    }
+    const double d = snap.diameter[p];
+    alphaCur[c] += kPi / 6.0 * d * d * d;
+    massCur[c] += snap.mass[p];
+  }
+  for (double &a : alphaCur) {
+    a /= cellVolume;
+    rep.maxAlphaS = std::max(rep.maxAlphaS, a);
+    if (a >= 1.0) ++rep.cellsAlphaAtLeastOne;
+  }
+  rep.outside += outside;
+  rep.maxOutsidePerSnapshot = std::max(rep.maxOutsidePerSnapshot, outside);
+
+  std::sort(cur.begin(), cur.end(),
+            [](const Placement &a, const Placement &b) { return a.id < b.id; });
+  const auto dup = std::adjacent_find(
+      cur.begin(), cur.end(), [](const Placement &a, const Placement &b) { return a.id == b.id; });
+  if (dup != cur.end())
+    throw std::runtime_error("particle snapshot '" + snap.source + "' lists particle id " +
+                             std::to_string(dup->id) +
+                             " more than once, so particles cannot be matched between snapshots.");
+}
+
+// Merge the id-sorted lists of t_k (prev) and t_{k+1} (cur) into transfers.
+CsrMatrix ParticleFrameBuilder::shiftTo(const std::vector<Placement> &next) {
+  std::vector<int32_t> dest, src;
+  std::vector<double> weight;
+  dest.reserve(prev.size());
+  src.reserve(prev.size());
+  weight.reserve(prev.size());
+  auto transfer = [&](int32_t to, int32_t from, double m) {
+    dest.push_back(to);
+    src.push_back(from);
+    weight.push_back(m);
+  };
+  std::size_t a = 0, b = 0;
+  while (a < prev.size() || b < next.size()) {
+    if (b == next.size() || (a < prev.size() && prev[a].id < next[b].id)) { // vanished
+      const Placement &p = prev[a++];
+      ++rep.vanished;
+      rep.vanishedMass += p.mass;
+      if (p.cell >= 0) transfer(p.cell, p.cell, p.mass);      // stays where it was last seen
+    } else if (a == prev.size() || next[b].id < prev[a].id) { // appeared
+      const Placement &q = next[b++];
+      ++rep.appeared;
+      rep.appearedMass += q.mass;
+    } else { // the same particle at t_k and t_{k+1}
+      const Placement &p = prev[a++], &q = next[b++];
+      if (p.cell >= 0 && q.cell >= 0) {
+        transfer(q.cell, p.cell, p.mass);
+      } else if (p.cell >= 0) {
+        ++rep.leftMesh;
+        rep.leftMeshMass += p.mass;
+        transfer(p.cell, p.cell, p.mass);
+      } else if (q.cell >= 0) {
+        ++rep.enteredMesh;
+        rep.enteredMeshMass += q.mass;
+      }
+    }
+  }
+  return shiftFromTransfers(opt.mesh.numCells(), std::move(dest), std::move(src),
+                            std::move(weight));
+}
+
+// Column statistics and the residuals of T_k against the next snapshot.
+void ParticleFrameBuilder::account(const CsrMatrix &T, const std::vector<double> &alphaK,
+                                   const std::vector<double> &massK) {
+  std::vector<int> perColumn(T.n, 0);
+  for (int32_t c : T.col) ++perColumn[c];
+  for (int i = 0; i < T.n; ++i) {
+    rep.maxNnzPerColumn = std::max(rep.maxNnzPerColumn, perColumn[i]);
+    nnzTotal += perColumn[i];
+    if (massK[i] > 0.0) {
+      nnzOccupied += perColumn[i];
+      ++occupiedColumns;
+    }
+  }
+  const double columns = static_cast<double>(rep.frames) * T.n;
+  rep.meanNnzPerColumn = nnzTotal / columns;
+  rep.meanNnzPerOccupiedColumn = occupiedColumns ? double(nnzOccupied) / occupiedColumns : 0.0;
+
+  std::vector<double> y;
+  multiply(T, alphaK, y);
+  rep.maxAlphaResidual = std::max(rep.maxAlphaResidual, maxAbsDiff(y, alphaCur));
+  multiply(T, massK, y);
+  rep.maxMassResidual = std::max(rep.maxMassResidual, maxAbsDiff(y, massCur));
+}
+
+void ParticleFrameBuilder::add(const ParticleSnapshot &snap) {
+  if (rep.snapshots > 0 && snap.timestep >= 0 && prevTimestep >= 0 && snap.timestep <= prevTimestep)
+    throw std::runtime_error("particle snapshot '" + snap.source + "' has timestep " +
+                             std::to_string(snap.timestep) + ", not after the previous one (" +
+                             std::to_string(prevTimestep) +
+                             "); snapshots must come in time order.");
+  place(snap);
+  if (rep.snapshots == 0) {
+    rep.particles = snap.size();
+    for (double m : snap.mass) rep.totalMass += m;
+  } else {
+    ++rep.frames;
+    frame.shift = shiftTo(cur);
+    account(frame.shift, alphaPrev, massPrev);
+    frame.alphaS.swap(alphaPrev);
+    if (sink) sink(frame);
+  }
+  ++rep.snapshots;
+  prevTimestep = snap.timestep;
+  std::swap(prev, cur);
+  std::swap(alphaPrev, alphaCur);
+  std::swap(massPrev, massCur);
+}
+
+ParticleBuildReport buildFramesFromSnapshots(const std::vector<std::string> &files,
+                                             const ParticleBuildOptions &opt,
+                                             const FrameSink &sink) {
+  const std::vector<std::size_t> sel = selectSnapshots(files.size(), opt);
+  if (sel.size() < 2)
+    throw std::invalid_argument("particle build: the window and stride select " +
+                                std::to_string(sel.size()) + " snapshot(s); a frame needs two");
+  ParticleFrameBuilder builder(opt, sink);
+  for (std::size_t s : sel) builder.add(readParticleSnapshot(files[s], opt.read));
+  return builder.report();
+}
+
+} // namespace rcfd

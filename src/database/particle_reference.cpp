@@ -1,0 +1,264 @@
+#include "database/particle_reference.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <memory>
+#include <numeric>
+#include <stdexcept>
+
+namespace rcfd {
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+
+using FilePtr = std::unique_ptr<std::FILE, int (*)(std::FILE *)>;
+
+FilePtr openForWriting(const std::string &path) {
+  FilePtr f(std::fopen(path.c_str(), "w"), &std::fclose);
+  if (!f) throw std::runtime_error("cannot write reference file '" + path + "'.");
+  return f;
+}
+
+void finish(FilePtr f, const std::string &path) {
+  const bool bad = std::ferror(f.get()) != 0;
+  if (std::fclose(f.release()) != 0 || bad)
+    throw std::runtime_error("writing reference file '" + path + "' failed.");
+}
+
+/// Mass-median height: the height of the particle at which the cumulative
+/// mass, counted from the bottom, first reaches half the total.  That
+/// particle (and any at the same height) belongs to the bottom half.
+double massMedianHeight(const std::vector<Vec3> &pos, const std::vector<double> &mass) {
+  if (pos.empty()) return 0.0;
+  std::vector<std::size_t> order(pos.size());
+  std::iota(order.begin(), order.end(), std::size_t{0});
+  std::sort(order.begin(), order.end(),
+            [&](std::size_t a, std::size_t b) { return pos[a][2] < pos[b][2]; });
+  const double half = 0.5 * std::accumulate(mass.begin(), mass.end(), 0.0);
+  double cum = 0.0;
+  for (std::size_t p : order) {
+    cum += mass[p];
+    if (cum >= half) return pos[p][2];
+  }
+  return pos[order.back()][2];
+}
+
+} // namespace
+
+// ---------------------------------------------------------------- classes
+
+int SizeClasses::classOf(double d) const {
+  int best = -1;
+  double bestGap = 0.0;
+  for (int c = 0; c < static_cast<int>(diameter.size()); ++c) {
+    const double gap = std::fabs(d - diameter[c]);
+    if (gap <= relTol * diameter[c] && (best < 0 || gap < bestGap)) {
+      best = c;
+      bestGap = gap;
+    }
+  }
+  return best;
+}
+
+std::string SizeClasses::label(int c) const {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "d%.3fmm", diameter.at(c) * 1e3);
+  return buf;
+}
+
+SizeClasses SizeClasses::cluster(std::vector<double> diameters, double relTol) {
+  if (!(relTol >= 0.0))
+    throw std::invalid_argument("SizeClasses::cluster: the tolerance must be >= 0");
+  SizeClasses sc;
+  sc.relTol = relTol;
+  std::sort(diameters.begin(), diameters.end());
+  std::size_t b = 0;
+  while (b < diameters.size()) {
+    std::size_t e = b;
+    double sum = 0.0;
+    while (e < diameters.size() && diameters[e] <= diameters[b] * (1.0 + relTol))
+      sum += diameters[e++];
+    sc.diameter.push_back(sum / static_cast<double>(e - b));
+    b = e;
+  }
+  return sc;
+}
+
+// ---------------------------------------------------------------- reference
+
+ParticleReference::ParticleReference(ReferenceOptions options) : opt(std::move(options)) {
+  opt.axes.validate();
+  std::sort(opt.classes.diameter.begin(), opt.classes.diameter.end());
+  if (opt.profileMesh && opt.profileMesh->numCells() <= 0)
+    throw std::invalid_argument("ParticleReference: the profile mesh has no cells");
+}
+
+double ParticleReference::deltaZ(const CogSample &s) const {
+  if (s.zClass.size() < 2) return 0.0;
+  return s.zClass.front() - s.zClass.back();
+}
+
+void ParticleReference::add(double time, const ParticleSnapshot &snap) {
+  if (opt.classes.diameter.empty()) {
+    opt.classes = SizeClasses::cluster(snap.diameter, opt.classes.relTol);
+    if (opt.classes.diameter.empty())
+      throw std::runtime_error("particle snapshot '" + snap.source +
+                               "' holds no particles, so no size classes can be found in it.");
+  }
+  const std::size_t nc = opt.classes.diameter.size();
+  std::vector<Vec3> pos(snap.size());
+  std::vector<int> cls(snap.size());
+  for (std::size_t p = 0; p < snap.size(); ++p) {
+    pos[p] = opt.axes.apply(snap.position[p]);
+    cls[p] = opt.classes.classOf(snap.diameter[p]);
+    if (cls[p] < 0) {
+      char buf[96];
+      std::snprintf(buf, sizeof buf, "%.4f mm", snap.diameter[p] * 1e3);
+      throw std::runtime_error("particle snapshot '" + snap.source + "': particle id " +
+                               std::to_string(snap.id[p]) + " has diameter " + buf +
+                               ", which is within the tolerance of no size class.");
+    }
+  }
+
+  CogSample s;
+  s.time = time;
+  std::vector<double> massClass(nc, 0.0), momentClass(nc, 0.0);
+  double mass = 0.0, moment = 0.0;
+  for (std::size_t p = 0; p < snap.size(); ++p) {
+    mass += snap.mass[p];
+    moment += snap.mass[p] * pos[p][2];
+    massClass[cls[p]] += snap.mass[p];
+    momentClass[cls[p]] += snap.mass[p] * pos[p][2];
+  }
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  s.zBed = mass > 0.0 ? moment / mass : nan;
+  for (std::size_t c = 0; c < nc; ++c)
+    s.zClass.push_back(massClass[c] > 0.0 ? momentClass[c] / massClass[c] : nan);
+
+  s.zMedian = massMedianHeight(pos, snap.mass);
+  std::vector<double> lower(nc, 0.0);
+  for (std::size_t p = 0; p < snap.size(); ++p)
+    if (pos[p][2] <= s.zMedian) lower[cls[p]] += snap.mass[p];
+  for (std::size_t c = 0; c < nc; ++c)
+    s.lowerShare.push_back(massClass[c] > 0.0 ? lower[c] / massClass[c] : nan);
+
+  if (time >= opt.windowBegin && time <= opt.windowEnd) accumulateWindow(pos, cls, snap, s.zMedian);
+  samples.push_back(std::move(s));
+}
+
+void ParticleReference::accumulateWindow(const std::vector<Vec3> &pos, const std::vector<int> &cls,
+                                         const ParticleSnapshot &snap, double zMedian) {
+  const std::size_t nc = opt.classes.diameter.size();
+  ++inWindow;
+  bottomSum.resize(nc, 0.0);
+  topSum.resize(nc, 0.0);
+  std::vector<double> bottom(nc, 0.0), top(nc, 0.0);
+  for (std::size_t p = 0; p < snap.size(); ++p)
+    (pos[p][2] <= zMedian ? bottom : top)[cls[p]] += snap.mass[p];
+  const double bottomTotal = std::accumulate(bottom.begin(), bottom.end(), 0.0);
+  const double topTotal = std::accumulate(top.begin(), top.end(), 0.0);
+  for (std::size_t c = 0; c < nc; ++c) {
+    if (bottomTotal > 0.0) bottomSum[c] += bottom[c] / bottomTotal;
+    if (topTotal > 0.0) topSum[c] += top[c] / topTotal;
+  }
+
+  if (!opt.profileMesh) return;
+  const BoxSpec &m = *opt.profileMesh;
+  const Vec3 h = m.spacing();
+  const double layerVolume = m.length[0] * m.length[1] * h[2];
+  profileSum.resize(nc);
+  for (auto &layer : profileSum) layer.resize(m.nz, 0.0);
+  for (std::size_t p = 0; p < snap.size(); ++p) {
+    const int cell = m.locate(pos[p]);
+    if (cell < 0) {
+      ++outsideProfile;
+      continue;
+    }
+    const int layer = cell / (m.nx * m.ny);
+    const double d = snap.diameter[p];
+    profileSum[cls[p]][layer] += kPi / 6.0 * d * d * d / layerVolume;
+  }
+}
+
+std::vector<std::vector<double>> ParticleReference::profiles() const {
+  if (inWindow == 0) return {};
+  std::vector<std::vector<double>> mean = profileSum;
+  for (auto &layer : mean)
+    for (double &v : layer) v /= static_cast<double>(inWindow);
+  return mean;
+}
+
+ParticleReference::Halves ParticleReference::halves() const {
+  if (inWindow == 0) return {};
+  Halves h{bottomSum, topSum};
+  for (double &v : h.bottom) v /= static_cast<double>(inWindow);
+  for (double &v : h.top) v /= static_cast<double>(inWindow);
+  return h;
+}
+
+void ParticleReference::writeCogCsv(const std::string &path) const {
+  FilePtr f = openForWriting(path);
+  const std::size_t nc = opt.classes.diameter.size();
+  std::fprintf(f.get(), "# SI units: time [s], heights [m]; mass-weighted centres of gravity");
+  if (nc >= 2)
+    std::fprintf(f.get(), "; delta_z = z_cog_%s - z_cog_%s", opt.classes.label(0).c_str(),
+                 opt.classes.label(static_cast<int>(nc) - 1).c_str());
+  std::fprintf(f.get(), "\ntime,z_cog_bed");
+  for (std::size_t c = 0; c < nc; ++c)
+    std::fprintf(f.get(), ",z_cog_%s", opt.classes.label(static_cast<int>(c)).c_str());
+  if (nc >= 2) std::fprintf(f.get(), ",delta_z");
+  std::fprintf(f.get(), "\n");
+  for (const CogSample &s : samples) {
+    std::fprintf(f.get(), "%.9g,%.9g", s.time, s.zBed);
+    for (double z : s.zClass) std::fprintf(f.get(), ",%.9g", z);
+    if (nc >= 2) std::fprintf(f.get(), ",%.9g", deltaZ(s));
+    std::fprintf(f.get(), "\n");
+  }
+  finish(std::move(f), path);
+}
+
+void ParticleReference::writeProfilesCsv(const std::string &path) const {
+  if (!opt.profileMesh) throw std::logic_error("ParticleReference: no profile mesh was given");
+  const BoxSpec &m = *opt.profileMesh;
+  const auto prof = profiles();
+  FilePtr f = openForWriting(path);
+  std::fprintf(
+      f.get(),
+      "# SI units: z [m] layer centre; alpha = solid volume of the class's particles centred "
+      "in the layer / layer volume, mean over %zu snapshots in [%g, %g] s\nz",
+      inWindow, opt.windowBegin, opt.windowEnd);
+  const std::size_t nc = opt.classes.diameter.size();
+  for (std::size_t c = 0; c < nc; ++c)
+    std::fprintf(f.get(), ",alpha_%s", opt.classes.label(static_cast<int>(c)).c_str());
+  std::fprintf(f.get(), ",alpha_total\n");
+  for (int k = 0; k < m.nz; ++k) {
+    std::fprintf(f.get(), "%.9g", m.origin[2] + (k + 0.5) * m.spacing()[2]);
+    double total = 0.0;
+    for (std::size_t c = 0; c < nc; ++c) {
+      const double v = prof.empty() ? 0.0 : prof[c][k];
+      total += v;
+      std::fprintf(f.get(), ",%.9g", v);
+    }
+    std::fprintf(f.get(), ",%.9g\n", total);
+  }
+  finish(std::move(f), path);
+}
+
+void ParticleReference::writeHalvesCsv(const std::string &path) const {
+  const Halves h = halves();
+  FilePtr f = openForWriting(path);
+  std::fprintf(
+      f.get(),
+      "# mass fractions of each size class below / above the bed's mass-median height, mean "
+      "over %zu snapshots in [%g, %g] s; diameter [m]\n"
+      "class,diameter,bottom_mass_fraction,top_mass_fraction\n",
+      inWindow, opt.windowBegin, opt.windowEnd);
+  for (std::size_t c = 0; c < opt.classes.diameter.size(); ++c)
+    std::fprintf(f.get(), "%s,%.9g,%.9g,%.9g\n", opt.classes.label(static_cast<int>(c)).c_str(),
+                 opt.classes.diameter[c], c < h.bottom.size() ? h.bottom[c] : 0.0,
+                 c < h.top.size() ? h.top[c] : 0.0);
+  finish(std::move(f), path);
+}
+
+} // namespace rcfd

@@ -1,0 +1,217 @@
+#include "rcfd/swaps.hpp"
+
+#include "operator/face_exchange.hpp"
+#include "util/collective.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+
+namespace rcfd {
+
+DriftOperator::DriftOperator() = default;
+DriftOperator::~DriftOperator() = default;
+
+PetscErrorCode DriftOperator::setFromOptions(MPI_Comm c) {
+  const char *models[] = {"A", "B", "constant", "none"};
+  PetscInt which = static_cast<PetscInt>(model);
+  PetscReal velocities[256];
+  PetscInt nv = 256;
+  PetscBool setV = PETSC_FALSE;
+  PetscFunctionBeginUser;
+  comm = c;
+  PetscOptionsBegin(comm, prefix.c_str(), "Fractional drift (face swaps along gravity)", "rcfd");
+  PetscCall(PetscOptionsEList("-model", "Drift model: A (d^2), B (d|d|), constant or none", "",
+                              models, 4, models[which], &which, nullptr));
+  PetscCall(PetscOptionsReal("-kd", "Drift constant k_d [1/(m s)] (paper: 5e2 for A, 5e3 for B)",
+                             "", kd, &kd, nullptr));
+  PetscCall(PetscOptionsRealArray("-velocities", "Drift velocity of each fraction, up positive [m/s] (model constant)",
+                                  "", velocities, &nv, &setV));
+  PetscCall(PetscOptionsReal("-d32", "Sauter diameter in the model [m] (default: the inventory's)",
+                             "", d32Override, &d32Override, nullptr));
+  PetscCall(PetscOptionsBool("-local_d32", "Use each sending cell's Sauter diameter instead", "",
+                             localD32, &localD32, nullptr));
+  PetscCall(PetscOptionsBool("-hindered", "Hindered drift: times (1 - alpha_s / alpha_max)", "",
+                             hindered, &hindered, nullptr));
+  PetscCall(PetscOptionsReal("-alpha_max", "Packing limit of hindered drift", "", alphaMax,
+                             &alphaMax, nullptr));
+  PetscCall(PetscOptionsReal("-alpha_min", "Faces touching a cell below this alpha_s do not swap",
+                             "", alphaMin, &alphaMin, nullptr));
+  PetscCall(PetscOptionsReal("-max_share", "Largest share of a fraction one sub-step may drift out of a cell",
+                             "", maxShare, &maxShare, nullptr));
+  PetscCall(PetscOptionsInt("-max_substeps", "Refuse steps that would need more sub-steps", "",
+                            substepLimit, &substepLimit, nullptr));
+  PetscOptionsEnd();
+  model = static_cast<Model>(which);
+  constantVelocity.assign(velocities, velocities + (setV ? nv : 0));
+  PetscCheck(kd >= 0 && std::isfinite(kd), comm, PETSC_ERR_USER_INPUT,
+             "-%skd must be a non-negative number, got %g", prefix.c_str(), kd);
+  PetscCheck(maxShare > 0 && maxShare < 1, comm, PETSC_ERR_USER_INPUT,
+             "-%smax_share must lie in (0, 1), got %g", prefix.c_str(), maxShare);
+  PetscCheck(alphaMax > 0 && alphaMin >= 0, comm, PETSC_ERR_USER_INPUT,
+             "-%salpha_max must be positive and -%salpha_min non-negative", prefix.c_str(),
+             prefix.c_str());
+  PetscCheck(model != Model::Constant || setV, comm, PETSC_ERR_USER_INPUT,
+             "-%smodel constant needs -%svelocities (one per fraction, m/s, up positive)",
+             prefix.c_str(), prefix.c_str());
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+bool DriftOperator::needed(const RunContext &ctx) const {
+  if (ctx.fractions.size() < 2 || model == Model::None) return false;
+  if (model == Model::Constant)
+    return std::any_of(constantVelocity.begin(), constantVelocity.end(),
+                       [](double u) { return u != 0.0; });
+  return kd > 0.0;
+}
+
+double DriftOperator::velocity(int i, double sauter) const {
+  const double d = diameter[i];
+  switch (model) {
+  case Model::A: return -kd * (d * d - sauter * sauter);
+  case Model::B: return -kd * (d - sauter) * std::fabs(d - sauter);
+  case Model::Constant: return constantVelocity[i];
+  case Model::None: break;
+  }
+  return 0.0;
+}
+
+PetscErrorCode DriftOperator::setUp(const RunContext &ctx) {
+  PetscFunctionBeginUser;
+  comm = ctx.db.layout().comm();
+  nf = ctx.fractions.size();
+  rho = ctx.solidDensity;
+  PetscCheck(model != Model::Constant || (int)constantVelocity.size() == nf, comm,
+             PETSC_ERR_USER_INPUT, "-%svelocities has %zu values but there are %d fractions",
+             prefix.c_str(), constantVelocity.size(), nf);
+  diameter.resize(nf);
+  for (int i = 0; i < nf; ++i) diameter[i] = ctx.fractions.diameter(i);
+  d32 = d32Override > 0 ? d32Override : ctx.fractions.inventorySauterDiameter();
+  velocityCache.resize(nf);
+  for (int i = 0; i < nf; ++i) velocityCache[i] = velocity(i, d32);
+  const Vec3 g = ctx.db.metadata().gravity;
+  exchange = std::make_unique<FaceExchange>();
+  // Faces whose normal is within 1e-9 of horizontal carry no drift.
+  FractionState probe;
+  PetscCall(probe.create(ctx.db.layout(), nf));
+  PetscCall(exchange->setUp(ctx.db, nf, {-g[0], -g[1], -g[2]}, 1e-9, probe.masses()));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+// The largest drift Courant number any cell can reach in a step of dt sets
+// the number of sub-steps: with the inventory's d32 the velocities are
+// fixed, with local d32 each cell's d32 lies between the smallest and the
+// largest diameter, which bounds |u_i|.  The hindrance factor is <= 1.
+PetscErrorCode DriftOperator::substepsFor(double dt, FractionState &, int *n) {
+  PetscFunctionBeginUser;
+  double umax = 0.0;
+  if (!localD32) {
+    for (double u : velocityCache) umax = std::max(umax, std::fabs(u));
+  } else {
+    const double dmin = *std::min_element(diameter.begin(), diameter.end());
+    const double dmax = *std::max_element(diameter.begin(), diameter.end());
+    for (int i = 0; i < nf; ++i)
+      umax = std::max({umax, std::fabs(velocity(i, dmin)), std::fabs(velocity(i, dmax))});
+  }
+  const double courant = umax * exchange->maxAreaOverVolume() * dt;
+  const double needed = std::ceil(courant / maxShare);
+  PetscCheck(needed <= substepLimit, comm, PETSC_ERR_NOT_CONVERGED,
+             "Drift needs %.0f sub-steps per step (Courant number %.3g), more than -%smax_substeps %d",
+             needed, courant, prefix.c_str(), (int)substepLimit);
+  *n = std::max(1, static_cast<int>(needed));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode DriftOperator::apply(const StepInfo &step, FractionState &state) {
+  int n;
+  PetscFunctionBeginUser;
+  PetscCall(substepsFor(step.dt, state, &n));
+  for (int s = 0; s < n; ++s) PetscCall(substep(step.dt / n, state));
+  ++steps;
+  substeps += n;
+  mostSubsteps = std::max(mostSubsteps, n);
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+// One explicit swap sweep over this rank's faces, all evaluated from the
+// state at the start of the sub-step.  On each face the lower cell sends the
+// upward-drifting fractions and the upper cell the downward-drifting ones;
+// whichever side sent less bulk mass adds its own mixture until both sent
+// the same mass X, so the bulk of both cells is unchanged.  The face limiter
+// caps X at faceShare times either cell's bulk mass ("what the receiver can
+// take"), so that with the sub-step rule no fraction can leave a cell
+// entirely: per cell the drift part is at most maxShare and the faces'
+// top-ups at most (1 - maxShare) together.
+PetscErrorCode DriftOperator::substep(double dt, FractionState &state) {
+  PetscFunctionBeginUser;
+  PetscCall(exchange->gather(state.masses()));
+  const PetscScalar *m = exchange->gatheredMasses();
+  PetscScalar *delta = exchange->changes();
+  const double faceShare = 0.999 * (1.0 - maxShare) / std::max(1, exchange->maxFacesPerCell());
+  std::vector<double> uLower(nf), uUpper(nf), pLower(nf), pUpper(nf);
+  auto sauter = [&](const PetscScalar *mc, double total) {
+    double s = 0.0;
+    for (int i = 0; i < nf; ++i) s += mc[i] / diameter[i];
+    return s > 0 ? total / s : d32;
+  };
+  for (const SwapFace &f : exchange->faces()) {
+    const PetscScalar *mL = m + f.lower * nf, *mU = m + f.upper * nf;
+    double ML = 0.0, MU = 0.0;
+    for (int i = 0; i < nf; ++i) ML += mL[i], MU += mU[i];
+    const double aL = ML / (rho * f.volumeLower), aU = MU / (rho * f.volumeUpper);
+    if (!(aL >= alphaMin && aU >= alphaMin)) continue; // empty neighbour: nothing to swap with
+    const double hL = hindered ? std::max(0.0, 1.0 - aL / alphaMax) : 1.0;
+    const double hU = hindered ? std::max(0.0, 1.0 - aU / alphaMax) : 1.0;
+    if (localD32) {
+      const double sL = sauter(mL, ML), sU = sauter(mU, MU);
+      for (int i = 0; i < nf; ++i) uLower[i] = velocity(i, sL), uUpper[i] = velocity(i, sU);
+    } else {
+      std::copy(velocityCache.begin(), velocityCache.end(), uLower.begin());
+      std::copy(velocityCache.begin(), velocityCache.end(), uUpper.begin());
+    }
+    const double cL = hL * f.area * dt / f.volumeLower, cU = hU * f.area * dt / f.volumeUpper;
+    double up = 0.0, down = 0.0;
+    for (int i = 0; i < nf; ++i) {
+      pLower[i] = uLower[i] > 0 ? mL[i] * uLower[i] * cL : 0.0;
+      pUpper[i] = uUpper[i] < 0 ? -mU[i] * uUpper[i] * cU : 0.0;
+      up += pLower[i];
+      down += pUpper[i];
+    }
+    const double X = std::max(up, down);
+    if (X <= 0.0) continue;
+    const double lambda = std::min({1.0, faceShare * ML / X, faceShare * MU / X});
+    const double topLower = (X - up) / ML, topUpper = (X - down) / MU;
+    PetscScalar *dL = delta + f.lower * nf, *dU = delta + f.upper * nf;
+    for (int i = 0; i < nf; ++i) {
+      const double toUpper = lambda * (pLower[i] + topLower * mL[i]);
+      const double toLower = lambda * (pUpper[i] + topUpper * mU[i]);
+      const double net = toUpper - toLower;
+      dL[i] -= net;
+      dU[i] += net;
+    }
+  }
+  PetscCall(exchange->endKernel());
+  PetscCall(exchange->scatterAdd(state.masses()));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode DriftOperator::view(PetscViewer viewer) const {
+  const char *names[] = {"A: u = -kd (d^2 - d32^2)", "B: u = -kd (d - d32)|d - d32|",
+                         "constant velocities", "none"};
+  PetscFunctionBeginUser;
+  PetscCall(PetscViewerASCIIPrintf(viewer, "drift: model %s, kd = %g 1/(m s), d32 = %.4g mm (%s)%s\n",
+                                   names[static_cast<int>(model)], kd, d32 * 1e3,
+                                   localD32 ? "local per sending cell" : (d32Override > 0 ? "given" : "inventory"),
+                                   hindered ? ", hindered" : ""));
+  PetscCall(PetscViewerASCIIPushTab(viewer));
+  for (int i = 0; i < nf; ++i)
+    PetscCall(PetscViewerASCIIPrintf(viewer, "fraction %d (d = %.4g mm): u_d = %+.4g m/s\n", i,
+                                     diameter[i] * 1e3, velocityCache[i]));
+  if (exchange)
+    PetscCall(PetscViewerASCIIPrintf(viewer, "swap faces on this rank: %zu; sub-steps: %ld over %ld steps (at most %d)\n",
+                                     exchange->faces().size(), substeps, steps, mostSubsteps));
+  PetscCall(PetscViewerASCIIPopTab(viewer));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+} // namespace rcfd

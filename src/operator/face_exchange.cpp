@@ -1,0 +1,97 @@
+#include "operator/face_exchange.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+
+namespace rcfd {
+
+PetscErrorCode FaceExchange::setUp(const Database &db, int nf, const Vec3 &direction,
+                                   double minShare, Vec stateTemplate) {
+  PetscFunctionBeginUser;
+  const Mesh &mesh = db.mesh();
+  const Layout &L = db.layout();
+  const double dn = std::hypot(direction[0], direction[1], direction[2]);
+  std::map<PetscInt, PetscInt> localIndex; // PETSc row -> gathered index
+  std::vector<PetscInt> rows;
+  auto index = [&](PetscInt row) {
+    auto [it, inserted] = localIndex.emplace(row, static_cast<PetscInt>(rows.size()));
+    if (inserted) rows.push_back(row);
+    return it->second;
+  };
+  swapFaces.clear();
+  for (int f = 0; f < mesh.numFaces(); ++f) {
+    const PetscInt owner = L.petscRow(mesh.faceOwner[f]);
+    if (owner < L.rowStart() || owner >= L.rowEnd()) continue; // another rank's face
+    const Vec3 &S = mesh.faceArea[f];
+    const double area = std::hypot(S[0], S[1], S[2]);
+    double along = area; // dispersion: the whole face, owner as "lower"
+    if (dn > 0) along = (S[0] * direction[0] + S[1] * direction[1] + S[2] * direction[2]) / dn;
+    if (std::fabs(along) <= minShare * area) continue;
+    int lo = mesh.faceOwner[f], up = mesh.faceNeighbour[f];
+    if (along < 0) std::swap(lo, up); // S points from owner to neighbour
+    const Vec3 &a = mesh.cellCentre[lo], &b = mesh.cellCentre[up];
+    const double normalDistance =
+        std::fabs((b[0] - a[0]) * S[0] + (b[1] - a[1]) * S[1] + (b[2] - a[2]) * S[2]) / area;
+    swapFaces.push_back({index(L.petscRow(lo)), index(L.petscRow(up)), std::fabs(along),
+                         mesh.cellVolume[lo], mesh.cellVolume[up], normalDistance});
+  }
+  gathered = static_cast<PetscInt>(rows.size());
+
+  // Area over volume sent through in each direction, and faces per cell.
+  std::vector<double> upward(gathered, 0.0), downward(gathered, 0.0);
+  std::vector<int> count(gathered, 0);
+  for (const auto &f : swapFaces) {
+    upward[f.lower] += f.area / f.volumeLower;
+    downward[f.upper] += f.area / f.volumeUpper;
+    ++count[f.lower];
+    ++count[f.upper];
+  }
+  // Faces of a ghost cell on other ranks are not all seen here; reduce the
+  // per-cell sums over ranks through the same scatter below would cost more
+  // than it is worth: a cell's faces are on at most the ranks of its
+  // neighbours, so the global maximum of local sums is reduced instead and is
+  // exact for owned cells, which carry all their faces except cut ones.
+  double localMax = 0.0;
+  int localFaces = 0;
+  for (PetscInt c = 0; c < gathered; ++c) {
+    localMax = std::max({localMax, upward[c], downward[c]});
+    localFaces = std::max(localFaces, count[c]);
+  }
+  PetscCallMPI(MPI_Allreduce(&localMax, &maxAoverV, 1, MPI_DOUBLE, MPI_MAX, L.comm()));
+  PetscCallMPI(MPI_Allreduce(&localFaces, &maxPerCell, 1, MPI_INT, MPI_MAX, L.comm()));
+
+  OwnedIS from, to;
+  PetscCall(ISCreateBlock(PETSC_COMM_SELF, nf, gathered, rows.data(), PETSC_COPY_VALUES, from.put()));
+  PetscCall(ISCreateStride(PETSC_COMM_SELF, gathered * nf, 0, 1, to.put()));
+  PetscCall(VecCreateSeq(PETSC_COMM_SELF, gathered * nf, local.put()));
+  PetscCall(VecDuplicate(local, delta.put()));
+  PetscCall(VecScatterCreate(stateTemplate, from, local, to, scatter.put()));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode FaceExchange::gather(Vec masses) {
+  PetscFunctionBeginUser;
+  PetscCall(VecScatterBegin(scatter, masses, local, INSERT_VALUES, SCATTER_FORWARD));
+  PetscCall(VecScatterEnd(scatter, masses, local, INSERT_VALUES, SCATTER_FORWARD));
+  PetscCall(VecZeroEntries(delta));
+  PetscCall(VecGetArrayRead(local, const_cast<const PetscScalar **>(&massArray)));
+  PetscCall(VecGetArray(delta, &changeArray));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode FaceExchange::endKernel() {
+  PetscFunctionBeginUser;
+  PetscCall(VecRestoreArrayRead(local, const_cast<const PetscScalar **>(&massArray)));
+  PetscCall(VecRestoreArray(delta, &changeArray));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode FaceExchange::scatterAdd(Vec masses) {
+  PetscFunctionBeginUser;
+  PetscCall(VecScatterBegin(scatter, delta, masses, ADD_VALUES, SCATTER_REVERSE));
+  PetscCall(VecScatterEnd(scatter, delta, masses, ADD_VALUES, SCATTER_REVERSE));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+} // namespace rcfd

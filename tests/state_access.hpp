@@ -1,0 +1,70 @@
+// Test helpers: read and write a distributed fraction state in natural cell
+// order, and write small databases, so that tests can state expectations per
+// mesh cell whatever the partition.
+#pragma once
+
+#include "rcfd/database.hpp"
+#include "check.hpp"
+#include "rcfd/fractions.hpp"
+
+#include <string>
+#include <vector>
+
+namespace rcfd::test {
+
+/// Masses in natural order (nf per cell) on every rank.  Collective.
+inline std::vector<double> gatherNatural(const Database &db, Vec masses, int nf) {
+  OwnedVec natural, all;
+  OwnedScatter toNatural, toAll;
+  db.layout().naturalScatter(nf, masses, natural.put(), toNatural.put());
+  VecScatterBegin(toNatural, masses, natural, INSERT_VALUES, SCATTER_FORWARD);
+  VecScatterEnd(toNatural, masses, natural, INSERT_VALUES, SCATTER_FORWARD);
+  VecScatterCreateToAll(natural, toAll.put(), all.put());
+  VecScatterBegin(toAll, natural, all, INSERT_VALUES, SCATTER_FORWARD);
+  VecScatterEnd(toAll, natural, all, INSERT_VALUES, SCATTER_FORWARD);
+  const PetscScalar *a;
+  PetscInt n;
+  VecGetSize(all, &n);
+  VecGetArrayRead(all, &a);
+  std::vector<double> out(a, a + n);
+  VecRestoreArrayRead(all, &a);
+  return out;
+}
+
+/// Set the state from natural-ordered values (every rank passes all values).
+inline void setNatural(const Database &db, FractionState &st, const std::vector<double> &values) {
+  const int nf = st.numFractions();
+  PetscScalar *m;
+  VecGetArrayWrite(st.masses(), &m);
+  const auto &owned = db.layout().ownedNatural();
+  for (size_t r = 0; r < owned.size(); ++r)
+    for (int i = 0; i < nf; ++i) m[r * nf + i] = values[owned[r] * nf + i];
+  VecRestoreArrayWrite(st.masses(), &m);
+}
+
+/// Write (on rank 0) a database of `frames` identity shifts with the given
+/// alpha_s, and wait for it on all ranks.
+inline void writeIdentityDatabase(const std::string &path, const Mesh &mesh,
+                                  const std::vector<double> &alpha, const DatabaseMetadata &meta,
+                                  int frames = 1) {
+  int rank;
+  MPI_Comm_rank(PETSC_COMM_WORLD, &rank);
+  if (rank == 0) {
+    DatabaseWriter w(path, mesh, meta);
+    FrameRecord f;
+    f.alphaS = alpha;
+    f.shift = shiftFromTransfers(mesh.numCells(), {}, {}, {});
+    for (int k = 0; k < frames; ++k) w.append(f);
+    w.finish();
+  }
+  MPI_Barrier(PETSC_COMM_WORLD);
+}
+
+/// Sum of failures over all ranks, for main()'s exit status.
+inline int globalFailures() {
+  int mine = failures(), total = 0;
+  MPI_Allreduce(&mine, &total, 1, MPI_INT, MPI_SUM, PETSC_COMM_WORLD);
+  return total;
+}
+
+} // namespace rcfd::test
