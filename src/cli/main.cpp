@@ -68,7 +68,6 @@ int main(int argc, char **argv) {
       std::fprintf(stderr, "rcfd %s: error: %s\n", command.c_str(),
                    specific && *specific ? specific : (generic ? generic : "unknown error"));
   }
-  PetscOptionsClear(nullptr); // unused options were already reported as errors
   PetscFinalize();
   return ierr ? 1 : 0;
 }

@@ -193,14 +193,12 @@ LocalFrame readLocalFrame(const h5::File &f, int k, const Layout &layout, bool w
         fr.val.push_back(val[q]);
       }
       // PETSc wants sorted columns; renumbering may have reordered them.
-      std::vector<size_t> idx(fr.col.size() - rowBegin);
-      std::iota(idx.begin(), idx.end(), rowBegin);
-      std::sort(idx.begin(), idx.end(), [&](size_t a, size_t c) { return fr.col[a] < fr.col[c]; });
-      std::vector<PetscInt> c2(idx.size());
-      std::vector<PetscScalar> v2(idx.size());
-      for (size_t t = 0; t < idx.size(); ++t) c2[t] = fr.col[idx[t]], v2[t] = fr.val[idx[t]];
-      std::copy(c2.begin(), c2.end(), fr.col.begin() + rowBegin);
-      std::copy(v2.begin(), v2.end(), fr.val.begin() + rowBegin);
+      // Rows hold a handful of entries: insertion sort, in place.
+      for (size_t a = rowBegin + 1; a < fr.col.size(); ++a)
+        for (size_t b = a; b > rowBegin && fr.col[b - 1] > fr.col[b]; --b) {
+          std::swap(fr.col[b - 1], fr.col[b]);
+          std::swap(fr.val[b - 1], fr.val[b]);
+        }
       fr.rowPtr.push_back(static_cast<PetscInt>(fr.col.size()));
     }
     p += e - b + 1;
