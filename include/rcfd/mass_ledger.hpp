@@ -25,11 +25,14 @@ public:
   /// Collective.  Every `checkEvery` steps: refuse a leak, remove round-off.
   PetscErrorCode check(long step, FractionState &state);
   PetscInt interval() const { return checkEvery; }
+  /// Reference totals, and setting them again on restart.
+  const std::vector<double> &reference() const { return totals; }
+  void restore(const std::vector<double> &reference) { totals = reference; }
   /// Largest relative round-off drift removed so far.
   double largestCorrection() const { return largest; }
 
 private:
-  std::vector<double> reference;
+  std::vector<double> totals;
   PetscInt checkEvery = 50;
   PetscReal leakTolerance = 1e-10;
   double largest = 0.0;

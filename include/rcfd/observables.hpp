@@ -17,6 +17,14 @@ struct BedSample {
   double zCogBed = 0.0;      // of all fractions together [m]
   double deltaZ = 0.0;       // zCog(smallest) - zCog(largest) [m]
   double minMass = 0.0;      // smallest mass in any cell and fraction [kg]
+  /// sum_c |M_c - rho alpha_c V_c| / sum_c rho alpha_c V_c against the frame
+  /// the state should match: how far the bulk has strayed from the database.
+  double bulkMismatch = 0.0;
+
+  /// Flat form for checkpoints: time, bed, cog..., deltaZ, mass..., minMass, mismatch.
+  std::vector<double> flatten() const;
+  static BedSample unflatten(const double *v, int nf);
+  static int flatSize(int nf) { return 2 * nf + 5; }
 };
 
 /// Heights of this rank's cells along -gravity, and the sums that turn a
@@ -24,13 +32,13 @@ struct BedSample {
 class CentreOfGravity {
 public:
   PetscErrorCode setUp(const Database &db, const FractionSet &fractions);
-  /// Collective.
-  PetscErrorCode measure(double time, Vec masses, BedSample *sample) const;
+  /// Collective.  `alpha` is the database frame the state should match.
+  PetscErrorCode measure(double time, Vec masses, Vec alpha, double rho, BedSample *sample) const;
   const std::vector<double> &localHeights() const { return height; }
 
 private:
   MPI_Comm comm = MPI_COMM_NULL;
-  std::vector<double> height;
+  std::vector<double> height, volume;
   int nf = 0, small = 0, large = 0;
 };
 
@@ -71,6 +79,9 @@ private:
   OwnedScatter toNatural, alphaToNatural;
   std::vector<double> times;
 };
+
+/// One row of cog.csv with the given number of significant digits.
+std::string formatCsvRow(const BedSample &sample, int digits);
 
 /// Atomically replace `path` with `text` (write to a temporary name, rename).
 PetscErrorCode writeFileAtomically(const std::string &path, const std::string &text);

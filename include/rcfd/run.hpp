@@ -1,5 +1,5 @@
 // A simulation run: database + fractions + operator pipeline + frame path,
-// stepped in time with monitors and outputs.
+// stepped in time with monitors, outputs and checkpoints.
 #pragma once
 
 #include "rcfd/database.hpp"
@@ -14,6 +14,8 @@
 
 namespace rcfd {
 
+class FramePath;
+
 class Run {
 public:
   /// The registry supplies the operators named by -pipeline; it must outlive the run.
@@ -22,9 +24,10 @@ public:
 
   /// Reads the run's options (see `rcfd run -help`).
   PetscErrorCode setFromOptions();
-  /// Loads the database, builds the pipeline and the initial state (collective).
+  /// Loads the database, builds the pipeline, the frame path and the initial
+  /// state (or the state of -restart FILE).  Collective.
   PetscErrorCode setUp();
-  /// Steps to the end time, writing monitors and fields (collective).
+  /// Steps to the end time, writing monitors, fields and checkpoints (collective).
   PetscErrorCode solve();
   PetscErrorCode view(PetscViewer viewer) const;
 
@@ -35,12 +38,19 @@ public:
   Pipeline &pipeline() { return ops; }
   /// Samples taken by the monitor (every -monitor_every steps).
   const std::vector<BedSample> &history() const { return samples; }
+  /// Frame used by each step so far.
+  const std::vector<int> &framesUsed() const { return frames; }
   long numSteps() const { return steps; }
 
 private:
+  PetscErrorCode setUpPath();
   PetscErrorCode initialState();
-  PetscErrorCode monitor(const StepInfo &step, double time);
+  PetscErrorCode monitor(double time, int frameOfState);
   PetscErrorCode progress(long step, double time, bool last);
+  PetscErrorCode writeCheckpoint(long step) const;
+  PetscErrorCode readCheckpoint();
+  PetscErrorCode writePath() const;
+  std::string csvHeader() const;
 
   MPI_Comm comm;
   const OperatorRegistry &registry;
@@ -49,15 +59,24 @@ private:
   FractionState fstate;
   Pipeline ops;
   CentreOfGravity cog;
-  MassLedger ledger;
   FieldWriter fields;
+  MassLedger ledger;
   std::unique_ptr<CsvSeries> csv;
   std::vector<BedSample> samples;
+  std::unique_ptr<FramePath> path;
+  std::vector<int> frames;
+  long startStep = 0;
 
   // Options.
   std::string dbPath, outputDir = "rcfd-output", initKind = "mixed", initFile;
-  std::string pipelineSpec = "shift,drift";
+  std::string pipelineSpec = "shift,drift,carry";
+  std::string pathType = "replay", pathFile, recurrenceNorm = "sqrDiff";
+  std::string checkpointFile, restartFile;
+  PetscInt pathSeed = 1, pathMinLength = -1, pathMaxLength = -1, pathBand = -1, pathCandidates = 1;
+  PetscInt pathStart = 0;
+  PetscReal pathMeanInterval = -1.0;
   double tEnd = -1.0, fieldsEvery = 0.0, progressInterval = 2.0, solidDensity = -1.0;
+  double checkpointEvery = 0.0;
   PetscInt monitorEvery = 1, csvDigits = 10;
   long steps = 0;
   PetscBool quiet = PETSC_FALSE, writeFields = PETSC_TRUE;

@@ -81,4 +81,40 @@ private:
   long substeps = 0, steps = 0;
 };
 
+/// Carries the state across a jump between frames: after a step whose next
+/// frame does not follow its frame (a stitching jump, or replay wrapping),
+/// the state's bulk mass per cell differs from the next frame's alpha_s.
+///  - remap (default): every cell keeps its composition (mass shares of the
+///    fractions; a cell that was empty takes its neighbours') and takes the
+///    next frame's bulk mass; one factor per fraction, the same in every
+///    cell, then restores each fraction's total exactly.
+///  - level: sweeps move mixture from over- to under-filled neighbours
+///    (strictly local, but it cannot move mass far: bubbles in other places
+///    leave a large mismatch).
+/// Both keep every fraction's total and never make a mass negative.
+/// Options (prefix carry_): -carry_type remap|level, -carry_sweeps (level,
+/// per jump, default 20).  See docs/paths.md.
+class CarryOperator : public Operator {
+public:
+  CarryOperator();
+  ~CarryOperator() override;
+  std::string type() const override { return "carry"; }
+  PetscErrorCode setFromOptions(MPI_Comm comm) override;
+  bool needed(const RunContext &ctx) const override;
+  PetscErrorCode setUp(const RunContext &ctx) override;
+  PetscErrorCode apply(const StepInfo &step, FractionState &state) override;
+  PetscErrorCode view(PetscViewer viewer) const override;
+
+private:
+  PetscErrorCode sweep(const std::vector<double> &targetAlpha, FractionState &state);
+  PetscErrorCode remap(Vec targetAlpha, FractionState &state);
+  const Database *db = nullptr;
+  std::string kind = "remap";
+  PetscInt sweeps = 20, sweepsPerStep = 0;
+  double rho = 0.0;
+  int nf = 0;
+  std::unique_ptr<FaceExchange> exchange;
+  long jumps = 0, totalSweeps = 0;
+};
+
 } // namespace rcfd

@@ -13,6 +13,7 @@ PetscErrorCode CentreOfGravity::setUp(const Database &db, const FractionSet &fra
   const Vec3 g = db.metadata().gravity;
   const double gn = std::hypot(g[0], g[1], g[2]);
   height.clear();
+  volume = db.localVolumes();
   for (PetscInt c : db.layout().ownedNatural()) {
     const Vec3 &x = db.mesh().cellCentre[c];
     height.push_back(-(g[0] * x[0] + g[1] * x[1] + g[2] * x[2]) / gn);
@@ -20,19 +21,29 @@ PetscErrorCode CentreOfGravity::setUp(const Database &db, const FractionSet &fra
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
-PetscErrorCode CentreOfGravity::measure(double time, Vec masses, BedSample *s) const {
+PetscErrorCode CentreOfGravity::measure(double time, Vec masses, Vec alpha, double rho,
+                                        BedSample *s) const {
   PetscFunctionBeginUser;
-  const PetscScalar *m;
-  // [mass_0..mass_nf-1, moment_0..moment_nf-1]
-  std::vector<double> sums(2 * nf, 0.0);
+  const PetscScalar *m, *a;
+  // [mass_0..mass_nf-1, moment_0..moment_nf-1, |bulk mismatch|, database bulk]
+  std::vector<double> sums(2 * nf + 2, 0.0);
   PetscCall(VecGetArrayRead(masses, &m));
-  for (size_t c = 0; c < height.size(); ++c)
+  PetscCall(VecGetArrayRead(alpha, &a));
+  for (size_t c = 0; c < height.size(); ++c) {
+    double bulk = 0.0;
     for (int i = 0; i < nf; ++i) {
       sums[i] += m[c * nf + i];
       sums[nf + i] += m[c * nf + i] * height[c];
+      bulk += m[c * nf + i];
     }
+    const double expected = rho * a[c] * volume[c];
+    sums[2 * nf] += std::fabs(bulk - expected);
+    sums[2 * nf + 1] += expected;
+  }
+  PetscCall(VecRestoreArrayRead(alpha, &a));
   PetscCall(VecRestoreArrayRead(masses, &m));
-  PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, sums.data(), 2 * nf, MPI_DOUBLE, MPI_SUM, comm));
+  PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, sums.data(), 2 * nf + 2, MPI_DOUBLE, MPI_SUM, comm));
+  s->bulkMismatch = sums[2 * nf + 1] > 0 ? sums[2 * nf] / sums[2 * nf + 1] : 0.0;
   s->time = time;
   s->mass.assign(sums.begin(), sums.begin() + nf);
   s->zCog.resize(nf);
@@ -46,6 +57,28 @@ PetscErrorCode CentreOfGravity::measure(double time, Vec masses, BedSample *s) c
   s->deltaZ = s->zCog[small] - s->zCog[large];
   PetscCall(VecMin(masses, nullptr, &s->minMass));
   PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+std::vector<double> BedSample::flatten() const {
+  std::vector<double> v{time, zCogBed};
+  v.insert(v.end(), zCog.begin(), zCog.end());
+  v.push_back(deltaZ);
+  v.insert(v.end(), mass.begin(), mass.end());
+  v.push_back(minMass);
+  v.push_back(bulkMismatch);
+  return v;
+}
+
+BedSample BedSample::unflatten(const double *v, int nf) {
+  BedSample s;
+  s.time = v[0];
+  s.zCogBed = v[1];
+  s.zCog.assign(v + 2, v + 2 + nf);
+  s.deltaZ = v[2 + nf];
+  s.mass.assign(v + 3 + nf, v + 3 + 2 * nf);
+  s.minMass = v[3 + 2 * nf];
+  s.bulkMismatch = v[4 + 2 * nf];
+  return s;
 }
 
 } // namespace rcfd

@@ -11,6 +11,8 @@ OperatorRegistry OperatorRegistry::withBuiltins() {
         "fractional drift along gravity by face swaps (paper Eq. 4-6)");
   r.add("dispersion", [] { return std::make_unique<DispersionOperator>(); },
         "symmetric mixing of composition across all faces");
+  r.add("carry", [] { return std::make_unique<CarryOperator>(); },
+        "levels the bulk mismatch after a jump between frames");
   return r;
 }
 

@@ -13,7 +13,7 @@ PetscErrorCode FaceExchange::setUp(const Database &db, int nf, const Vec3 &direc
   const Layout &L = db.layout();
   const double dn = std::hypot(direction[0], direction[1], direction[2]);
   std::map<PetscInt, PetscInt> localIndex; // PETSc row -> gathered index
-  std::vector<PetscInt> rows;
+  rows.clear();
   auto index = [&](PetscInt row) {
     auto [it, inserted] = localIndex.emplace(row, static_cast<PetscInt>(rows.size()));
     if (inserted) rows.push_back(row);
@@ -77,6 +77,24 @@ PetscErrorCode FaceExchange::gather(Vec masses) {
   PetscCall(VecZeroEntries(delta));
   PetscCall(VecGetArrayRead(local, const_cast<const PetscScalar **>(&massArray)));
   PetscCall(VecGetArray(delta, &changeArray));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode FaceExchange::gatherScalar(Vec cellValues, std::vector<double> *out) {
+  PetscFunctionBeginUser;
+  if (!scalarScatter) {
+    OwnedIS from, to;
+    PetscCall(ISCreateGeneral(PETSC_COMM_SELF, gathered, rows.data(), PETSC_COPY_VALUES, from.put()));
+    PetscCall(ISCreateStride(PETSC_COMM_SELF, gathered, 0, 1, to.put()));
+    PetscCall(VecCreateSeq(PETSC_COMM_SELF, gathered, scalarLocal.put()));
+    PetscCall(VecScatterCreate(cellValues, from, scalarLocal, to, scalarScatter.put()));
+  }
+  PetscCall(VecScatterBegin(scalarScatter, cellValues, scalarLocal, INSERT_VALUES, SCATTER_FORWARD));
+  PetscCall(VecScatterEnd(scalarScatter, cellValues, scalarLocal, INSERT_VALUES, SCATTER_FORWARD));
+  const PetscScalar *a;
+  PetscCall(VecGetArrayRead(scalarLocal, &a));
+  out->assign(a, a + gathered);
+  PetscCall(VecRestoreArrayRead(scalarLocal, &a));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 

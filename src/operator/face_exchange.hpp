@@ -39,6 +39,9 @@ public:
   PetscErrorCode scatterAdd(Vec masses);
   const PetscScalar *gatheredMasses() const { return massArray; }
   PetscScalar *changes() { return changeArray; }
+  /// Collective: values of a cell Vec (block size 1, PETSc order) at the
+  /// gathered cells, e.g. a database frame's alpha_s.
+  PetscErrorCode gatherScalar(Vec cellValues, std::vector<double> *out);
   /// Restore arrays (call after the kernel, before scatterAdd).
   PetscErrorCode endKernel();
   /// Largest sum over a cell's faces of area / volume in each direction
@@ -48,7 +51,9 @@ public:
 private:
   std::vector<SwapFace> swapFaces;
   OwnedVec local, delta;
-  OwnedScatter scatter;
+  OwnedScatter scatter, scalarScatter;
+  OwnedVec scalarLocal;
+  std::vector<PetscInt> rows; // PETSc row of each gathered cell
   PetscScalar *massArray = nullptr, *changeArray = nullptr;
   PetscInt gathered = 0;
   int maxPerCell = 0;

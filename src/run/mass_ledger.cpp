@@ -20,7 +20,7 @@ PetscErrorCode MassLedger::setFromOptions(MPI_Comm comm) {
 
 PetscErrorCode MassLedger::start(const FractionState &state) {
   PetscFunctionBeginUser;
-  PetscCall(state.totals(&reference));
+  PetscCall(state.totals(&totals));
   lastStep = 0;
   PetscFunctionReturn(PETSC_SUCCESS);
 }
@@ -33,19 +33,19 @@ PetscErrorCode MassLedger::check(long step, FractionState &state) {
   const int nf = state.numFractions();
   std::vector<double> factor(nf, 1.0);
   for (int i = 0; i < nf; ++i) {
-    if (reference[i] == 0.0) {
+    if (totals[i] == 0.0) {
       PetscCheck(now[i] == 0.0, PETSC_COMM_SELF, PETSC_ERR_PLIB,
                  "Fraction %d had no mass but has %g kg after step %ld: an operator created mass", i,
                  now[i], step);
       continue;
     }
-    const double change = now[i] / reference[i] - 1.0;
+    const double change = now[i] / totals[i] - 1.0;
     PetscCheck(std::fabs(change) <= leakTolerance, PETSC_COMM_SELF, PETSC_ERR_PLIB,
                "Fraction %d changed its mass by %.3e (relative) between steps %ld and %ld, more "
                "than round-off (-mass_leak_tolerance %g): an operator is not mass-conserving",
                i, change, lastStep, step, (double)leakTolerance);
     largest = std::fmax(largest, std::fabs(change));
-    factor[i] = reference[i] / now[i];
+    factor[i] = totals[i] / now[i];
   }
   PetscScalar *m;
   PetscInt n;

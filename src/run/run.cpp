@@ -1,5 +1,8 @@
 #include "rcfd/run.hpp"
 
+#include "path/database_recurrence.hpp"
+#include "path/frame_path.hpp"
+
 #include "util/collective.hpp"
 #include "util/h5.hpp"
 
@@ -9,6 +12,7 @@
 #include <cmath>
 #include <numeric>
 #include <sstream>
+#include <stdexcept>
 
 namespace rcfd {
 namespace {
@@ -22,18 +26,19 @@ std::vector<std::string> splitList(const std::string &text) {
   return out;
 }
 
-std::string formatRow(const BedSample &s, int digits) {
+} // namespace
+
+std::string formatCsvRow(const BedSample &s, int digits) {
   std::ostringstream row;
   row.precision(digits);
   row << s.time << ',' << s.zCogBed;
   for (double z : s.zCog) row << ',' << z;
   row << ',' << s.deltaZ;
   for (double m : s.mass) row << ',' << m;
-  row << ',' << s.minMass;
+  row << ',' << s.minMass << ',' << s.bulkMismatch;
   return row.str();
 }
 
-} // namespace
 
 Run::Run(MPI_Comm comm, const OperatorRegistry &registry) : comm(comm), registry(registry) {}
 Run::~Run() = default;
@@ -69,6 +74,35 @@ PetscErrorCode Run::setFromOptions() {
   PetscCall(PetscOptionsString("-init_file", "HDF5 file with dataset /masses [cells x fractions] in kg",
                                "", "", text, sizeof text, &set_));
   if (set_) initFile = text;
+  PetscCall(PetscOptionsString("-path_type", "Frame path: replay, random, markov, quarter or recorded",
+                               "", pathType.c_str(), text, sizeof text, &set_));
+  if (set_) pathType = text;
+  PetscCall(PetscOptionsInt("-path_seed", "Seed of the stitching path", "", pathSeed, &pathSeed, nullptr));
+  PetscCall(PetscOptionsInt("-path_start", "Frame of the first step", "", pathStart, &pathStart, nullptr));
+  PetscCall(PetscOptionsInt("-path_min_length", "Shortest sequence [frames] (default: by kind)", "",
+                            pathMinLength, &pathMinLength, nullptr));
+  PetscCall(PetscOptionsInt("-path_max_length", "Longest sequence [frames] (default: by kind)", "",
+                            pathMaxLength, &pathMaxLength, nullptr));
+  PetscCall(PetscOptionsInt("-path_band", "Jumps only to frames at least this far away (default: K/10)",
+                            "", pathBand, &pathBand, nullptr));
+  PetscCall(PetscOptionsReal("-path_mean_interval", "markov: mean extra steps before a jump", "",
+                             pathMeanInterval, &pathMeanInterval, nullptr));
+  PetscCall(PetscOptionsInt("-path_candidates", "Jump to one of this many best matches, at random",
+                            "", pathCandidates, &pathCandidates, nullptr));
+  PetscCall(PetscOptionsString("-path_file", "Frames to replay, one per line (path_type recorded)",
+                               "", "", text, sizeof text, &set_));
+  if (set_) pathFile = text;
+  PetscCall(PetscOptionsString("-recurrence_norm", "sqrDiff, euclidean, absDiff or max", "",
+                               recurrenceNorm.c_str(), text, sizeof text, &set_));
+  if (set_) recurrenceNorm = text;
+  PetscCall(PetscOptionsReal("-checkpoint_every", "Simulated time between checkpoints [s] (0: none)",
+                             "", checkpointEvery, &checkpointEvery, nullptr));
+  PetscCall(PetscOptionsString("-checkpoint_file", "Checkpoint file (default: OUTPUT_DIR/checkpoint.h5)",
+                               "", "", text, sizeof text, &set_));
+  if (set_) checkpointFile = text;
+  PetscCall(PetscOptionsString("-restart", "Continue from this checkpoint file", "", "", text,
+                               sizeof text, &set_));
+  if (set_) restartFile = text;
   PetscCall(PetscOptionsReal("-solid_density", "Particle density [kg/m^3] (default: the database's)",
                              "", solidDensity, &solidDensity, nullptr));
   PetscCall(PetscOptionsBool("-quiet", "No progress or summary output", "", quiet, &quiet, nullptr));
@@ -82,6 +116,10 @@ PetscErrorCode Run::setFromOptions() {
              PETSC_ERR_USER_INPUT, "-init %s is not known; use mixed, layered or file", initKind.c_str());
   PetscCheck(initKind != "file" || !initFile.empty(), comm, PETSC_ERR_USER_INPUT,
              "-init file needs -init_file FILE");
+  PetscCheck(pathType != "recorded" || !pathFile.empty(), comm, PETSC_ERR_USER_INPUT,
+             "-path_type recorded needs -path_file FILE");
+  PetscCheck(checkpointEvery >= 0, comm, PETSC_ERR_USER_INPUT, "-checkpoint_every must be >= 0");
+  if (checkpointFile.empty()) checkpointFile = outputDir + "/checkpoint.h5";
   PetscCall(Database::optionsFromCommandLine(&loadOptions));
   PetscCall(FractionSet::fromOptions(comm, &set));
 
@@ -105,122 +143,66 @@ PetscErrorCode Run::setUp() {
   if (tEnd < 0) tEnd = db->numFrames() * db->metadata().dtRec;
   steps = std::lround(tEnd / db->metadata().dtRec);
   PetscCall(fstate.create(db->layout(), set.size()));
-  PetscCall(initialState());
   RunContext ctx{*db, set, solidDensity};
   PetscCall(ops.setUp(ctx));
   PetscCall(cog.setUp(*db, set));
+  PetscCall(setUpPath());
   PetscCall(makeDirectories(comm, outputDir));
+  csv = std::make_unique<CsvSeries>(comm, outputDir + "/cog.csv", csvHeader());
+  if (writeFields) PetscCall(fields.setUp(*db, set, solidDensity, outputDir, fstate.masses()));
+  if (restartFile.empty()) PetscCall(initialState());
+  else PetscCall(readCheckpoint());
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+std::string Run::csvHeader() const {
   std::string header = "time_s,z_cog_bed_m";
   for (int i = 0; i < set.size(); ++i) header += ",z_cog_" + set.label(i) + "_m";
   header += ",delta_z_m";
   for (int i = 0; i < set.size(); ++i) header += ",mass_" + set.label(i) + "_kg";
-  header += ",min_cell_mass_kg";
-  csv = std::make_unique<CsvSeries>(comm, outputDir + "/cog.csv", header);
-  if (writeFields) PetscCall(fields.setUp(*db, set, solidDensity, outputDir, fstate.masses()));
-  PetscFunctionReturn(PETSC_SUCCESS);
+  return header + ",min_cell_mass_kg,bulk_mismatch";
 }
 
-PetscErrorCode Run::initialState() {
-  const int nf = set.size();
-  const Layout &L = db->layout();
-  const auto &vol = db->localVolumes();
+// The path is built identically on every rank: from the stored recurrence
+// matrix (or one computed and broadcast from rank 0), its parameters and seed.
+PetscErrorCode Run::setUpPath() {
   PetscFunctionBeginUser;
-  if (initKind == "file") {
-    // Dimensions first, so that a mismatch gets a sentence rather than a
-    // PETSc size error.
-    PetscCall(collectively(comm, [&] {
-      // Opened on every rank without MPI-IO: only its header is read here.
-      auto f = h5::File::openRead(initFile, MPI_COMM_NULL);
-      const auto dims = f.extents("/masses");
-      if (dims.size() != 2 || dims[0] != (hsize_t)L.numCells() || dims[1] != (hsize_t)nf)
-        throw std::runtime_error("-init_file '" + initFile + "': /masses should be " +
-                                 std::to_string(L.numCells()) + " cells x " + std::to_string(nf) +
-                                 " fractions to match the database and -fractions_diameters");
-    }));
-    OwnedVec natural;
-    OwnedScatter scatter;
-    OwnedViewer v;
-    PetscCall(L.naturalScatter(nf, fstate.masses(), natural.put(), scatter.put()));
-    PetscCall(PetscObjectSetName((PetscObject)natural.get(), "masses"));
-    PetscCall(PetscViewerHDF5Open(comm, initFile.c_str(), FILE_MODE_READ, v.put()));
-    PetscCall(VecLoad(natural, v));
-    PetscCall(VecScatterBegin(scatter, natural, fstate.masses(), INSERT_VALUES, SCATTER_REVERSE));
-    PetscCall(VecScatterEnd(scatter, natural, fstate.masses(), INSERT_VALUES, SCATTER_REVERSE));
-    PetscReal low;
-    PetscCall(VecMin(fstate.masses(), nullptr, &low));
-    PetscCheck(low >= 0 && std::isfinite(low), comm, PETSC_ERR_USER_INPUT,
-               "-init_file '%s': /masses has a negative or non-finite mass (%g kg)", initFile.c_str(),
-               (double)low);
+  const int K = db->numFrames();
+  if (pathType == "recorded") {
+    PetscCall(collectively(
+        comm, [&] { path = makeRecordedPath(K, readPathFile(pathFile)); }, PETSC_ERR_USER_INPUT));
     PetscFunctionReturn(PETSC_SUCCESS);
   }
-
-  const PetscScalar *alpha;
-  PetscScalar *m;
-  PetscCall(VecGetArrayRead(db->alphaS(0), &alpha));
-  PetscCall(VecGetArrayWrite(fstate.masses(), &m));
-  if (initKind == "mixed") {
-    for (PetscInt c = 0; c < L.numLocal(); ++c)
-      for (int i = 0; i < nf; ++i) m[c * nf + i] = set.massShare(i) * solidDensity * alpha[c] * vol[c];
-  } else { // layered: largest at the bottom, each fraction a layer of its mass share
-    // Every rank needs the bulk mass of all cells below its own: gather the
-    // first frame's alpha_s in natural order on every rank (one vector).
-    PetscCall(VecRestoreArrayRead(db->alphaS(0), &alpha));
-    OwnedVec all;
-    OwnedScatter toAll, nat;
-    OwnedVec naturalAlpha;
-    PetscCall(L.naturalScatter(1, db->alphaS(0), naturalAlpha.put(), nat.put()));
-    PetscCall(VecScatterBegin(nat, db->alphaS(0), naturalAlpha, INSERT_VALUES, SCATTER_FORWARD));
-    PetscCall(VecScatterEnd(nat, db->alphaS(0), naturalAlpha, INSERT_VALUES, SCATTER_FORWARD));
-    PetscCall(VecScatterCreateToAll(naturalAlpha, toAll.put(), all.put()));
-    PetscCall(VecScatterBegin(toAll, naturalAlpha, all, INSERT_VALUES, SCATTER_FORWARD));
-    PetscCall(VecScatterEnd(toAll, naturalAlpha, all, INSERT_VALUES, SCATTER_FORWARD));
-    const PetscScalar *a;
-    PetscCall(VecGetArrayRead(all, &a));
-    const Mesh &mesh = db->mesh();
-    const Vec3 g = db->metadata().gravity;
-    auto height = [&](int c) {
-      const Vec3 &x = mesh.cellCentre[c];
-      return -(g[0] * x[0] + g[1] * x[1] + g[2] * x[2]);
-    };
-    std::vector<int> order(mesh.numCells());
-    std::iota(order.begin(), order.end(), 0);
-    std::stable_sort(order.begin(), order.end(), [&](int p, int q) { return height(p) < height(q); });
-    std::vector<double> below(mesh.numCells());
-    double total = 0.0;
-    for (int c : order) {
-      below[c] = total;
-      total += solidDensity * a[c] * mesh.cellVolume[c];
-    }
-    std::vector<int> byDiameter(nf);
-    std::iota(byDiameter.begin(), byDiameter.end(), 0);
-    std::stable_sort(byDiameter.begin(), byDiameter.end(),
-                     [&](int p, int q) { return set.diameter(p) > set.diameter(q); });
-    for (PetscInt r = 0; r < L.numLocal(); ++r) {
-      const int c = static_cast<int>(L.ownedNatural()[r]);
-      const double lo = below[c], hi = lo + solidDensity * a[c] * mesh.cellVolume[c];
-      double layerStart = 0.0;
-      for (int i : byDiameter) {
-        const double layerEnd = layerStart + set.massShare(i) * total;
-        m[r * nf + i] = std::max(0.0, std::min(hi, layerEnd) - std::max(lo, layerStart));
-        layerStart = layerEnd;
-      }
-    }
-    PetscCall(VecRestoreArrayRead(all, &a));
-    PetscCall(VecRestoreArrayWrite(fstate.masses(), &m));
-    PetscFunctionReturn(PETSC_SUCCESS);
+  std::vector<double> R;
+  if (pathType != "replay") {
+    RecurrenceNorm norm = RecurrenceNorm::SqrDiff;
+    PetscCall(collectively(
+        comm, [&] { norm = parseRecurrenceNorm(recurrenceNorm); }, PETSC_ERR_USER_INPUT));
+    bool stored = false;
+    PetscCall(loadOrComputeRecurrence(*db, norm, &R, &stored));
+    if (!quiet && !stored)
+      PetscCall(PetscPrintf(comm, "Computed the %s recurrence matrix of %d frames (store it with "
+                                  "'rcfd recurrence %s' to reuse it)\n",
+                            recurrenceNorm.c_str(), K, dbPath.c_str()));
   }
-  PetscCall(VecRestoreArrayRead(db->alphaS(0), &alpha));
-  PetscCall(VecRestoreArrayWrite(fstate.masses(), &m));
+  PathParams p;
+  p.seed = static_cast<std::uint64_t>(pathSeed);
+  p.startFrame = static_cast<int>(pathStart);
+  if (pathMinLength > 0) p.minLength = static_cast<int>(pathMinLength);
+  if (pathMaxLength > 0) p.maxLength = static_cast<int>(pathMaxLength);
+  if (pathBand > 0) p.band = static_cast<int>(pathBand);
+  if (pathMeanInterval >= 0) p.meanIntervalSteps = pathMeanInterval;
+  p.candidates = static_cast<int>(pathCandidates);
+  PetscCall(collectively(comm, [&] { path = makeFramePath(pathType, K, R, p); }, PETSC_ERR_USER_INPUT));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
-PetscErrorCode Run::monitor(const StepInfo &step, double time) {
+PetscErrorCode Run::monitor(double time, int frameOfState) {
   PetscFunctionBeginUser;
   BedSample s;
-  PetscCall(cog.measure(time, fstate.masses(), &s));
+  PetscCall(cog.measure(time, fstate.masses(), db->alphaS(frameOfState), solidDensity, &s));
   samples.push_back(s);
-  csv->add(formatRow(s, static_cast<int>(csvDigits)));
-  (void)step;
+  csv->add(formatCsvRow(s, static_cast<int>(csvDigits)));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
@@ -240,42 +222,52 @@ PetscErrorCode Run::progress(long step, double time, bool last) {
 
 PetscErrorCode Run::solve() {
   PetscFunctionBeginUser;
-  const int K = db->numFrames();
   const double dt = db->metadata().dtRec;
   std::vector<double> initialMass;
   PetscCall(fstate.totals(&initialMass));
   const bool ledgerOn = ops.conservesMass();
-  if (ledgerOn) PetscCall(ledger.start(fstate));
-  StepInfo info;
-  info.dt = dt;
-  info.frame = 0;
-  PetscCall(monitor(info, 0.0));
-  if (writeFields) PetscCall(fields.write(0.0, 0, fstate.masses()));
-  double nextFields = fieldsEvery > 0 ? fieldsEvery : INFINITY;
+  if (ledgerOn && startStep == 0) PetscCall(ledger.start(fstate));
+  // The frame of the next step; after a restart the path stands on it.
+  int frame = startStep == 0 ? path->next() : path->frame();
+  if (startStep == 0) {
+    PetscCall(monitor(0.0, frame));
+    if (writeFields) PetscCall(fields.write(0.0, frame, fstate.masses()));
+  }
+  auto every = [dt](double interval) { return interval > 0 ? std::max(1L, std::lround(interval / dt)) : 0L; };
+  const long fieldSteps = every(fieldsEvery), checkpointSteps = every(checkpointEvery);
   wallStart = lastProgress = MPI_Wtime();
   double lastFlush = wallStart;
-  for (long s = 0; s < steps; ++s) {
+  StepInfo info;
+  info.dt = dt;
+  for (long s = startStep; s < steps; ++s) {
     info.step = s;
     info.time = s * dt;
-    info.frame = static_cast<int>(s % K);
-    info.nextFrame = static_cast<int>((s + 1) % K);
-    info.jump = info.nextFrame != info.frame + 1;
+    info.frame = frame;
+    try {
+      info.nextFrame = path->next();
+      info.jump = path->lastWasJump();
+    } catch (const std::out_of_range &) { // a recorded path ends with the run it came from
+      info.nextFrame = (frame + 1) % db->numFrames();
+      info.jump = info.nextFrame != frame + 1;
+    }
+    frames.push_back(frame);
     PetscCall(ops.apply(info, fstate));
     if (ledgerOn) PetscCall(ledger.check(s + 1, fstate));
+    frame = info.nextFrame;
     const double t = (s + 1) * dt;
-    if ((s + 1) % monitorEvery == 0 || s + 1 == steps) PetscCall(monitor(info, t));
-    if (writeFields && t >= nextFields - 1e-9 * dt && s + 1 < steps) {
-      PetscCall(fields.write(t, info.nextFrame, fstate.masses()));
-      nextFields += fieldsEvery;
-    }
+    if ((s + 1) % monitorEvery == 0 || s + 1 == steps) PetscCall(monitor(t, frame));
+    if (writeFields && fieldSteps && (s + 1) % fieldSteps == 0 && s + 1 < steps)
+      PetscCall(fields.write(t, frame, fstate.masses()));
+    if (checkpointSteps && (s + 1) % checkpointSteps == 0) PetscCall(writeCheckpoint(s + 1));
     if (MPI_Wtime() - lastFlush > 10.0) { // results so far survive an interruption
       PetscCall(csv->flush());
       lastFlush = MPI_Wtime();
     }
     PetscCall(progress(s + 1, t, false));
   }
-  if (writeFields) PetscCall(fields.write(steps * dt, static_cast<int>(steps % K), fstate.masses()));
+  if (writeFields) PetscCall(fields.write(steps * dt, frame, fstate.masses()));
   PetscCall(csv->flush());
+  PetscCall(writePath());
   PetscCall(progress(steps, steps * dt, true));
 
   PetscCall(ops.viewRequested(PETSC_VIEWER_STDOUT_(comm)));
@@ -306,7 +298,9 @@ PetscErrorCode Run::view(PetscViewer viewer) const {
   PetscCall(set.view(viewer));
   PetscCall(ops.view(viewer));
   PetscCall(PetscViewerASCIIPrintf(viewer, "Run: %.4g s simulated in %ld steps, initial state %s, output in %s\n",
-                                   tEnd, steps, initKind.c_str(), outputDir.c_str()));
+                                   tEnd, steps, restartFile.empty() ? initKind.c_str() : restartFile.c_str(),
+                                   outputDir.c_str()));
+  PetscCall(PetscViewerASCIIPrintf(viewer, "Path: %s\n", path->describe().c_str()));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 

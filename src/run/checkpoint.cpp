@@ -1,0 +1,128 @@
+// Checkpoints: everything a run needs to continue bit-identically, in one
+// HDF5 file written atomically (temporary name, then rename), so that a
+// crash while writing leaves the previous checkpoint intact.
+//
+//   /masses            [cells, fractions]  natural cell order, kg
+//   /path_state        uint64 words of the frame path (position, sequence, PRNG)
+//   /frames_used       frame of every step so far
+//   /samples           [rows, 2 nf + 5]    the monitor's samples so far
+//   /ledger_reference  the mass ledger's reference totals
+//   root attributes    format = "rcfd-checkpoint", step, num_fractions, num_cells, database
+#include "path/frame_path.hpp"
+#include "rcfd/run.hpp"
+#include "util/collective.hpp"
+#include "util/h5.hpp"
+
+#include <petscviewerhdf5.h>
+
+#include <cstdio>
+
+namespace rcfd {
+
+PetscErrorCode Run::writeCheckpoint(long step) const {
+  const std::string tmp = checkpointFile + ".tmp";
+  const int nf = set.size();
+  PetscMPIInt rank;
+  PetscFunctionBeginUser;
+  PetscCallMPI(MPI_Comm_rank(comm, &rank));
+  OwnedVec natural;
+  OwnedScatter scatter;
+  PetscCall(db->layout().naturalScatter(nf, fstate.masses(), natural.put(), scatter.put()));
+  PetscCall(VecScatterBegin(scatter, fstate.masses(), natural, INSERT_VALUES, SCATTER_FORWARD));
+  PetscCall(VecScatterEnd(scatter, fstate.masses(), natural, INSERT_VALUES, SCATTER_FORWARD));
+  PetscCall(PetscObjectSetName((PetscObject)natural.get(), "masses"));
+  {
+    OwnedViewer v;
+    PetscCall(PetscViewerHDF5Open(comm, tmp.c_str(), FILE_MODE_WRITE, v.put()));
+    PetscCall(VecView(natural, v));
+  }
+  PetscCall(collectively(comm, [&] {
+    if (rank != 0) return;
+    {
+      h5::File f = h5::File::openReadWrite(tmp);
+      f.writeAttr("/", "format", std::string("rcfd-checkpoint"));
+      f.writeAttr("/", "step", static_cast<long long>(step));
+      f.writeAttr("/", "num_fractions", static_cast<long long>(nf));
+      f.writeAttr("/", "num_cells", static_cast<long long>(db->mesh().numCells()));
+      f.writeAttr("/", "database", dbPath);
+      const auto words = path->saveState();
+      f.write("/path_state", std::vector<int64_t>(words.begin(), words.end()));
+      f.write("/frames_used", std::vector<int32_t>(frames.begin(), frames.end()));
+      std::vector<double> flat;
+      for (const auto &s : samples) {
+        const auto row = s.flatten();
+        flat.insert(flat.end(), row.begin(), row.end());
+      }
+      f.write("/samples", flat, static_cast<hsize_t>(BedSample::flatSize(nf)));
+      f.write("/ledger_reference", ledger.reference());
+    }
+    if (std::rename(tmp.c_str(), checkpointFile.c_str()) != 0)
+      throw std::runtime_error("cannot rename '" + tmp + "' to '" + checkpointFile + "'");
+  }));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode Run::readCheckpoint() {
+  const int nf = set.size();
+  long long step = 0;
+  std::vector<int64_t> words;
+  std::vector<int32_t> used;
+  std::vector<double> flat, reference;
+  PetscFunctionBeginUser;
+  PetscCall(collectively(
+      comm,
+      [&] {
+        h5::File f = h5::File::openRead(restartFile, MPI_COMM_NULL);
+        if (!f.hasAttribute("/", "format") || f.readAttrString("/", "format") != "rcfd-checkpoint")
+          throw h5::Error("-restart '" + restartFile + "' is not an rcfd checkpoint");
+        const long long cells = f.readAttrInt("/", "num_cells"), fr = f.readAttrInt("/", "num_fractions");
+        if (cells != db->mesh().numCells() || fr != nf)
+          throw h5::Error("-restart '" + restartFile + "' holds " + std::to_string(cells) + " cells x " +
+                          std::to_string(fr) + " fractions, but this run has " +
+                          std::to_string(db->mesh().numCells()) + " x " + std::to_string(nf));
+        step = f.readAttrInt("/", "step");
+        words = f.read<int64_t>("/path_state");
+        used = f.read<int32_t>("/frames_used");
+        flat = f.read<double>("/samples");
+        reference = f.read<double>("/ledger_reference", nf);
+        path->restoreState(std::vector<std::uint64_t>(words.begin(), words.end()));
+        if (step > steps)
+          throw h5::Error("-restart '" + restartFile + "' is at step " + std::to_string(step) +
+                          ", beyond this run's " + std::to_string(steps) + " steps (-t_end)");
+      },
+      PETSC_ERR_USER_INPUT));
+  OwnedVec natural;
+  OwnedScatter scatter;
+  OwnedViewer v;
+  PetscCall(db->layout().naturalScatter(nf, fstate.masses(), natural.put(), scatter.put()));
+  PetscCall(PetscObjectSetName((PetscObject)natural.get(), "masses"));
+  PetscCall(PetscViewerHDF5Open(comm, restartFile.c_str(), FILE_MODE_READ, v.put()));
+  PetscCall(VecLoad(natural, v));
+  PetscCall(VecScatterBegin(scatter, natural, fstate.masses(), INSERT_VALUES, SCATTER_REVERSE));
+  PetscCall(VecScatterEnd(scatter, natural, fstate.masses(), INSERT_VALUES, SCATTER_REVERSE));
+  startStep = static_cast<long>(step);
+  frames.assign(used.begin(), used.end());
+  const int width = BedSample::flatSize(nf);
+  samples.clear();
+  for (size_t r = 0; r + width <= flat.size(); r += width) {
+    samples.push_back(BedSample::unflatten(flat.data() + r, nf));
+  }
+  for (const auto &s : samples) csv->add(formatCsvRow(s, static_cast<int>(csvDigits)));
+  ledger.restore(reference);
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode Run::writePath() const {
+  PetscMPIInt rank;
+  PetscFunctionBeginUser;
+  PetscCallMPI(MPI_Comm_rank(comm, &rank));
+  PetscCall(collectively(comm, [&] {
+    if (rank == 0)
+      writePathFile(outputDir + "/path.txt", frames,
+                    "frame of each step of this run; replay it with -path_type recorded -path_file FILE; " +
+                        path->describe());
+  }));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+} // namespace rcfd
