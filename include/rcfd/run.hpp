@@ -24,7 +24,10 @@ public:
 
   /// Reads the run's options (see `rcfd run -help`).
   PetscErrorCode setFromOptions();
-  /// Loads the database, builds the pipeline, the frame path and the initial
+  /// Use an already loaded database (e.g. shared by the members of an
+  /// ensemble) instead of reading -db.
+  void useDatabase(std::shared_ptr<Database> database) { db = std::move(database); }
+  /// Loads the database (unless one was given), the frame path and the initial
   /// state (or the state of -restart FILE).  Collective.
   PetscErrorCode setUp();
   /// Steps to the end time, writing monitors, fields and checkpoints (collective).
@@ -32,6 +35,7 @@ public:
   PetscErrorCode view(PetscViewer viewer) const;
 
   const Database &database() const { return *db; }
+  std::shared_ptr<Database> sharedDatabase() const { return db; }
   const FractionSet &fractions() const { return set; }
   const FractionState &state() const { return fstate; }
   FractionState &state() { return fstate; }
@@ -54,7 +58,7 @@ private:
 
   MPI_Comm comm;
   const OperatorRegistry &registry;
-  std::unique_ptr<Database> db;
+  std::shared_ptr<Database> db;
   FractionSet set;
   FractionState fstate;
   Pipeline ops;
@@ -72,14 +76,14 @@ private:
   std::string pipelineSpec = "shift,drift,carry";
   std::string pathType = "replay", pathFile, recurrenceNorm = "sqrDiff";
   std::string checkpointFile, restartFile;
-  PetscInt pathSeed = 1, pathMinLength = -1, pathMaxLength = -1, pathBand = -1, pathCandidates = 1;
+  PetscInt pathSeed = 1, pathMinLength = -1, pathMaxLength = -1, pathBand = -1, pathCandidates = 4;
   PetscInt pathStart = 0;
   PetscReal pathMeanInterval = -1.0;
   double tEnd = -1.0, fieldsEvery = 0.0, progressInterval = 2.0, solidDensity = -1.0;
   double checkpointEvery = 0.0;
   PetscInt monitorEvery = 1, csvDigits = 10;
   long steps = 0;
-  PetscBool quiet = PETSC_FALSE, writeFields = PETSC_TRUE;
+  PetscBool quiet = PETSC_FALSE, writeFields = PETSC_TRUE, plotResults = PETSC_TRUE;
   DatabaseLoadOptions loadOptions;
   double wallStart = 0.0, lastProgress = 0.0;
 };

@@ -1,6 +1,7 @@
 #include "rcfd/run.hpp"
 
 #include "path/database_recurrence.hpp"
+#include "observable/cog_plot.hpp"
 #include "path/frame_path.hpp"
 
 #include "util/collective.hpp"
@@ -12,6 +13,7 @@
 #include <cmath>
 #include <numeric>
 #include <sstream>
+#include <sys/resource.h>
 #include <stdexcept>
 
 namespace rcfd {
@@ -105,6 +107,8 @@ PetscErrorCode Run::setFromOptions() {
   if (set_) restartFile = text;
   PetscCall(PetscOptionsReal("-solid_density", "Particle density [kg/m^3] (default: the database's)",
                              "", solidDensity, &solidDensity, nullptr));
+  PetscCall(PetscOptionsBool("-plot", "Draw cog.png and cog-delta.png at the end", "", plotResults,
+                             &plotResults, nullptr));
   PetscCall(PetscOptionsBool("-quiet", "No progress or summary output", "", quiet, &quiet, nullptr));
   PetscCall(PetscOptionsReal("-progress_interval", "Wall seconds between progress lines", "",
                              progressInterval, &progressInterval, nullptr));
@@ -138,7 +142,11 @@ PetscErrorCode Run::setFromOptions() {
 
 PetscErrorCode Run::setUp() {
   PetscFunctionBeginUser;
-  PetscCall(Database::load(comm, dbPath, loadOptions, &db));
+  if (!db) {
+    std::unique_ptr<Database> loaded;
+    PetscCall(Database::load(comm, dbPath, loadOptions, &loaded));
+    db = std::move(loaded);
+  }
   if (solidDensity <= 0) solidDensity = db->metadata().solidDensity;
   if (tEnd < 0) tEnd = db->numFrames() * db->metadata().dtRec;
   steps = std::lround(tEnd / db->metadata().dtRec);
@@ -192,7 +200,7 @@ PetscErrorCode Run::setUpPath() {
   if (pathMaxLength > 0) p.maxLength = static_cast<int>(pathMaxLength);
   if (pathBand > 0) p.band = static_cast<int>(pathBand);
   if (pathMeanInterval >= 0) p.meanIntervalSteps = pathMeanInterval;
-  p.candidates = static_cast<int>(pathCandidates);
+  if (pathType != "replay") p.candidates = static_cast<int>(pathCandidates);
   PetscCall(collectively(comm, [&] { path = makeFramePath(pathType, K, R, p); }, PETSC_ERR_USER_INPUT));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
@@ -268,6 +276,13 @@ PetscErrorCode Run::solve() {
   if (writeFields) PetscCall(fields.write(steps * dt, frame, fstate.masses()));
   PetscCall(csv->flush());
   PetscCall(writePath());
+  if (plotResults) {
+    PetscMPIInt rank;
+    PetscCallMPI(MPI_Comm_rank(comm, &rank));
+    PetscCall(collectively(comm, [&] {
+      if (rank == 0) plotCogCsv(outputDir + "/cog.csv", outputDir + "/cog.png", outputDir);
+    }));
+  }
   PetscCall(progress(steps, steps * dt, true));
 
   PetscCall(ops.viewRequested(PETSC_VIEWER_STDOUT_(comm)));
@@ -278,16 +293,22 @@ PetscErrorCode Run::solve() {
     if (initialMass[i] > 0) worst = std::max(worst, std::fabs(finalMass[i] / initialMass[i] - 1.0));
   double low;
   PetscCall(fstate.minimum(&low));
+  struct rusage usage;
+  getrusage(RUSAGE_SELF, &usage);
+  double peakMb = usage.ru_maxrss / 1024.0; // Linux reports kB
+  PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, &peakMb, 1, MPI_DOUBLE, MPI_MAX, comm));
   if (!quiet) {
     const double wall = MPI_Wtime() - wallStart;
     PetscCall(PetscPrintf(comm,
-                          "Done: %ld steps, %.4g s simulated in %.3g s wall (%.3g wall s per simulated s)\n"
+                          "Done: %ld steps, %.4g s simulated in %.3g s wall (%.3g wall s per simulated s), peak memory %.0f MB per rank\n"
                           "  largest relative change of a fraction's mass: %.2e (round-off removed by the ledger: %.2e);"
                           " smallest cell mass: %.3g kg\n"
-                          "  results: %s/cog.csv%s\n",
-                          steps, steps * dt, wall, steps > 0 ? wall / (steps * dt) : 0.0, worst,
+                          "  results: %s/cog.csv%s%s\n",
+                          steps - startStep, (steps - startStep) * dt, wall,
+                          steps > startStep ? wall / ((steps - startStep) * dt) : 0.0, peakMb, worst,
                           ledger.largestCorrection(), low,
-                          outputDir.c_str(), writeFields ? (", " + outputDir + "/fields.xmf").c_str() : ""));
+                          outputDir.c_str(), plotResults ? ", cog.png" : "",
+                          writeFields ? (", " + outputDir + "/fields.xmf").c_str() : ""));
   }
   PetscFunctionReturn(PETSC_SUCCESS);
 }

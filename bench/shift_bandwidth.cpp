@@ -1,0 +1,88 @@
+// Achieved memory bandwidth of the shift step (MAIJ MatMult over the frames
+// of a database, cycling from memory) next to a STREAM-like triad measured in
+// the same run on the same ranks.
+// usage: mpiexec -n P shift_bandwidth DB.h5 NF [STEPS]
+#include "rcfd/database.hpp"
+#include "rcfd/operator.hpp"
+
+#include <cstdio>
+#include <cstdlib>
+#include <vector>
+
+using namespace rcfd;
+
+namespace {
+
+// a = b + s c over arrays much larger than the caches; 24 bytes per element.
+double triadBandwidth(MPI_Comm comm) {
+  const size_t n = 20'000'000;
+  std::vector<double> a(n, 0.0), b(n, 1.0), c(n, 2.0);
+  double best = 1e30;
+  for (int rep = 0; rep < 5; ++rep) {
+    MPI_Barrier(comm);
+    const double t0 = MPI_Wtime();
+    for (size_t k = 0; k < n; ++k) a[k] = b[k] + 3.0 * c[k];
+    double t = MPI_Wtime() - t0;
+    MPI_Allreduce(MPI_IN_PLACE, &t, 1, MPI_DOUBLE, MPI_MAX, comm);
+    best = std::min(best, t);
+  }
+  int size;
+  MPI_Comm_size(comm, &size);
+  if (a[n / 2] != 7.0) std::abort(); // keep the loop
+  return 24.0 * n * size / best;
+}
+
+} // namespace
+
+int main(int argc, char **argv) {
+  PetscCall(PetscInitialize(&argc, &argv, nullptr, nullptr));
+  {
+    PetscCheck(argc >= 3, PETSC_COMM_WORLD, PETSC_ERR_USER_INPUT, "usage: shift_bandwidth DB NF [STEPS]");
+    const int nf = std::atoi(argv[2]);
+    const long steps = argc > 3 ? std::atol(argv[3]) : 2000;
+    std::unique_ptr<Database> db;
+    PetscCall(Database::load(PETSC_COMM_WORLD, argv[1], DatabaseLoadOptions{}, &db));
+    std::vector<double> d(nf), w(nf, 1.0 / nf);
+    for (int i = 0; i < nf; ++i) d[i] = 1e-3 * (1 + i);
+    FractionSet set(d, w);
+    FractionState st;
+    PetscCall(st.create(db->layout(), nf));
+    PetscCall(VecSet(st.masses(), 1.0));
+    ShiftOperator shift;
+    RunContext ctx{*db, set, 1440.0};
+    PetscCall(shift.setUp(ctx));
+    // Bytes one product moves: the matrix (values, column indices, row
+    // pointers), the input and the output vectors.
+    double nnz = 0;
+    for (int k = 0; k < db->numFrames(); ++k) {
+      MatInfo info;
+      PetscCall(MatGetInfo(db->shift(k), MAT_GLOBAL_SUM, &info));
+      nnz += info.nz_used;
+    }
+    nnz /= db->numFrames();
+    const double N = db->mesh().numCells();
+    const double bytes = nnz * 12.0 + (N + 1) * 4.0 + 2.0 * N * nf * 8.0;
+    StepInfo step;
+    for (int warm = 0; warm < db->numFrames(); ++warm) {
+      step.frame = warm;
+      PetscCall(shift.apply(step, st));
+    }
+    PetscCallMPI(MPI_Barrier(PETSC_COMM_WORLD));
+    const double t0 = MPI_Wtime();
+    for (long s = 0; s < steps; ++s) {
+      step.frame = static_cast<int>(s % db->numFrames());
+      PetscCall(shift.apply(step, st));
+    }
+    PetscCallMPI(MPI_Barrier(PETSC_COMM_WORLD));
+    const double perStep = (MPI_Wtime() - t0) / steps;
+    const double triad = triadBandwidth(PETSC_COMM_WORLD);
+    int size;
+    MPI_Comm_size(PETSC_COMM_WORLD, &size);
+    PetscCall(PetscPrintf(PETSC_COMM_WORLD,
+                          "ranks %d  nf %d  cells %.0f  nnz/col %.2f  shift step %.3f ms  %.1f GB/s  triad %.1f GB/s  %.0f %% of triad\n",
+                          size, nf, N, nnz / N, perStep * 1e3, bytes / perStep / 1e9, triad / 1e9,
+                          100.0 * bytes / perStep / triad));
+  }
+  PetscCall(PetscFinalize());
+  return 0;
+}
