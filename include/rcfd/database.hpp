@@ -38,6 +38,9 @@ public:
   /// Store an extra 2-D dataset (e.g. the recurrence matrix) before finish().
   void writeMatrix(const std::string &name, const std::vector<double> &rowMajor, int cols,
                    const std::string &note);
+  /// Store a text attribute `key` on /metadata before finish() (e.g. a
+  /// builder's report as "build_report"); `key` must not be a format attribute.
+  void setNote(const std::string &key, const std::string &text);
   void finish();
   int numFrames() const { return frames; }
 

@@ -9,6 +9,20 @@ namespace rcfd::cli {
 PetscErrorCode runCommand(MPI_Comm comm);
 PetscErrorCode synthCommand(MPI_Comm comm);
 PetscErrorCode infoCommand(MPI_Comm comm, const char *positional);
+PetscErrorCode buildCommand(MPI_Comm comm);
+PetscErrorCode referenceCommand(MPI_Comm comm);
+PetscErrorCode compareCommand(MPI_Comm comm);
+PetscErrorCode calibrateCommand(MPI_Comm comm);
+PetscErrorCode recurrenceCommand(MPI_Comm comm, const char *positional);
+PetscErrorCode plotCommand(MPI_Comm comm, const char *positional);
+
+/// A subcommand of the rcfd program.
+struct Command {
+  const char *name;
+  bool positional; // takes a file as its first argument
+  const char *summary, *example;
+  PetscErrorCode (*run)(MPI_Comm comm, const char *positional);
+};
 
 /// Refuse options nobody read: a misspelt option must not silently fall back
 /// to a default.  Call after every object has read its options.

@@ -1,4 +1,4 @@
-// rcfd: command-line front end.  `rcfd <command> [PETSc options]`.
+// rcfd: command-line front end.  `rcfd <command> [FILE] [PETSc options]`.
 #include "cli/commands.hpp"
 
 #include <cstdio>
@@ -7,17 +7,45 @@
 
 namespace {
 
-const char usage[] =
-    "rcfd: transport-based recurrence CFD for segregating particle fractions in fluidized beds\n"
-    "\n"
-    "usage: rcfd <command> [options]     (options are PETSc options; -options_file FILE reads a case)\n"
-    "\n"
-    "commands:\n"
-    "  run     propagate size fractions on a database: rcfd run -options_file cases/NAME/case.yaml\n"
-    "  synth   write the embedded default database (a kinematic bubbling bed): rcfd synth -o FILE\n"
-    "  info    print what a database holds: rcfd info FILE\n"
-    "\n"
-    "`rcfd <command> -help` lists the command's options with their defaults.\n";
+using rcfd::cli::Command;
+
+// Every subcommand: name, whether it takes a file as first argument, what it
+// does and how it is called (for the usage text), and the function.
+const Command commands[] = {
+    {"run", false, "propagate size fractions on a database",
+     "rcfd run -options_file cases/NAME/case.yaml",
+     [](MPI_Comm c, const char *) { return rcfd::cli::runCommand(c); }},
+    {"synth", false, "write the embedded default database (a kinematic bubbling bed)",
+     "rcfd synth -o FILE", [](MPI_Comm c, const char *) { return rcfd::cli::synthCommand(c); }},
+    {"info", true, "print what a database holds", "rcfd info FILE", rcfd::cli::infoCommand},
+    {"recurrence", true, "compute, store and draw the recurrence matrix of a database",
+     "rcfd recurrence FILE", rcfd::cli::recurrenceCommand},
+    {"plot", true, "PNG figures of a run's cog.csv", "rcfd plot RUN/cog.csv", rcfd::cli::plotCommand},
+    {"build", false, "a database from DEM particle snapshots",
+     "rcfd build -dumps \"DIR/dump.*.gz\" -times DIR/times.txt -o FILE",
+     [](MPI_Comm c, const char *) { return rcfd::cli::buildCommand(c); }},
+    {"reference", false, "centres of gravity, profiles, halves from particle snapshots",
+     "rcfd reference -dumps ... -o DIR",
+     [](MPI_Comm c, const char *) { return rcfd::cli::referenceCommand(c); }},
+    {"compare", false, "score a run's delta z(t) against a reference",
+     "rcfd compare -reference REF/cog.csv -rcfd RUN/cog.csv",
+     [](MPI_Comm c, const char *) { return rcfd::cli::compareCommand(c); }},
+    {"calibrate", false, "fit the drift coefficient k_d to a reference",
+     "rcfd calibrate -reference REF/cog.csv -db DB ...",
+     [](MPI_Comm c, const char *) { return rcfd::cli::calibrateCommand(c); }},
+};
+
+std::string usage() {
+  std::string u = "rcfd: transport-based recurrence CFD for segregating particle fractions in fluidized beds\n\n"
+                  "usage: rcfd <command> [options]     (PETSc options; -options_file FILE reads a case)\n\n"
+                  "commands:\n";
+  for (const auto &c : commands) {
+    char line[256];
+    std::snprintf(line, sizeof line, "  %-11s %s\n  %-11s   %s\n", c.name, c.summary, "", c.example);
+    u += line;
+  }
+  return u + "\n`rcfd <command> -help` lists the command's options with their defaults.\n";
+}
 
 bool isHelp(const char *a) {
   return !std::strcmp(a, "-h") || !std::strcmp(a, "--help") || !std::strcmp(a, "help");
@@ -27,37 +55,43 @@ bool isHelp(const char *a) {
 
 int main(int argc, char **argv) {
   if (argc < 2 || isHelp(argv[1])) {
-    std::fputs(usage, argc < 2 ? stderr : stdout);
+    std::fputs(usage().c_str(), argc < 2 ? stderr : stdout);
     return argc < 2 ? 2 : 0;
   }
-  const std::string command = argv[1];
-  if (command != "run" && command != "synth" && command != "info") {
-    std::fprintf(stderr, "rcfd: unknown command '%s'; expected run, synth or info (rcfd --help)\n",
-                 command.c_str());
+  const Command *command = nullptr;
+  for (const auto &c : commands)
+    if (argv[1] == std::string(c.name)) command = &c;
+  if (!command) {
+    std::string names;
+    for (const auto &c : commands) names += std::string(names.empty() ? "" : ", ") + c.name;
+    std::fprintf(stderr, "rcfd: unknown command '%s'; expected one of %s (rcfd --help)\n", argv[1],
+                 names.c_str());
     return 2;
   }
-  // PETSc sees the command as the program name; `info` takes one positional
-  // argument (the file) which PETSc must not see as an option.
+  // PETSc sees the command as the program name; a positional file argument
+  // is taken out so that PETSc does not see it as an option.
   int pargc = argc - 1;
   char **pargv = argv + 1;
   const char *positional = nullptr;
-  if (command == "info" && pargc > 1 && pargv[1][0] != '-') {
+  if (pargc > 1 && pargv[1][0] != '-') {
+    if (!command->positional) {
+      std::fprintf(stderr, "rcfd %s: error: unexpected argument '%s'; options start with '-' (rcfd %s -help)\n",
+                   command->name, pargv[1], command->name);
+      return 2;
+    }
     positional = pargv[1];
     for (int i = 1; i + 1 < pargc; ++i) pargv[i] = pargv[i + 1];
     --pargc;
   }
-  if (PetscInitialize(&pargc, &pargv, nullptr, usage) != 0) return 1;
+  const std::string help = usage();
+  if (PetscInitialize(&pargc, &pargv, nullptr, help.c_str()) != 0) return 1;
   // Errors travel up as codes; this program prints one sentence for the user
   // instead of PETSc's traceback (-rcfd_traceback restores it for debugging).
   PetscBool traceback = PETSC_FALSE;
   PetscOptionsGetBool(nullptr, nullptr, "-rcfd_traceback", &traceback, nullptr);
   if (!traceback) PetscPushErrorHandler(PetscReturnErrorHandler, nullptr);
 
-  PetscErrorCode ierr = 0;
-  if (command == "run") ierr = rcfd::cli::runCommand(PETSC_COMM_WORLD);
-  else if (command == "synth") ierr = rcfd::cli::synthCommand(PETSC_COMM_WORLD);
-  else ierr = rcfd::cli::infoCommand(PETSC_COMM_WORLD, positional);
-
+  const PetscErrorCode ierr = command->run(PETSC_COMM_WORLD, positional);
   if (ierr) {
     const char *generic = nullptr;
     char *specific = nullptr;
@@ -65,7 +99,7 @@ int main(int argc, char **argv) {
     int rank = 0;
     MPI_Comm_rank(PETSC_COMM_WORLD, &rank);
     if (rank == 0)
-      std::fprintf(stderr, "rcfd %s: error: %s\n", command.c_str(),
+      std::fprintf(stderr, "rcfd %s: error: %s\n", command->name,
                    specific && *specific ? specific : (generic ? generic : "unknown error"));
   }
   PetscFinalize();

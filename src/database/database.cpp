@@ -269,6 +269,14 @@ void DatabaseWriter::writeMatrix(const std::string &name, const std::vector<doub
   impl->file.writeAttr("/extra/" + name, "note", note);
 }
 
+void DatabaseWriter::setNote(const std::string &key, const std::string &text) {
+  for (const char *reserved : {"dt_rec", "solid_density", "gravity", "source", "units"})
+    if (key == reserved)
+      throw std::invalid_argument("DatabaseWriter::setNote: '" + key +
+                                  "' is a metadata attribute of the format");
+  impl->file.writeAttr("/metadata", key, text);
+}
+
 void DatabaseWriter::finish() {
   if (frames < 1) throw std::invalid_argument("a database needs at least one frame");
   impl->file.writeAttr("/frames", "num_frames", static_cast<long long>(frames));

@@ -198,22 +198,18 @@ ParticleReference::Halves ParticleReference::halves() const {
 }
 
 void ParticleReference::writeCogCsv(const std::string &path) const {
+  // The columns and their names are those of rcfd run's cog.csv (SI units in
+  // the names), so that the two files compare column by column.
   FilePtr f = openForWriting(path);
   const std::size_t nc = opt.classes.diameter.size();
-  std::fprintf(f.get(), "# SI units: time [s], heights [m]; mass-weighted centres of gravity");
-  if (nc >= 2)
-    std::fprintf(f.get(), "; delta_z = z_cog_%s - z_cog_%s", opt.classes.label(0).c_str(),
-                 opt.classes.label(static_cast<int>(nc) - 1).c_str());
-  std::fprintf(f.get(), "\ntime,z_cog_bed");
+  std::fprintf(f.get(), "time_s,z_cog_bed_m");
   for (std::size_t c = 0; c < nc; ++c)
-    std::fprintf(f.get(), ",z_cog_%s", opt.classes.label(static_cast<int>(c)).c_str());
-  if (nc >= 2) std::fprintf(f.get(), ",delta_z");
-  std::fprintf(f.get(), "\n");
+    std::fprintf(f.get(), ",z_cog_%s_m", opt.classes.label(static_cast<int>(c)).c_str());
+  std::fprintf(f.get(), ",delta_z_m\n");
   for (const CogSample &s : samples) {
     std::fprintf(f.get(), "%.9g,%.9g", s.time, s.zBed);
     for (double z : s.zClass) std::fprintf(f.get(), ",%.9g", z);
-    if (nc >= 2) std::fprintf(f.get(), ",%.9g", deltaZ(s));
-    std::fprintf(f.get(), "\n");
+    std::fprintf(f.get(), ",%.9g\n", deltaZ(s));
   }
   finish(std::move(f), path);
 }

@@ -91,7 +91,8 @@ public:
   };
   Halves halves() const;
 
-  /// `# ` units line, then time,z_cog_bed,z_cog_d<D>mm,...,delta_z.
+  /// Header time_s,z_cog_bed_m,z_cog_d<D>mm_m,...,delta_z_m (as rcfd run's
+  /// cog.csv), then one row per snapshot; delta_z is 0 with one class.
   void writeCogCsv(const std::string &path) const;
   /// `# ` line, then z,alpha_d<D>mm,...,alpha_total (layer centres).
   void writeProfilesCsv(const std::string &path) const;

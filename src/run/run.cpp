@@ -113,7 +113,9 @@ PetscErrorCode Run::setFromOptions() {
   PetscCall(PetscOptionsReal("-progress_interval", "Wall seconds between progress lines", "",
                              progressInterval, &progressInterval, nullptr));
   PetscOptionsEnd();
-  PetscCheck(!dbPath.empty(), comm, PETSC_ERR_USER_INPUT,
+  PetscBool help = PETSC_FALSE;
+  PetscCall(PetscOptionsHasName(nullptr, nullptr, "-help", &help));
+  PetscCheck(!dbPath.empty() || help, comm, PETSC_ERR_USER_INPUT,
              "No database given: pass -db FILE (make one with 'rcfd synth -o FILE')");
   PetscCheck(monitorEvery >= 1, comm, PETSC_ERR_USER_INPUT, "-monitor_every must be at least 1");
   PetscCheck(initKind == "mixed" || initKind == "layered" || initKind == "file", comm,

@@ -1,0 +1,70 @@
+#!/usr/bin/env bash
+# The dpm-bi-narrow validation, from any directory:
+#   cases/dpm-bi-narrow/run.sh [OUTPUT_DIR]      (default: rcfd-output/dpm-bi-narrow)
+# Environment: RCFD (default build/rcfd), REFERENCE (default ../shared/reference/dpm-bi-narrow),
+# NP (MPI ranks of the runs, default 1), CALIBRATE=1 also fits k_d for models A and B (about a minute).
+# Needs only bash and the rcfd program.
+set -euo pipefail
+root=$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)
+rcfd=${RCFD:-$root/build/rcfd}
+ref=${REFERENCE:-$root/../shared/reference/dpm-bi-narrow}
+out=${1:-$root/rcfd-output/dpm-bi-narrow}
+np=${NP:-1}
+case_file=$root/cases/dpm-bi-narrow/case.yaml
+mkdir -p "$out"
+export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
+launch=("$rcfd")
+[ "$np" -gt 1 ] && launch=(mpiexec -n "$np" "$rcfd")
+
+# The dumps: x in [-0.04, 0.04], y in [-0.006, 0.006], z in [0, 0.30] m; the mesh is the CFD mesh,
+# 16 x 2 x 60 cells of 5 x 6 x 5 mm over the dump's box.
+input=(-dumps "$ref/dump/dump.*.gz" -times "$ref/dump/times.txt" -mesh_cells 16,2,60)
+# The physical time of the first snapshot: frame 0 of the databases, time 0 of the runs.
+t0=$(awk '!/^#/ && NF { print $2; exit }' "$ref/dump/times.txt")
+
+echo "== databases (stride 1: dt_rec 5 ms; stride 2: 10 ms) and the initial composition"
+"$rcfd" build "${input[@]}" -o "$out/db-stride1.h5" -init_out "$out/init.h5"
+"$rcfd" build "${input[@]}" -frame_stride 2 -o "$out/db-stride2.h5" -quiet
+echo "== reference: centres of gravity, profiles and halves over 0.5-1.5 s"
+"$rcfd" reference "${input[@]}" -average_window 0.5,1.5 -o "$out/reference"
+
+echo "== replay runs"
+run() { # run NAME DATABASE [options]
+  local name=$1 db=$2
+  shift 2
+  "${launch[@]}" run -options_file "$case_file" -db "$db" -init_file "$out/init.h5" \
+    -output_dir "$out/$name" -quiet -plot false "$@"
+  echo "  $name"
+}
+run shift-only "$out/db-stride1.h5" -drift_model none
+run B-kd5e3 "$out/db-stride1.h5"
+run B-kd5e3-stride2 "$out/db-stride2.h5"
+run A-kd5e2 "$out/db-stride1.h5" -drift_model A -drift_kd 5e2
+# k_d of model B fitted to this reference with rcfd calibrate (see docs/validation.md): 9.4e3
+# minimises the RMS of the whole curve, 2.2e4 zeroes the Eq. 7 error over 0.5-1.5 s.
+run B-kd9.4e3 "$out/db-stride1.h5" -drift_kd 9.4e3
+run B-kd2.2e4 "$out/db-stride1.h5" -drift_kd 2.2e4
+run B-kd2.2e4-stride2 "$out/db-stride2.h5" -drift_kd 2.2e4
+
+echo "== comparison (Eq. 7 over 0.5-1.5 s; RMS of the whole curve / reference peak)"
+compare() { # compare PNG NAME...
+  local png=$1
+  shift
+  local files labels
+  files=$(printf "$out/%s/cog.csv," "$@")
+  labels=$(printf "%s," "$@")
+  "$rcfd" compare -reference "$out/reference/cog.csv" -rcfd "${files%,}" -labels "${labels%,}" \
+    -rcfd_time_offset "$t0" -score_window 0.5,1.5 -o "${png%.png}.csv" -png "$png" \
+    -title "dpm-bi-narrow: Delta z(t) of the CFD-DEM reference and of rcfd replays"
+}
+compare "$out/delta_z-all.png" shift-only B-kd5e3 B-kd5e3-stride2 A-kd5e2 B-kd9.4e3 B-kd2.2e4 \
+  B-kd2.2e4-stride2
+compare "$out/delta_z.png" shift-only B-kd5e3 B-kd9.4e3 B-kd2.2e4 >/dev/null
+echo "Wrote $out/delta_z.png"
+
+if [ "${CALIBRATE:-0}" = 1 ]; then
+  echo "== calibration of k_d (models A and B)"
+  "$rcfd" calibrate -options_file "$case_file" -db "$out/db-stride1.h5" -init_file "$out/init.h5" \
+    -reference "$out/reference/cog.csv" -rcfd_time_offset "$t0" -calibrate_models A,B \
+    -output_dir "$out/calibrate"
+fi

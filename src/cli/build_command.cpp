@@ -1,0 +1,201 @@
+// rcfd build: a database from DEM particle snapshots, and optionally the
+// initial composition of a run (-init_out) from the first snapshot used.
+#include "cli/commands.hpp"
+
+#include "cli/particle_input.hpp"
+#include "database/particle_reference.hpp"
+#include "rcfd/database.hpp"
+#include "util/collective.hpp"
+#include "util/h5.hpp"
+
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+#include <numeric>
+#include <sstream>
+
+namespace rcfd::cli {
+namespace {
+
+struct BuildOutputs {
+  std::string database = "particles.h5", initOut;
+  double gravity = 9.81;
+  PetscBool quiet = PETSC_FALSE;
+};
+
+PetscErrorCode readBuildOptions(MPI_Comm comm, BuildOutputs *o) {
+  char db[PETSC_MAX_PATH_LEN], init[PETSC_MAX_PATH_LEN] = "";
+  PetscBool setInit = PETSC_FALSE;
+  PetscFunctionBeginUser;
+  std::snprintf(db, sizeof db, "%s", o->database.c_str());
+  PetscOptionsBegin(comm, nullptr, "rcfd build: a database from particle snapshots", "rcfd");
+  PetscCall(PetscOptionsString("-o", "Output database file", "", db, db, sizeof db, nullptr));
+  PetscCall(PetscOptionsString("-init_out",
+                               "Also write the first snapshot's masses per cell and size class "
+                               "(HDF5 /masses, for rcfd run -init file)",
+                               "", "", init, sizeof init, &setInit));
+  PetscCall(PetscOptionsReal("-gravity", "Magnitude of gravity [m/s^2]", "", o->gravity,
+                             &o->gravity, nullptr));
+  PetscCall(PetscOptionsBool("-quiet", "No progress or report", "", o->quiet, &o->quiet, nullptr));
+  PetscOptionsEnd();
+  PetscCheck(o->gravity > 0, comm, PETSC_ERR_USER_INPUT, "-gravity must be positive");
+  o->database = db;
+  if (setInit) o->initOut = init;
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+std::string fileName(const std::string &path) {
+  return std::filesystem::path(path).filename().string();
+}
+
+std::string join(const std::vector<double> &v, double scale, const char *format) {
+  std::string out;
+  char text[64];
+  for (std::size_t i = 0; i < v.size(); ++i) {
+    std::snprintf(text, sizeof text, format, v[i] * scale);
+    out += (i ? "," : "") + std::string(text);
+  }
+  return out;
+}
+
+/// /masses [cells x classes] in natural cell order, with the class diameters
+/// and mass shares as attributes; written under a temporary name first.
+void writeInitialMasses(const std::string &path, const std::vector<double> &masses,
+                        const SizeClasses &classes, const std::vector<double> &shares,
+                        const std::string &note) {
+  const std::string tmp = path + ".tmp";
+  {
+    h5::File f = h5::File::create(tmp);
+    f.write("/masses", masses, static_cast<hsize_t>(classes.diameter.size()));
+    f.writeAttr("/masses", "diameters", classes.diameter);
+    f.writeAttr("/masses", "mass_shares", shares);
+    f.writeAttr("/masses", "note", note);
+  }
+  std::error_code ec;
+  std::filesystem::rename(tmp, path, ec);
+  if (ec) throw std::runtime_error("could not rename '" + tmp + "' to '" + path + "'.");
+}
+
+} // namespace
+
+PetscErrorCode buildCommand(MPI_Comm comm) {
+  ParticleInput in;
+  BuildOutputs out;
+  PetscMPIInt rank;
+  PetscFunctionBeginUser;
+  PetscCallMPI(MPI_Comm_rank(comm, &rank));
+  PetscCall(readBuildOptions(comm, &out));
+  PetscCall(readParticleInputOptions(comm, &in));
+  if (helpRequested()) PetscFunctionReturn(PETSC_SUCCESS);
+  PetscCall(rejectUnusedOptions(comm, "build"));
+
+  // Reading snapshots and writing the file are serial: rank 0 works, the
+  // others wait for the verdict.
+  PetscCall(collectively(comm, [&] {
+    if (rank != 0) return;
+    const bool talk = !out.quiet;
+    in.resolve();
+    const std::vector<std::size_t> sel = in.selected();
+    if (sel.size() < 2)
+      throw std::runtime_error("the window and stride select " + std::to_string(sel.size()) +
+                               " snapshot of the " + std::to_string(in.files.size()) + " " +
+                               in.origin() + "; a database frame needs two.");
+    const double dtRec = uniformInterval(in.times, sel);
+    ParticleBuildOptions opt = in.buildOptions();
+    const ParticleSnapshot first = readParticleSnapshot(in.files[sel.front()], opt.read);
+    opt.mesh = resolveMesh(in.mesh, first, opt.axes);
+    const BoxSpec &box = opt.mesh;
+
+    DatabaseMetadata meta;
+    meta.dtRec = dtRec;
+    meta.solidDensity = in.solidDensity;
+    meta.gravity = {0.0, 0.0, -out.gravity};
+    {
+      std::ostringstream s;
+      s.precision(9);
+      s << "rcfd build: " << sel.size() << " particle snapshots of " << in.origin() << ", "
+        << fileName(in.files[sel.front()]) << " (t = " << in.times[sel.front()] << " s) to "
+        << fileName(in.files[sel.back()]) << " (t = " << in.times[sel.back()]
+        << " s), stride " << in.stride << "; frame 0 is t = " << in.times[sel.front()]
+        << " s";
+      meta.source = s.str();
+    }
+    if (talk)
+      std::printf("Building %s from %zu of %zu snapshots (%s), dt_rec = %.6g s, mesh %d x %d x %d "
+                  "cells from (%.4g, %.4g, %.4g) to (%.4g, %.4g, %.4g) m\n",
+                  out.database.c_str(), sel.size(), in.files.size(), in.origin().c_str(), dtRec,
+                  box.nx, box.ny, box.nz, box.origin[0], box.origin[1], box.origin[2],
+                  box.origin[0] + box.length[0], box.origin[1] + box.length[1],
+                  box.origin[2] + box.length[2]),
+          std::fflush(stdout);
+
+    if (!out.initOut.empty()) {
+      const SizeClasses classes = SizeClasses::cluster(first.diameter, in.classTolerance);
+      std::size_t outside = 0;
+      const auto masses = classMassesPerCell(first, opt.axes, box, classes, &outside);
+      const std::size_t nc = classes.diameter.size();
+      std::vector<double> total(nc, 0.0);
+      for (std::size_t k = 0; k < masses.size(); ++k) total[k % nc] += masses[k];
+      const double sum = std::accumulate(total.begin(), total.end(), 0.0);
+      if (!(sum > 0.0))
+        throw std::runtime_error("particle snapshot '" + first.source +
+                                 "' has no particle inside the mesh, so -init_out has no mass.");
+      std::vector<double> shares(nc);
+      for (std::size_t c = 0; c < nc; ++c) shares[c] = total[c] / sum;
+      shares.back() = 1.0 - std::accumulate(shares.begin(), shares.end() - 1, 0.0);
+      std::ostringstream note;
+      note.precision(9);
+      note << "masses [kg] per cell (natural order) and size class of " << first.source
+           << " (t = " << in.times[sel.front()] << " s); classes by diameter [m] in attribute "
+           << "diameters, mass shares in mass_shares; " << outside
+           << " particles outside the mesh left out";
+      writeInitialMasses(out.initOut, masses, classes, shares, note.str());
+      if (talk)
+        std::printf("Wrote %s: initial masses of %zu size classes (%s mm, mass shares %s) in %d cells"
+                    "%s; use: rcfd run -init file -init_file %s -fractions_diameters %s "
+                    "-fractions_mass_shares %s\n",
+                    out.initOut.c_str(), nc, join(classes.diameter, 1e3, "%.4g").c_str(),
+                    join(shares, 1.0, "%.4f").c_str(), box.numCells(),
+                    outside ? (" (" + std::to_string(outside) + " particles outside left out)").c_str()
+                            : "",
+                    out.initOut.c_str(), join(classes.diameter, 1.0, "%.9g").c_str(),
+                    join(shares, 1.0, "%.9g").c_str());
+    }
+
+    DatabaseWriter writer(out.database, Mesh::box(box), meta);
+    ParticleFrameBuilder builder(opt, [&](const FrameRecord &f) { writer.append(f); });
+    using Clock = std::chrono::steady_clock;
+    const auto start = Clock::now();
+    auto lastPrint = start;
+    builder.add(first);
+    for (std::size_t k = 1; k < sel.size(); ++k) {
+      builder.add(readParticleSnapshot(in.files[sel[k]], opt.read));
+      const auto now = Clock::now();
+      if (talk && (now - lastPrint > std::chrono::seconds(2) || k + 1 == sel.size())) {
+        lastPrint = now;
+        std::printf("  snapshot %zu/%zu (%s), %.1f s\n", k + 1, sel.size(),
+                    fileName(in.files[sel[k]]).c_str(),
+                    std::chrono::duration<double>(now - start).count());
+        std::fflush(stdout);
+      }
+    }
+    const ParticleBuildReport &rep = builder.report();
+    if (rep.cellsAlphaAtLeastOne > 0) {
+      char text[320];
+      std::snprintf(text, sizeof text,
+                    "alpha_s reaches %.3f (>= 1 in %zu cell-snapshots): particles are counted in "
+                    "the cell that holds their centre, so cells this small cannot hold them; use "
+                    "larger cells (-mesh_cells or -mesh_cell_size).",
+                    rep.maxAlphaS, rep.cellsAlphaAtLeastOne);
+      throw std::runtime_error(text); // the writer removes its temporary file
+    }
+    writer.setNote("build_report", rep.summary());
+    writer.finish();
+    if (talk)
+      std::printf("Wrote %s: %zu frames every %.6g s\n%s\n", out.database.c_str(), rep.frames,
+                  dtRec, rep.summary().c_str());
+  }));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+} // namespace rcfd::cli

@@ -1,0 +1,140 @@
+// rcfd reference: what a run on a database built from the same particle
+// snapshots should reproduce: centres of gravity per size class over time
+// (cog.csv, the same columns as rcfd run writes), and the vertical profiles
+// and bottom/top size distributions over an averaging window.
+#include "cli/commands.hpp"
+
+#include "cli/particle_input.hpp"
+#include "database/particle_reference.hpp"
+#include "util/collective.hpp"
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <limits>
+
+namespace rcfd::cli {
+namespace {
+
+struct ReferenceOutputs {
+  std::string directory = "reference";
+  std::vector<double> classes; // m; empty: clustered from the first snapshot
+  double windowBegin = -std::numeric_limits<double>::infinity();
+  double windowEnd = std::numeric_limits<double>::infinity();
+  PetscBool quiet = PETSC_FALSE;
+};
+
+PetscErrorCode readReferenceOptions(MPI_Comm comm, ReferenceOutputs *o) {
+  char dir[PETSC_MAX_PATH_LEN];
+  PetscReal window[2] = {0, 0}, classes[64];
+  PetscInt nwindow = 2, nclasses = 64;
+  PetscBool setWindow = PETSC_FALSE, setClasses = PETSC_FALSE;
+  PetscFunctionBeginUser;
+  std::snprintf(dir, sizeof dir, "%s", o->directory.c_str());
+  PetscOptionsBegin(comm, nullptr, "rcfd reference: segregation observables from particle snapshots",
+                    "rcfd");
+  PetscCall(PetscOptionsString("-o", "Output directory (cog.csv, profiles.csv, halves.csv)", "", dir,
+                               dir, sizeof dir, nullptr));
+  PetscCall(PetscOptionsRealArray("-average_window",
+                                  "Time window t0,t1 [s] of the profiles and halves (default: all)",
+                                  "", window, &nwindow, &setWindow));
+  PetscCall(PetscOptionsRealArray("-classes",
+                                  "Size class diameters [m] (default: clustered from the first snapshot)",
+                                  "", classes, &nclasses, &setClasses));
+  PetscCall(PetscOptionsBool("-quiet", "No progress or summary", "", o->quiet, &o->quiet, nullptr));
+  PetscOptionsEnd();
+  PetscCheck(!setWindow || (nwindow == 2 && window[0] <= window[1]), comm, PETSC_ERR_USER_INPUT,
+             "-average_window takes two times t0,t1 [s] with t0 <= t1");
+  o->directory = dir;
+  if (setWindow) {
+    o->windowBegin = window[0];
+    o->windowEnd = window[1];
+  }
+  if (setClasses) {
+    for (PetscInt c = 0; c < nclasses; ++c)
+      PetscCheck(classes[c] > 0, comm, PETSC_ERR_USER_INPUT,
+                 "-classes: diameter %d is %g, expected a positive length in m", (int)c + 1,
+                 (double)classes[c]);
+    o->classes.assign(classes, classes + nclasses);
+  }
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+} // namespace
+
+PetscErrorCode referenceCommand(MPI_Comm comm) {
+  ParticleInput in;
+  ReferenceOutputs out;
+  PetscMPIInt rank;
+  PetscFunctionBeginUser;
+  PetscCallMPI(MPI_Comm_rank(comm, &rank));
+  PetscCall(readReferenceOptions(comm, &out));
+  PetscCall(readParticleInputOptions(comm, &in));
+  if (helpRequested()) PetscFunctionReturn(PETSC_SUCCESS);
+  PetscCall(rejectUnusedOptions(comm, "reference"));
+
+  PetscCall(collectively(comm, [&] {
+    if (rank != 0) return;
+    const bool talk = !out.quiet;
+    in.resolve();
+    const std::vector<std::size_t> sel = in.selected();
+    const ParticleBuildOptions read = in.buildOptions();
+    ParticleSnapshot snap = readParticleSnapshot(in.files[sel.front()], read.read);
+
+    ReferenceOptions opt;
+    opt.axes = read.axes;
+    opt.classes.relTol = in.classTolerance;
+    opt.classes.diameter = out.classes;
+    opt.profileMesh = resolveMesh(in.mesh, snap, opt.axes);
+    opt.windowBegin = out.windowBegin;
+    opt.windowEnd = out.windowEnd;
+    ParticleReference ref(opt);
+
+    using Clock = std::chrono::steady_clock;
+    const auto start = Clock::now();
+    auto lastPrint = start;
+    for (std::size_t k = 0; k < sel.size(); ++k) {
+      if (k > 0) snap = readParticleSnapshot(in.files[sel[k]], read.read);
+      ref.add(in.times[sel[k]], snap);
+      const auto now = Clock::now();
+      if (talk && (now - lastPrint > std::chrono::seconds(2) || k + 1 == sel.size())) {
+        lastPrint = now;
+        std::printf("  snapshot %zu/%zu, %.1f s\n", k + 1, sel.size(),
+                    std::chrono::duration<double>(now - start).count());
+        std::fflush(stdout);
+      }
+    }
+    std::filesystem::create_directories(out.directory);
+    const std::string dir = out.directory + "/";
+    ref.writeCogCsv(dir + "cog.csv");
+    ref.writeProfilesCsv(dir + "profiles.csv");
+    ref.writeHalvesCsv(dir + "halves.csv");
+    if (!talk) return;
+
+    const SizeClasses &cls = ref.classes();
+    std::printf("Wrote %scog.csv (%zu snapshots, t = %.6g to %.6g s), profiles.csv and halves.csv "
+                "(%zu snapshots in the averaging window)\n",
+                dir.c_str(), sel.size(), in.times[sel.front()], in.times[sel.back()],
+                ref.windowSnapshots());
+    std::printf("  size classes:");
+    for (std::size_t c = 0; c < cls.diameter.size(); ++c)
+      std::printf(" %s", cls.label(static_cast<int>(c)).c_str());
+    std::printf("\n");
+    if (ref.windowSnapshots() > 0 && cls.diameter.size() >= 2) {
+      double sum = 0.0;
+      std::size_t n = 0;
+      for (const CogSample &s : ref.series())
+        if (s.time >= out.windowBegin && s.time <= out.windowEnd) sum += ref.deltaZ(s), ++n;
+      const auto h = ref.halves();
+      std::printf("  in the window: mean delta_z %.4g mm; mass fraction of %s bottom %.4f, top %.4f\n",
+                  1e3 * sum / double(n), cls.label(0).c_str(), h.bottom[0], h.top[0]);
+    }
+    if (ref.outsideProfileMesh() > 0)
+      std::printf("  %zu particle-snapshots outside the profile mesh were left out of the profiles\n",
+                  ref.outsideProfileMesh());
+  }));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+} // namespace rcfd::cli

@@ -1,0 +1,149 @@
+#!/usr/bin/env bash
+# rcfd build / reference / run / compare on three hand-made dump files, with
+# every number worked out by hand.  (Bad particle input: test_particle_cli_errors.sh.)
+#
+# Mesh 2 x 1 x 2 cells of 1 cm: cell = i + 2 k (0: low left, 1: low right,
+# 2: high left, 3: high right).  Particle 1 (d = 1 mm, mass m) and particle
+# 2 (d = 2 mm, mass 8 m) start in cell 0, at z = 4 and 6 mm; then
+#   t = 0.2 s: 1 -> cell 2 (centre), 2 -> cell 1 (centre)
+#   t = 0.3 s: 1 -> cell 3 (centre), 2 stays in cell 1.
+# So T_0 = {(1,0): 8/9, (2,0): 1/9} plus identity columns 1, 2, 3 (empty at
+# t_0), T_1 = identity except (3,2) = 1; with stride 2, T(1,0) = 8/9, T(3,0) = 1/9.
+# usage: test_particle_cli.sh RCFD CSV_COMPARE DATA_DIR SOURCE_DIR
+set -u
+rcfd=$1
+h5print=$(dirname "$2")/h5_print
+work=$(mktemp -d)
+trap 'rm -rf "$work"' EXIT
+failures=0 passed=0
+
+fail() { echo "FAIL: $*"; failures=$((failures + 1)); }
+ok() { passed=$((passed + 1)); }
+# same "label" "actual values" "expected values" [tolerance]: element-wise, relative to max(1, |x|).
+same() {
+  if awk -v a="$2" -v b="$3" -v tol="${4:-1e-12}" 'BEGIN {
+      na = split(a, x, /[ \n]+/); nb = split(b, y, /[ \n]+/);
+      if (na != nb) exit 1;
+      for (i = 1; i <= na; ++i) { d = x[i] - y[i]; if (d < 0) d = -d;
+        s = x[i] < 0 ? -x[i] : x[i]; if (s < 1) s = 1; if (d > tol * s) exit 1 }
+      exit 0 }'; then ok; else fail "$1: got '$(echo $2)', expected '$(echo $3)'"; fi
+}
+run() { # run "label" args...: the command must succeed
+  local label=$1
+  shift
+  if ! "$@" >"$work/out.txt" 2>&1; then
+    fail "$label: $(cat "$work/out.txt")"
+    return 1
+  fi
+  ok
+}
+expect_error() { # expect_error "expected text" args...
+  local expected=$1
+  shift
+  local out
+  if out=$("$rcfd" "$@" 2>&1 >/dev/null); then
+    fail "rcfd $* succeeded; expected an error containing: $expected"
+  elif ! grep -qF -- "$expected" <<<"$out"; then
+    fail "rcfd $*: expected '$expected', got: $out"
+  elif [ "$(grep -c . <<<"$out")" -ne 1 ] || grep -q "PETSC ERROR" <<<"$out"; then
+    fail "rcfd $*: expected one line, got: $out"
+  else
+    ok
+  fi
+}
+
+dump() { # dump FILE TIMESTEP PARTICLE_LINE PARTICLE_LINE
+  {
+    printf 'ITEM: TIMESTEP\n%s\nITEM: NUMBER OF ATOMS\n2\nITEM: BOX BOUNDS ff ff ff\n' "$2"
+    printf '0 0.02\n0 0.01\n0 0.02\nITEM: ATOMS id type x y z radius\n'
+    printf '%s\n' "$3" "$4"
+  } >"$1"
+}
+mkdir -p "$work/dump"
+dump "$work/dump/dump.0.txt" 1000 "1 1 0.005 0.005 0.004 0.0005" "2 2 0.005 0.005 0.006 0.001"
+dump "$work/dump/dump.1.txt" 2000 "1 1 0.005 0.005 0.015 0.0005" "2 2 0.015 0.005 0.005 0.001"
+dump "$work/dump/dump.2.txt" 3000 "1 1 0.015 0.005 0.015 0.0005" "2 2 0.015 0.005 0.005 0.001"
+printf '# index time\n0 0.1\n1 0.2\n2 0.3\n' >"$work/dump/times.txt"
+common=(-dumps "$work/dump/dump.*.txt" -times "$work/dump/times.txt" -mesh_cells 2,1,2)
+
+# ---- build: metadata, alpha_s and both shift matrices.
+db=$work/db.h5
+if run "build" "$rcfd" build "${common[@]}" -o "$db" -init_out "$work/init.h5" -quiet; then
+  m=$(awk 'BEGIN { printf "%.17g", 1440 * atan2(0, -1) / 6 * 1e-9 }') # kg, the 1 mm particle
+  same "dt_rec" "$("$h5print" "$db" /metadata dt_rec)" "0.1"
+  same "solid_density" "$("$h5print" "$db" /metadata solid_density)" "1440"
+  same "gravity" "$("$h5print" "$db" /metadata gravity)" "0 0 -9.81"
+  same "box_length" "$("$h5print" "$db" /mesh box_length)" "0.02 0.01 0.02"
+  same "num_frames" "$("$h5print" "$db" /frames num_frames)" "2"
+  # alpha_s of frame 0: both particles in cell 0 of volume 1e-6 m^3.
+  same "alpha_s 0" "$("$h5print" "$db" /frames/000000/alpha_s)" \
+    "$(awk 'BEGIN { printf "%.17g 0 0 0", atan2(0, -1) / 6 * 9e-9 / 1e-6 }')"
+  same "alpha_s 1" "$("$h5print" "$db" /frames/000001/alpha_s)" \
+    "0 $(awk 'BEGIN { printf "%.17g %.17g 0", atan2(0, -1) / 6 * 8e-9 / 1e-6, atan2(0, -1) / 6 * 1e-9 / 1e-6 }')"
+  same "T_0 row_ptr" "$("$h5print" "$db" /frames/000000/shift_row_ptr)" "0 0 2 4 5"
+  same "T_0 col" "$("$h5print" "$db" /frames/000000/shift_col)" "0 1 0 2 3"
+  same "T_0 val" "$("$h5print" "$db" /frames/000000/shift_val)" \
+    "$(awk 'BEGIN { printf "%.17g 1 %.17g 1 1", 8 / 9, 1 / 9 }')"
+  same "T_1 row_ptr" "$("$h5print" "$db" /frames/000001/shift_row_ptr)" "0 1 2 2 4"
+  same "T_1 col" "$("$h5print" "$db" /frames/000001/shift_col)" "0 1 2 3"
+  same "T_1 val" "$("$h5print" "$db" /frames/000001/shift_val)" "1 1 1 1"
+  grep -q "^snapshots 3, frames 2, cells 4, particles 2" \
+    <<<"$("$h5print" "$db" /metadata build_report string)" && ok || fail "build_report attribute"
+  # The initial composition: both classes in cell 0, ascending diameters.
+  same "init masses" "$("$h5print" "$work/init.h5" /masses)" \
+    "$m $(awk -v m="$m" 'BEGIN { printf "%.17g", 8 * m }') 0 0 0 0 0 0"
+  same "init diameters" "$("$h5print" "$work/init.h5" /masses diameters)" "0.001 0.002"
+  same "init shares" "$("$h5print" "$work/init.h5" /masses mass_shares)" \
+    "$(awk 'BEGIN { printf "%.17g %.17g", 1 / 9, 8 / 9 }')"
+fi
+
+# ---- stride 2: one frame straight from t = 0.1 to 0.3 s.
+if run "build stride 2" "$rcfd" build "${common[@]}" -frame_stride 2 -o "$work/db2.h5" -quiet; then
+  same "stride 2 dt_rec" "$("$h5print" "$work/db2.h5" /metadata dt_rec)" "0.2"
+  same "stride 2 row_ptr" "$("$h5print" "$work/db2.h5" /frames/000000/shift_row_ptr)" "0 0 2 3 5"
+  same "stride 2 col" "$("$h5print" "$work/db2.h5" /frames/000000/shift_col)" "0 1 2 0 3"
+  same "stride 2 val" "$("$h5print" "$work/db2.h5" /frames/000000/shift_val)" \
+    "$(awk 'BEGIN { printf "%.17g 1 1 %.17g 1", 8 / 9, 1 / 9 }')"
+fi
+
+# ---- reference: hand-computed centres of gravity.
+# t = 0.1: z_bed = (4 m + 6 * 8 m) / 9 m mm, delta_z = 4 - 6 = -2 mm;
+# t = 0.2 and 0.3: small at 15 mm, large at 5 mm, bed (15 + 40) / 9 mm.
+if run "reference" "$rcfd" reference "${common[@]}" -o "$work/ref" -average_window 0.15,0.35 -quiet; then
+  [ "$(head -n 1 "$work/ref/cog.csv")" = "time_s,z_cog_bed_m,z_cog_d1.000mm_m,z_cog_d2.000mm_m,delta_z_m" ] &&
+    ok || fail "reference header: $(head -n 1 "$work/ref/cog.csv")"
+  same "reference rows" "$(tail -n +2 "$work/ref/cog.csv" | tr ',' ' ')" \
+    "$(awk 'BEGIN { printf "0.1 %.17g 0.004 0.006 -0.002 0.2 %.17g 0.015 0.005 0.01 0.3 %.17g 0.015 0.005 0.01",
+                    0.052 / 9, 0.055 / 9, 0.055 / 9 }')" 1e-8
+  # Halves over t = 0.2, 0.3: the mass median is the large particle (8/9 of
+  # the mass) at 5 mm: bottom all large, top all small.
+  same "halves" "$(tail -n +3 "$work/ref/halves.csv" | cut -d, -f3,4 | tr ',' ' ')" "0 1 1 0" 1e-8
+fi
+
+# ---- a replay run from -init_out: both classes start in cell 0; the shift
+# moves the cell's *mixture*, 8/9 to cell 1 (z = 5 mm) and 1/9 to cell 2
+# (z = 15 mm), so after one step every class has z_cog = (8 * 5 + 15) / 9 mm
+# = the reference's bed centre at 0.2 s, and delta_z = 0 (the shift cannot
+# separate sizes within a cell; that is the drift operator's job).
+# compare against the reference, runs shifted by 0.1 s: curve samples at
+# 0.1 and 0.2 s with differences 2 and -10 mm: RMS sqrt((4 + 100) / 2) mm,
+# peak 10 mm; Eq. 7 over [0.15, 0.35] s: run 0, reference 10 mm: -100 %.
+if run "run from init_out" "$rcfd" run -db "$db" -init file -init_file "$work/init.h5" \
+  -fractions_diameters 0.001,0.002 -fractions_mass_shares 0.111111111111,0.888888888889 \
+  -pipeline shift -t_end 0.1 -fields false -quiet -output_dir "$work/run"; then
+  same "run rows" "$(tail -n +2 "$work/run/cog.csv" | cut -d, -f1-7 | tr ',' ' ')" \
+    "$(awk -v m="$m" 'BEGIN { z = 0.055 / 9; printf "0 0.005 0.005 0.005 0 %.17g %.17g 0.1 %.17g %.17g %.17g 0 %.17g %.17g",
+                               m, 8 * m, z, z, z, m, 8 * m }')" 1e-9
+  if run "compare" "$rcfd" compare -reference "$work/ref/cog.csv" -rcfd "$work/run/cog.csv" \
+    -labels shift -rcfd_time_offset 0.1 -score_window 0.15,0.35 -o "$work/curves.csv"; then
+    line=$(grep "^shift " "$work/out.txt")
+    same "compare mean, Delta_seg, RMS, RMS/peak" "$(awk '{ print $2, $3, $4, $5 }' <<<"$line")" \
+      "0.0000 -100.0 $(awk 'BEGIN { printf "%.4f %.3f", sqrt(52), sqrt(52e-6) / 0.01 }')" 1e-9
+    # The curves at the reference's times; the run ends at 0.2 s.
+    [ "$(sed -n 4p "$work/curves.csv")" = "0.3,0.01," ] && ok || fail "curves row 3: $(sed -n 4p "$work/curves.csv")"
+    same "compare curves" "$(sed -n 2,3p "$work/curves.csv" | tr ',' ' ')" "0.1 -0.002 0 0.2 0.01 0" 1e-12
+  fi
+fi
+
+echo "$passed passed, $failures failed"
+[ $failures -eq 0 ]

@@ -1,0 +1,71 @@
+#!/usr/bin/env bash
+# Bad particle input to rcfd build / reference / compare gets one line that
+# names the file (or option) and what was expected: no traceback, no file left.
+# usage: test_particle_cli_errors.sh RCFD CSV_COMPARE DATA_DIR SOURCE_DIR
+set -u
+rcfd=$1
+work=$(mktemp -d)
+trap 'rm -rf "$work"' EXIT
+failures=0 passed=0
+
+fail() { echo "FAIL: $*"; failures=$((failures + 1)); }
+ok() { passed=$((passed + 1)); }
+expect_error() { # expect_error "expected text" args...
+  local expected=$1
+  shift
+  local out
+  if out=$("$rcfd" "$@" 2>&1 >/dev/null); then
+    fail "rcfd $* succeeded; expected an error containing: $expected"
+  elif ! grep -qF -- "$expected" <<<"$out"; then
+    fail "rcfd $*: expected '$expected', got: $out"
+  elif [ "$(grep -c . <<<"$out")" -ne 1 ] || grep -q "PETSC ERROR" <<<"$out"; then
+    fail "rcfd $*: expected one line, got: $out"
+  else
+    ok
+  fi
+}
+
+dump() { # dump FILE TIMESTEP PARTICLE_LINE PARTICLE_LINE
+  {
+    printf 'ITEM: TIMESTEP\n%s\nITEM: NUMBER OF ATOMS\n2\nITEM: BOX BOUNDS ff ff ff\n' "$2"
+    printf '0 0.02\n0 0.01\n0 0.02\nITEM: ATOMS id type x y z radius\n'
+    printf '%s\n' "$3" "$4"
+  } >"$1"
+}
+mkdir -p "$work/dump"
+dump "$work/dump/dump.0.txt" 1000 "1 1 0.005 0.005 0.004 0.0005" "2 2 0.005 0.005 0.006 0.001"
+dump "$work/dump/dump.1.txt" 2000 "1 1 0.005 0.005 0.015 0.0005" "2 2 0.015 0.005 0.005 0.001"
+dump "$work/dump/dump.2.txt" 3000 "1 1 0.015 0.005 0.015 0.0005" "2 2 0.015 0.005 0.005 0.001"
+printf '# index time\n0 0.1\n1 0.2\n2 0.3\n' >"$work/dump/times.txt"
+common=(-dumps "$work/dump/dump.*.txt" -times "$work/dump/times.txt" -mesh_cells 2,1,2)
+
+# ---- bad input: one line naming the file.
+cp "$work/dump/dump.0.txt" "$work/a.txt"
+printf '%s\n' "$work/a.txt" "$work/missing.txt" >"$work/list.txt"
+expect_error "cannot open particle snapshot '$work/missing.txt'" build -dump_list "$work/list.txt" \
+  -dump_dt 0.1 -mesh_cells 2,1,2 -o "$work/x.h5"
+sed 's/ radius$//; s/ 0.0005$//; s/ 0.001$//' "$work/dump/dump.1.txt" >"$work/noradius.txt"
+printf '%s\n' "$work/a.txt" "$work/noradius.txt" >"$work/list2.txt"
+expect_error "particle snapshot '$work/noradius.txt', line 9: expected a column 'radius'" build \
+  -dump_list "$work/list2.txt" -dump_dt 0.1 -mesh_cells 2,1,2 -o "$work/x.h5"
+expect_error "particle snapshot '$work/noradius.txt', line 9: expected a column 'radius'" reference \
+  -dump_list "$work/list2.txt" -dump_dt 0.1 -mesh_cells 2,1,2 -o "$work/xref"
+expect_error "no particle snapshot file matches '$work/nothing.*'" build -dumps "$work/nothing.*" \
+  -dump_dt 0.1 -mesh_cells 2,1,2
+printf '0 0.1\n1 0.2\n' >"$work/times2.txt"
+expect_error "-times '$work/times2.txt' lists 2 times but" build -dumps "$work/dump/dump.*.txt" \
+  -times "$work/times2.txt" -mesh_cells 2,1,2
+printf '0 0.1\n1 0.2\n2 0.35\n' >"$work/times3.txt"
+expect_error "not equally spaced" build -dumps "$work/dump/dump.*.txt" -times "$work/times3.txt" \
+  -mesh_cells 2,1,2 -o "$work/x.h5"
+expect_error "Give the snapshot times with -times FILE" build -dumps "$work/dump/dump.*.txt" \
+  -mesh_cells 2,1,2
+expect_error "alpha_s reaches" build "${common[@]/2,1,2/20,10,20}" -o "$work/x.h5"
+[ ! -e "$work/x.h5" ] && [ ! -e "$work/x.h5.tmp" ] && ok || fail "a refused build left a file"
+expect_error "Unknown option -frame_strid" build "${common[@]}" -frame_strid 2
+expect_error "-vertical_axis w is not known" reference "${common[@]}" -vertical_axis w
+expect_error "cannot open the centre-of-gravity file '$work/none.csv'" compare \
+  -reference "$work/none.csv" -rcfd "$work/none.csv"
+
+echo "$passed passed, $failures failed"
+[ $failures -eq 0 ]
