@@ -62,6 +62,20 @@ compare "$out/delta_z-all.png" shift-only B-kd5e3 B-kd5e3-stride2 A-kd5e2 B-kd9.
 compare "$out/delta_z.png" shift-only B-kd5e3 B-kd9.4e3 B-kd2.2e4 >/dev/null
 echo "Wrote $out/delta_z.png"
 
+echo "== stitching: a 1.5 s database window (0.205-1.705 s), 5 stitched paths run to 3.485 s (paper Fig. 3)"
+"$rcfd" build "${input[@]}" -window 40,340 -o "$out/db-window.h5" -init_out "$out/init-window.h5" -quiet
+tw=$(awk '!/^#/ && NF && $1 == 40 { print $2 }' "$ref/dump/times.txt")
+for kd in 5e3 2.2e4; do
+  "${launch[@]}" run -options_file "$case_file" -db "$out/db-window.h5" -init_file "$out/init-window.h5" \
+    -drift_kd $kd -path_type random -ensemble 5 -t_end 3.28 -output_dir "$out/stitch-kd$kd" -quiet \
+    -plot false >/dev/null
+  files=$(printf "$out/stitch-kd$kd/member_%d/cog.csv," 0 1 2 3 4)
+  "$rcfd" compare -reference "$out/reference/cog.csv" -rcfd "${files%,}" \
+    -labels "seed 1,seed 2,seed 3,seed 4,seed 5" -rcfd_time_offset "$tw" -score_window 0.5,1.5 \
+    -o "$out/stitch-kd$kd.csv" -png "$out/stitch-kd$kd.png" \
+    -title "dpm-bi-narrow: stitched from 0.205-1.705 s, model B, k_d = $kd"
+done
+
 if [ "${CALIBRATE:-0}" = 1 ]; then
   echo "== calibration of k_d (models A and B)"
   "$rcfd" calibrate -options_file "$case_file" -db "$out/db-stride1.h5" -init_file "$out/init.h5" \
