@@ -14,20 +14,8 @@ namespace rcfd::test {
 
 /// Masses in natural order (nf per cell) on every rank.  Collective.
 inline std::vector<double> gatherNatural(const Database &db, Vec masses, int nf) {
-  OwnedVec natural, all;
-  OwnedScatter toNatural, toAll;
-  db.layout().naturalScatter(nf, masses, natural.put(), toNatural.put());
-  VecScatterBegin(toNatural, masses, natural, INSERT_VALUES, SCATTER_FORWARD);
-  VecScatterEnd(toNatural, masses, natural, INSERT_VALUES, SCATTER_FORWARD);
-  VecScatterCreateToAll(natural, toAll.put(), all.put());
-  VecScatterBegin(toAll, natural, all, INSERT_VALUES, SCATTER_FORWARD);
-  VecScatterEnd(toAll, natural, all, INSERT_VALUES, SCATTER_FORWARD);
-  const PetscScalar *a;
-  PetscInt n;
-  VecGetSize(all, &n);
-  VecGetArrayRead(all, &a);
-  std::vector<double> out(a, a + n);
-  VecRestoreArrayRead(all, &a);
+  std::vector<double> out;
+  db.layout().gatherToAll(nf, masses, &out);
   return out;
 }
 

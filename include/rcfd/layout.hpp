@@ -39,6 +39,10 @@ public:
   PetscErrorCode naturalScatter(PetscInt bs, Vec petscOrdered, Vec *natural,
                                 VecScatter *scatter) const;
 
+  /// Collective: the values of a PETSc-ordered Vec with block size bs, in
+  /// natural order, on every rank (for small global needs: tests, layers).
+  PetscErrorCode gatherToAll(PetscInt bs, Vec petscOrdered, std::vector<double> *natural) const;
+
 private:
   MPI_Comm comm_ = MPI_COMM_NULL;
   PetscInt rstart = 0, rend = 0, cutFaces = 0;

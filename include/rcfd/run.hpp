@@ -49,6 +49,7 @@ public:
 private:
   PetscErrorCode setUpPath();
   PetscErrorCode initialState();
+  PetscErrorCode loadInitialMasses();
   PetscErrorCode monitor(double time, int frameOfState);
   PetscErrorCode progress(long step, double time, bool last);
   PetscErrorCode writeCheckpoint(long step) const;

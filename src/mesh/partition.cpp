@@ -125,4 +125,23 @@ PetscErrorCode Layout::naturalScatter(PetscInt bs, Vec petscOrdered, Vec *natura
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
+PetscErrorCode Layout::gatherToAll(PetscInt bs, Vec petscOrdered, std::vector<double> *out) const {
+  OwnedVec natural, all;
+  OwnedScatter toNatural, toAll;
+  const PetscScalar *a;
+  PetscInt n;
+  PetscFunctionBeginUser;
+  PetscCall(naturalScatter(bs, petscOrdered, natural.put(), toNatural.put()));
+  PetscCall(VecScatterBegin(toNatural, petscOrdered, natural, INSERT_VALUES, SCATTER_FORWARD));
+  PetscCall(VecScatterEnd(toNatural, petscOrdered, natural, INSERT_VALUES, SCATTER_FORWARD));
+  PetscCall(VecScatterCreateToAll(natural, toAll.put(), all.put()));
+  PetscCall(VecScatterBegin(toAll, natural, all, INSERT_VALUES, SCATTER_FORWARD));
+  PetscCall(VecScatterEnd(toAll, natural, all, INSERT_VALUES, SCATTER_FORWARD));
+  PetscCall(VecGetSize(all, &n));
+  PetscCall(VecGetArrayRead(all, &a));
+  out->assign(a, a + n);
+  PetscCall(VecRestoreArrayRead(all, &a));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
 } // namespace rcfd
