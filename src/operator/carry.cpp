@@ -40,9 +40,7 @@ PetscErrorCode CarryOperator::setUp(const RunContext &ctx) {
   nf = ctx.fractions.size();
   rho = ctx.solidDensity;
   exchange = std::make_unique<FaceExchange>();
-  FractionState probe;
-  PetscCall(probe.create(ctx.db.layout(), nf));
-  PetscCall(exchange->setUp(ctx.db, nf, {0.0, 0.0, 0.0}, 0.0, probe.masses()));
+  PetscCall(exchange->setUp(ctx.db, nf, {0.0, 0.0, 0.0}, 0.0));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 

@@ -92,9 +92,7 @@ PetscErrorCode DriftOperator::setUp(const RunContext &ctx) {
   const Vec3 g = ctx.db.metadata().gravity;
   exchange = std::make_unique<FaceExchange>();
   // Faces whose normal is within 1e-9 of horizontal carry no drift.
-  FractionState probe;
-  PetscCall(probe.create(ctx.db.layout(), nf));
-  PetscCall(exchange->setUp(ctx.db, nf, {-g[0], -g[1], -g[2]}, 1e-9, probe.masses()));
+  PetscCall(exchange->setUp(ctx.db, nf, {-g[0], -g[1], -g[2]}, 1e-9));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 

@@ -7,7 +7,7 @@
 namespace rcfd {
 
 PetscErrorCode FaceExchange::setUp(const Database &db, int nf, const Vec3 &direction,
-                                   double minShare, Vec stateTemplate) {
+                                   double minShare) {
   PetscFunctionBeginUser;
   const Mesh &mesh = db.mesh();
   const Layout &L = db.layout();
@@ -38,26 +38,41 @@ PetscErrorCode FaceExchange::setUp(const Database &db, int nf, const Vec3 &direc
   }
   gathered = static_cast<PetscInt>(rows.size());
 
-  // Area over volume sent through in each direction, and faces per cell.
-  std::vector<double> upward(gathered, 0.0), downward(gathered, 0.0);
-  std::vector<int> count(gathered, 0);
+  // Area over volume sent through in each direction, and faces, per cell.
+  // A cell's faces may be handled by several ranks: the per-cell sums are
+  // added up on the owning rank through a reverse scatter before the maxima.
+  OwnedVec sums;
+  PetscCall(VecCreateSeq(PETSC_COMM_SELF, 3 * gathered, sums.put()));
+  PetscScalar *s3;
+  PetscCall(VecGetArrayWrite(sums, &s3));
+  std::fill(s3, s3 + 3 * gathered, 0.0);
   for (const auto &f : swapFaces) {
-    upward[f.lower] += f.area / f.volumeLower;
-    downward[f.upper] += f.area / f.volumeUpper;
-    ++count[f.lower];
-    ++count[f.upper];
+    s3[3 * f.lower] += f.area / f.volumeLower;
+    s3[3 * f.upper + 1] += f.area / f.volumeUpper;
+    s3[3 * f.lower + 2] += 1.0;
+    s3[3 * f.upper + 2] += 1.0;
   }
-  // Faces of a ghost cell on other ranks are not all seen here; reduce the
-  // per-cell sums over ranks through the same scatter below would cost more
-  // than it is worth: a cell's faces are on at most the ranks of its
-  // neighbours, so the global maximum of local sums is reduced instead and is
-  // exact for owned cells, which carry all their faces except cut ones.
+  PetscCall(VecRestoreArrayWrite(sums, &s3));
+  FractionState perCell;
+  PetscCall(perCell.create(L, 3));
+  {
+    OwnedIS from3, to3;
+    OwnedScatter add;
+    PetscCall(ISCreateBlock(PETSC_COMM_SELF, 3, gathered, rows.data(), PETSC_COPY_VALUES, from3.put()));
+    PetscCall(ISCreateStride(PETSC_COMM_SELF, 3 * gathered, 0, 1, to3.put()));
+    PetscCall(VecScatterCreate(perCell.masses(), from3, sums, to3, add.put()));
+    PetscCall(VecScatterBegin(add, sums, perCell.masses(), ADD_VALUES, SCATTER_REVERSE));
+    PetscCall(VecScatterEnd(add, sums, perCell.masses(), ADD_VALUES, SCATTER_REVERSE));
+  }
+  const PetscScalar *t;
   double localMax = 0.0;
   int localFaces = 0;
-  for (PetscInt c = 0; c < gathered; ++c) {
-    localMax = std::max({localMax, upward[c], downward[c]});
-    localFaces = std::max(localFaces, count[c]);
+  PetscCall(VecGetArrayRead(perCell.masses(), &t));
+  for (PetscInt c = 0; c < L.numLocal(); ++c) {
+    localMax = std::max({localMax, t[3 * c], t[3 * c + 1]});
+    localFaces = std::max(localFaces, static_cast<int>(t[3 * c + 2] + 0.5));
   }
+  PetscCall(VecRestoreArrayRead(perCell.masses(), &t));
   PetscCallMPI(MPI_Allreduce(&localMax, &maxAoverV, 1, MPI_DOUBLE, MPI_MAX, L.comm()));
   PetscCallMPI(MPI_Allreduce(&localFaces, &maxPerCell, 1, MPI_INT, MPI_MAX, L.comm()));
 
@@ -66,7 +81,9 @@ PetscErrorCode FaceExchange::setUp(const Database &db, int nf, const Vec3 &direc
   PetscCall(ISCreateStride(PETSC_COMM_SELF, gathered * nf, 0, 1, to.put()));
   PetscCall(VecCreateSeq(PETSC_COMM_SELF, gathered * nf, local.put()));
   PetscCall(VecDuplicate(local, delta.put()));
-  PetscCall(VecScatterCreate(stateTemplate, from, local, to, scatter.put()));
+  FractionState layoutOfState; // the scatter is built against the state's parallel layout
+  PetscCall(layoutOfState.create(L, nf));
+  PetscCall(VecScatterCreate(layoutOfState.masses(), from, local, to, scatter.put()));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 

@@ -7,6 +7,7 @@
 #pragma once
 
 #include "rcfd/database.hpp"
+#include "rcfd/fractions.hpp"
 #include "rcfd/handle.hpp"
 
 #include <functional>
@@ -26,8 +27,7 @@ public:
   /// Faces whose area vector has a component along `direction` above
   /// `minShare` of its area (all internal faces when direction is zero);
   /// "lower" is the cell the direction points away from.
-  PetscErrorCode setUp(const Database &db, int nf, const Vec3 &direction, double minShare,
-                       Vec stateTemplate);
+  PetscErrorCode setUp(const Database &db, int nf, const Vec3 &direction, double minShare);
   const std::vector<SwapFace> &faces() const { return swapFaces; }
   /// Number of swap faces touching each gathered cell at most (for limits).
   int maxFacesPerCell() const { return maxPerCell; }
