@@ -2,6 +2,7 @@
 
 #include <petscviewerhdf5.h>
 
+#include <cmath>
 #include <cstdio>
 
 namespace rcfd {
@@ -65,7 +66,7 @@ PetscErrorCode FieldWriter::write(double time, int frame, Vec masses) {
       surface += mi / fractions->diameter(i);
     }
     out[0][c] = total / solid;
-    out[1][c] = surface > 0 ? total / surface : 0.0;
+    out[1][c] = surface > 0 ? total / surface : NAN; // no solid: no diameter (ParaView greys it)
   }
   PetscCall(VecRestoreArrayRead(natural, &m));
   for (int f = 0; f < nf + 2; ++f) PetscCall(VecRestoreArrayWrite(fields[f], &out[f]));
@@ -90,7 +91,9 @@ PetscErrorCode FieldWriter::write(double time, int frame, Vec masses) {
 }
 
 // XDMF 2 index over all field files written so far, a temporal collection of
-// co-rectilinear grids (box meshes) that ParaView reads directly.
+// co-rectilinear grids (box meshes) that ParaView reads directly.  The data
+// items must carry the grid's cell dimensions (z, y, x); with only the
+// length of the (1-D) datasets ParaView reads one value per z layer.
 PetscErrorCode FieldWriter::writeIndex() const {
   PetscMPIInt rank;
   PetscFunctionBeginUser;
@@ -98,7 +101,6 @@ PetscErrorCode FieldWriter::writeIndex() const {
   if (rank != 0) PetscFunctionReturn(PETSC_SUCCESS);
   const BoxSpec &b = db->mesh().boxSpec();
   const Vec3 h = b.spacing();
-  const int n = db->mesh().numCells();
   std::vector<std::string> names = {"alpha_s", "alpha_s_database", "d32"};
   for (int i = 0; i < fractions->size(); ++i) names.push_back("alpha_" + fractions->label(i));
   char line[512];
@@ -118,9 +120,10 @@ PetscErrorCode FieldWriter::writeIndex() const {
     for (const auto &name : names) {
       std::snprintf(line, sizeof line,
                     "<Attribute Name=\"%s\" AttributeType=\"Scalar\" Center=\"Cell\">\n"
-                    "<DataItem Dimensions=\"%d\" NumberType=\"Float\" Precision=\"8\" "
+                    "<DataItem Dimensions=\"%d %d %d\" NumberType=\"Float\" Precision=\"8\" "
                     "Format=\"HDF\">%s:/%s</DataItem>\n</Attribute>\n",
-                    name.c_str(), n, fieldFileName(static_cast<int>(t)).c_str(), name.c_str());
+                    name.c_str(), b.nz, b.ny, b.nx, fieldFileName(static_cast<int>(t)).c_str(),
+                    name.c_str());
       x += line;
     }
     x += "</Grid>\n";
