@@ -21,4 +21,7 @@ awk -v a="$first" -v b="$last" 'BEGIN { exit !(a - b > 0.01 || b - a > 0.01) }' 
 # Field files and the XDMF index exist for t = 0, 0.5 and 1.0 s.
 for k in 000000 000001 000002; do test -s "$work/np2/fields_$k.h5"; done
 grep -c '<Time Value' "$work/np2/fields.xmf" | grep -qx 3
+# ParaView needs the cell dimensions (z y x) on every data item, not the datasets' length.
+grep -q 'Topology TopologyType="3DCoRectMesh" Dimensions="141 11 41"' "$work/np2/fields.xmf"
+[ "$(grep -c 'DataItem Dimensions="140 10 40"' "$work/np2/fields.xmf")" -eq $((3 * 8)) ]
 echo "1 passed, 0 failed"
