@@ -6,27 +6,7 @@ set -u
 rcfd=$1 data=$3
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
-failures=0 passed=0
-
-expect_error() { # expect_error "expected text" args...
-  local expected=$1
-  shift
-  local out rc
-  out=$("$rcfd" "$@" 2>&1 >/dev/null)
-  rc=$?
-  if [ $rc -eq 0 ]; then
-    echo "FAIL: rcfd $* succeeded; expected an error containing: $expected"
-    failures=$((failures + 1))
-  elif ! grep -qF -- "$expected" <<<"$out"; then
-    echo "FAIL: rcfd $*: expected '$expected', got: $out"
-    failures=$((failures + 1))
-  elif [ "$(grep -c . <<<"$out")" -ne 1 ] || grep -q "PETSC ERROR" <<<"$out"; then
-    echo "FAIL: rcfd $*: expected one line, got: $out"
-    failures=$((failures + 1))
-  else
-    passed=$((passed + 1))
-  fi
-}
+source "$(dirname "${BASH_SOURCE[0]}")/script_helpers.sh"
 
 db=$data/default.h5
 expect_error "unknown command 'rnu'" rnu
