@@ -18,12 +18,13 @@ tend=$(awk -v n="$steps" 'BEGIN { print n * 5e-3 }')
 mkdir -p bench/results
 out=bench/results/drift_stress.md
 start=$(date +%s)
-log=$(mpiexec -n 2 "$build/rcfd" run -db $db -t_end "$tend" -fractions_diameters "$d" \
+np=${NP:-1}
+log=$(mpiexec -n $np "$build/rcfd" run -db $db -t_end "$tend" -fractions_diameters "$d" \
   -fractions_mass_shares "$w" -drift_model B -drift_kd 5e5 -drift_hindered -fields 0 -plot 0 \
   -monitor_every 10000 -output_dir /tmp/rcfd-stress -drift_view -progress_interval 60 2>&1)
 end=$(date +%s)
 {
-  echo "# drift stress, $(date -u +%Y-%m-%dT%H:%MZ), $steps steps, 2 ranks, $((end - start)) s wall"
+  echo "# drift stress, $(date -u +%Y-%m-%dT%H:%MZ), $steps steps, $np rank(s), $((end - start)) s wall"
   echo '```'
   grep -E "drift:|sub-steps|largest relative|Done" <<<"$log"
   echo '```'
