@@ -1,0 +1,74 @@
+// Embedded default database: a deterministic *kinematic stand-in* for a
+// bubbling fluidized bed.  It is not a physical model (no gas, no momentum
+// balance); it moves Lagrangian parcels with a prescribed velocity field so
+// that the frames look like a bubbling bed (rising voids, a free surface, an
+// empty freeboard, solids circulation) and the shift matrices are exact.
+// See docs/synthetic-bed.md for the construction and its limits.
+#pragma once
+
+#include "rcfd/frames.hpp"
+#include "rcfd/mesh.hpp"
+
+#include <cstdint>
+
+namespace rcfd {
+
+/// Options of the synthetic bed.  Lengths in m, times in s, z up, gravity -z;
+/// positions are measured from the box origin.  Defaults: the paper's bed.
+struct SyntheticBedOptions {
+  BoxSpec box;              ///< 0.2 x 0.05 x 0.7 m, 40 x 10 x 140 cells
+  int numFrames = 300;      ///< K frames are written
+  double dtRec = 5e-3;      ///< time between frames
+  std::uint64_t seed = 1;   ///< the whole run is a function of the options and this seed
+  double warmUpTime = 1.0;  ///< simulated time before frame 0 (developed bubbling)
+  double maxSubstep = 5e-3; ///< kinematic time step is dtRec / ceil(dtRec / maxSubstep)
+
+  // Dense phase.
+  double bedHeight = 0.25;  ///< settled height of the dense phase (without voids)
+  double packing = 0.55;    ///< alpha_s of the dense phase; also the largest alpha_s written
+  int parcelsPerCell = 8;   ///< parcels in a full dense cell (accuracy vs speed)
+  double dispersion = 1e-4; ///< dispersion coefficient of the emulsion [m^2/s]
+  double surfaceDiffusivity = 1e-3; ///< levelling of the bed surface, dh/dt = D lap(h) [m^2/s]
+
+  // Bubbles: nucleation at the distributor, growth with height, rise, eruption.
+  double nucleationRate = 2500.0; ///< new bubbles per second and m^2 of distributor
+  double initialDiameter = 0.015; ///< diameter at nucleation
+  double maxDiameter = 0.05;      ///< asymptote of the growth law D(h) = D0 + (Dmax - D0) h / (h + L)
+  double growthLength = 0.1;      ///< L in the growth law
+  double riseCoefficient = 0.711; ///< rise velocity U = c sqrt(g D)
+  double wakeFraction = 0.25;     ///< share of a new bubble's sphere that is wake, in [0, 0.5]
+  double bubbleWander = 0.05;     ///< rms lateral wander velocity of bubbles
+  double centreDrift = 0.1;       ///< lateral drift to the bed's mid-plane, as a share of U
+  double dipoleCutoff = 2.0;      ///< the flow around a bubble is ignored beyond this many radii
+  double eruptionRoof = 0.25;     ///< a bubble erupts when its roof is thinner than this many radii
+  double ejectionSpeed = 1.2;     ///< roof parcels leave at this multiple of U
+  double gravity = 9.81;
+};
+
+/// What a generation produced.  Counts and means cover the recorded frames
+/// (not the warm-up).
+struct SyntheticBedReport {
+  long parcels = 0;           ///< number of parcels
+  double parcelVolume = 0.0;  ///< solid volume of one parcel [m^3]
+  double solidVolume = 0.0;   ///< total solid volume [m^3]
+  int substepsPerFrame = 0;
+  double maxAlpha = 0.0;      ///< largest alpha_s over all cells and states t_0 .. t_K
+  double meanBedHeight = 0.0; ///< time mean of the column-averaged surface height (voids included)
+  long bubblesNucleated = 0;
+  long bubblesErupted = 0;
+  int maxCellJump = 0;        ///< largest per-axis cell distance travelled by a parcel in one dtRec
+  double wrapMismatchL1 = 0.0;       ///< sum_c |alpha_K - alpha_0| V_c [m^3]
+  double wrapMismatchRelative = 0.0; ///< wrapMismatchL1 / solidVolume
+};
+
+/// Throws std::invalid_argument with a sentence naming the first bad option.
+void validateSyntheticBedOptions(const SyntheticBedOptions &options);
+
+/// Run the kinematic bed and hand frames k = 0 .. numFrames-1 to `sink`, one
+/// at a time: frame k holds alpha_s at t_k and the exact shift t_k -> t_{k+1}
+/// built from parcel identities (so T_k alpha_k = alpha_{k+1} to round-off).
+/// Serial; deterministic for given options.  Throws std::invalid_argument for
+/// bad options.
+SyntheticBedReport generateSyntheticBed(const SyntheticBedOptions &options, const FrameSink &sink);
+
+} // namespace rcfd

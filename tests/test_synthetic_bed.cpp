@@ -1,0 +1,188 @@
+// Synthetic bed generator: exact shifts (column-stochastic, T_k alpha_k =
+// alpha_k+1), bounded alpha_s, conserved solid, an empty freeboard, rising
+// voids, determinism, and clear errors for bad options.
+#include "check.hpp"
+#include "database/synthetic_bed.hpp"
+
+#include <cmath>
+#include <stdexcept>
+#include <vector>
+
+using rcfd::CsrMatrix;
+using rcfd::FrameRecord;
+using rcfd::SyntheticBedOptions;
+
+namespace {
+
+/// 10 x 4 x 30 cells of 5 mm, a 6 cm bed, small bubbles.
+SyntheticBedOptions smallBed() {
+  SyntheticBedOptions o;
+  o.box.nx = 10;
+  o.box.ny = 4;
+  o.box.nz = 30;
+  o.box.length = {0.05, 0.02, 0.15};
+  o.numFrames = 20;
+  o.bedHeight = 0.06;
+  o.initialDiameter = 0.01;
+  o.maxDiameter = 0.02;
+  o.growthLength = 0.03;
+  o.nucleationRate = 20000.0;
+  o.warmUpTime = 0.3;
+  return o;
+}
+
+std::vector<FrameRecord> generate(const SyntheticBedOptions &o, rcfd::SyntheticBedReport *report) {
+  std::vector<FrameRecord> frames;
+  const auto r = rcfd::generateSyntheticBed(o, [&](const FrameRecord &f) { frames.push_back(f); });
+  if (report) *report = r;
+  return frames;
+}
+
+void checkShift(const CsrMatrix &T, int n) {
+  RCFD_CHECK(T.n == n);
+  RCFD_CHECK(static_cast<int>(T.rowPtr.size()) == n + 1);
+  std::vector<double> colSum(n, 0.0);
+  bool entriesOk = true, sortedOk = true;
+  for (int r = 0; r < n; ++r)
+    for (int64_t e = T.rowPtr[r]; e < T.rowPtr[r + 1]; ++e) {
+      colSum[T.col[e]] += T.val[e];
+      entriesOk = entriesOk && T.val[e] > 0.0 && T.val[e] <= 1.0;
+      if (e > T.rowPtr[r]) sortedOk = sortedOk && T.col[e - 1] < T.col[e];
+    }
+  RCFD_CHECK(entriesOk);
+  RCFD_CHECK(sortedOk);
+  double worst = 0.0;
+  for (double s : colSum) worst = std::fmax(worst, std::fabs(s - 1.0));
+  RCFD_CHECK(worst <= 1e-14);
+}
+
+std::vector<double> apply(const CsrMatrix &T, const std::vector<double> &x) {
+  std::vector<double> y(T.n, 0.0);
+  for (int r = 0; r < T.n; ++r)
+    for (int64_t e = T.rowPtr[r]; e < T.rowPtr[r + 1]; ++e) y[r] += T.val[e] * x[T.col[e]];
+  return y;
+}
+
+/// A cell with alpha_s < 0.2 that has dense solid somewhere above it in its
+/// column: a void inside the bed rather than the freeboard.
+bool hasVoidBelowSurface(const std::vector<double> &alpha, const rcfd::BoxSpec &b, double dense) {
+  for (int j = 0; j < b.ny; ++j)
+    for (int i = 0; i < b.nx; ++i) {
+      bool solidAbove = false;
+      for (int k = b.nz - 1; k >= 0; --k) {
+        const double a = alpha[b.cellIndex(i, j, k)];
+        if (solidAbove && a < 0.2) return true;
+        solidAbove = solidAbove || a >= dense;
+      }
+    }
+  return false;
+}
+
+void testFrames() {
+  const SyntheticBedOptions o = smallBed();
+  const rcfd::BoxSpec &b = o.box;
+  const int n = b.numCells();
+  const double cellVolume = b.spacing()[0] * b.spacing()[1] * b.spacing()[2];
+  rcfd::SyntheticBedReport report;
+  const std::vector<FrameRecord> frames = generate(o, &report);
+  RCFD_CHECK(static_cast<int>(frames.size()) == o.numFrames);
+  RCFD_CHECK(report.parcels > 0);
+  RCFD_CHECK_CLOSE(report.solidVolume, report.parcels * report.parcelVolume, 1e-14);
+  RCFD_CHECK(report.maxAlpha <= o.packing + 1e-15);
+  RCFD_CHECK(report.bubblesNucleated > 0);
+  RCFD_CHECK(std::isfinite(report.wrapMismatchL1) && report.wrapMismatchL1 >= 0.0);
+  RCFD_CHECK(report.meanBedHeight > 0.5 * o.bedHeight && report.meanBedHeight < b.length[2]);
+
+  bool anyVoid = false, anyMove = false;
+  double worstIdentity = 0.0;
+  for (size_t k = 0; k < frames.size(); ++k) {
+    const FrameRecord &f = frames[k];
+    RCFD_CHECK(static_cast<int>(f.alphaS.size()) == n);
+    checkShift(f.shift, n);
+
+    bool inRange = true;
+    double solid = 0.0;
+    for (double a : f.alphaS) {
+      inRange = inRange && a >= 0.0 && a < 0.65; // also false for NaN
+      solid += a * cellVolume;
+    }
+    RCFD_CHECK(inRange);
+    RCFD_CHECK_CLOSE(solid / report.solidVolume, 1.0, 1e-12);
+
+    // Freeboard: the top five layers stay empty.
+    bool freeboardEmpty = true;
+    for (int kz = b.nz - 5; kz < b.nz; ++kz)
+      for (int j = 0; j < b.ny; ++j)
+        for (int i = 0; i < b.nx; ++i) freeboardEmpty = freeboardEmpty && f.alphaS[b.cellIndex(i, j, kz)] == 0.0;
+    RCFD_CHECK(freeboardEmpty);
+
+    anyVoid = anyVoid || hasVoidBelowSurface(f.alphaS, b, 0.9 * o.packing);
+    for (int r = 0; r < n && !anyMove; ++r)
+      for (int64_t e = f.shift.rowPtr[r]; e < f.shift.rowPtr[r + 1]; ++e)
+        anyMove = anyMove || (f.shift.col[e] != r && f.alphaS[f.shift.col[e]] > 0.0);
+
+    if (k + 1 < frames.size()) {
+      const std::vector<double> moved = apply(f.shift, f.alphaS);
+      for (int c = 0; c < n; ++c)
+        worstIdentity = std::fmax(worstIdentity, std::fabs(moved[c] - frames[k + 1].alphaS[c]));
+    }
+  }
+  RCFD_CHECK(worstIdentity <= 1e-12);
+  RCFD_CHECK(anyVoid);
+  RCFD_CHECK(anyMove);
+}
+
+bool sameFrames(const std::vector<FrameRecord> &a, const std::vector<FrameRecord> &b) {
+  if (a.size() != b.size()) return false;
+  for (size_t k = 0; k < a.size(); ++k)
+    if (a[k].alphaS != b[k].alphaS || a[k].shift.rowPtr != b[k].shift.rowPtr ||
+        a[k].shift.col != b[k].shift.col || a[k].shift.val != b[k].shift.val)
+      return false;
+  return true;
+}
+
+void testDeterminism() {
+  SyntheticBedOptions o = smallBed();
+  o.numFrames = 8;
+  const auto first = generate(o, nullptr), second = generate(o, nullptr);
+  RCFD_CHECK(sameFrames(first, second));
+  o.seed = 2;
+  RCFD_CHECK(!sameFrames(first, generate(o, nullptr)));
+}
+
+template <class Change> bool rejects(Change change) {
+  SyntheticBedOptions o = smallBed();
+  change(o);
+  try {
+    rcfd::generateSyntheticBed(o, [](const FrameRecord &) {});
+  } catch (const std::invalid_argument &) {
+    return true;
+  }
+  return false;
+}
+
+void testBadOptions() {
+  RCFD_CHECK(rejects([](SyntheticBedOptions &o) { o.bedHeight = 0.2; }));      // above the box
+  RCFD_CHECK(rejects([](SyntheticBedOptions &o) { o.bedHeight = 0.12; }));     // no freeboard left
+  RCFD_CHECK(rejects([](SyntheticBedOptions &o) { o.dtRec = 0.0; }));
+  RCFD_CHECK(rejects([](SyntheticBedOptions &o) { o.numFrames = 0; }));
+  RCFD_CHECK(rejects([](SyntheticBedOptions &o) { o.packing = 0.7; }));
+  RCFD_CHECK(rejects([](SyntheticBedOptions &o) { o.maxDiameter = 0.005; }));  // below initial
+  RCFD_CHECK(rejects([](SyntheticBedOptions &o) { o.wakeFraction = 0.6; }));
+  bool emptySink = false;
+  try {
+    rcfd::generateSyntheticBed(smallBed(), rcfd::FrameSink());
+  } catch (const std::invalid_argument &) {
+    emptySink = true;
+  }
+  RCFD_CHECK(emptySink);
+}
+
+} // namespace
+
+int main() {
+  testFrames();
+  testDeterminism();
+  testBadOptions();
+  return RCFD_TEST_RESULT();
+}
