@@ -33,7 +33,7 @@ public:
 
 private:
   std::vector<double> totals;
-  PetscInt checkEvery = 50;
+  PetscInt checkEvery = 10;
   PetscReal leakTolerance = 1e-10;
   double largest = 0.0;
   long lastStep = 0;
