@@ -1,5 +1,6 @@
 // rcfd build: a database from DEM particle snapshots, and optionally the
 // initial composition of a run (-init_out) from the first snapshot used.
+// With -eulerian it builds from Eulerian frames instead (build_eulerian_command.cpp).
 #include "cli/commands.hpp"
 
 #include "cli/particle_input.hpp"
@@ -28,7 +29,10 @@ PetscErrorCode readBuildOptions(MPI_Comm comm, BuildOutputs *o) {
   PetscBool setInit = PETSC_FALSE;
   PetscFunctionBeginUser;
   std::snprintf(db, sizeof db, "%s", o->database.c_str());
-  PetscOptionsBegin(comm, nullptr, "rcfd build: a database from particle snapshots", "rcfd");
+  PetscOptionsBegin(comm, nullptr,
+                    "rcfd build: a database from particle snapshots (from Eulerian frames: "
+                    "rcfd build -eulerian PATTERN -help)",
+                    "rcfd");
   PetscCall(PetscOptionsString("-o", "Output database file", "", db, db, sizeof db, nullptr));
   PetscCall(PetscOptionsString("-init_out",
                                "Also write the first snapshot's masses per cell and size class "
@@ -82,7 +86,13 @@ PetscErrorCode buildCommand(MPI_Comm comm) {
   ParticleInput in;
   BuildOutputs out;
   PetscMPIInt rank;
+  PetscBool eulerian = PETSC_FALSE;
   PetscFunctionBeginUser;
+  PetscCall(PetscOptionsHasName(nullptr, nullptr, "-eulerian", &eulerian));
+  if (eulerian) {
+    PetscCall(buildEulerianCommand(comm));
+    PetscFunctionReturn(PETSC_SUCCESS);
+  }
   PetscCallMPI(MPI_Comm_rank(comm, &rank));
   PetscCall(readBuildOptions(comm, &out));
   PetscCall(readParticleInputOptions(comm, &in));

@@ -10,6 +10,9 @@ PetscErrorCode runCommand(MPI_Comm comm);
 PetscErrorCode synthCommand(MPI_Comm comm);
 PetscErrorCode infoCommand(MPI_Comm comm, const char *positional);
 PetscErrorCode buildCommand(MPI_Comm comm);
+/// rcfd build -eulerian PATTERN (buildCommand hands over when -eulerian is given).
+PetscErrorCode buildEulerianCommand(MPI_Comm comm);
+PetscErrorCode exportEulerianCommand(MPI_Comm comm, const char *positional);
 PetscErrorCode referenceCommand(MPI_Comm comm);
 PetscErrorCode compareCommand(MPI_Comm comm);
 PetscErrorCode calibrateCommand(MPI_Comm comm);
