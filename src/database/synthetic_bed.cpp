@@ -224,7 +224,7 @@ private:
   std::vector<int32_t> voidStart_;
   // Scratch.
   std::vector<int32_t> column_, previousColumn_, voidColumn_, fill_, scratch_, dense_, air_, keys_, keyCount_, cellCount_;
-  std::vector<int32_t> received_, given_, largestDrop_;
+  std::vector<int32_t> received_, given_;
   struct Transfer {
     int from, to;
     double amount;
@@ -608,22 +608,21 @@ void SyntheticBed::levelSurface(double dt) {
   const double fy = std::min(0.125, opt_.surfaceDiffusivity * dt / (hy_ * hy_));
   received_.assign(ncol_, 0);
   std::fill(pulled_.begin(), pulled_.end(), 0);
-  // A column sinks at most at the speed sqrt(g dh) of a collapsing step of
-  // height dh (its largest drop to a neighbour), so a crater wall slumps
-  // rather than drops.  Each donor's wanted transfers are scaled down together
-  // to that budget (spending it in sweep order would drift solids towards low
-  // indices).
+  // A column sinks by at most slumpSpeed * dt per substep, so that a crater
+  // wall slumps rather than drops.  Each donor's wanted transfers are scaled
+  // down together to that budget (spending it in sweep order would drift
+  // solids towards low indices).
+  constexpr double slumpSpeed = 0.5;
+  const double budget = std::max(1.0, std::floor(slumpSpeed * dt / slotHeight_));
   std::vector<Transfer> &wanted = transfers_;
   wanted.clear();
   wantedBy_.assign(ncol_, 0.0);
-  largestDrop_.assign(ncol_, 0);
   auto want = [&](int a, int b, double f) {
     const int diff = top_[a] - top_[b];
     if (std::abs(diff) < 2) return; // ignore one-slot roughness
     const int from = diff > 0 ? a : b;
     wanted.push_back({from, diff > 0 ? b : a, f * std::abs(diff)});
     wantedBy_[from] += wanted.back().amount;
-    largestDrop_[from] = std::max(largestDrop_[from], std::abs(diff));
   };
   for (int j = 0; j < ny_; ++j)
     for (int i = 0; i < nx_; ++i) {
@@ -632,8 +631,6 @@ void SyntheticBed::levelSurface(double dt) {
       if (j + 1 < ny_) want(c, c + nx_, fy);
     }
   for (const Transfer &t : wanted) {
-    const double slump = std::sqrt(opt_.gravity * largestDrop_[t.from] * slotHeight_);
-    const double budget = std::max(1.0, std::floor(slump * dt / slotHeight_));
     const double amount = t.amount * std::min(1.0, budget / wantedBy_[t.from]);
     int count = static_cast<int>(amount);
     if (rng_.uniform() < amount - count) ++count; // stochastic rounding
