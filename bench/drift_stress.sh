@@ -9,14 +9,17 @@ cd "$(dirname "$0")/.."
 build=${1:-build}
 steps=${2:-1000000}
 export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
-db=/tmp/rcfd-stress-bed.h5
-[ -s $db ] || "$build/rcfd" synth -o $db -synth_cells 10,4,40 -synth_length 0.05,0.02,0.2 \
+# CELLS (default 10,4,40 over 0.05 x 0.02 x 0.2 m) sets the bed's resolution; the cell size
+# follows, so a coarser bed takes fewer, larger cells.
+cells=${CELLS:-10,4,40}
+db=/tmp/rcfd-stress-bed-${cells//,/x}.h5
+[ -s $db ] || "$build/rcfd" synth -o $db -synth_cells $cells -synth_length 0.05,0.02,0.2 \
   -synth_bed_height 0.08 -synth_frames 100 -quiet
 d=$(awk 'BEGIN { for (i = 0; i < 20; ++i) printf "%s%.4e", (i ? "," : ""), 0.5e-3 + 5.5e-3 * i / 19 }')
 w=$(awk 'BEGIN { for (i = 0; i < 20; ++i) printf "%s0.05", (i ? "," : "") }')
 tend=$(awk -v n="$steps" 'BEGIN { print n * 5e-3 }')
 mkdir -p bench/results
-out=bench/results/drift_stress.md
+out=bench/results/drift_stress-${steps}-${cells//,/x}.md
 start=$(date +%s)
 np=${NP:-1}
 log=$(mpiexec -n $np "$build/rcfd" run -db $db -t_end "$tend" -fractions_diameters "$d" \
@@ -24,7 +27,7 @@ log=$(mpiexec -n $np "$build/rcfd" run -db $db -t_end "$tend" -fractions_diamete
   -monitor_every 10000 -output_dir /tmp/rcfd-stress -drift_view -progress_interval 60 2>&1)
 end=$(date +%s)
 {
-  echo "# drift stress, $(date -u +%Y-%m-%dT%H:%MZ), $steps steps, $np rank(s), $((end - start)) s wall"
+  echo "# drift stress, $(date -u +%Y-%m-%dT%H:%MZ), $steps steps, $cells cells, $np rank(s), $((end - start)) s wall"
   echo '```'
   grep -E "drift:|sub-steps|largest relative|Done" <<<"$log"
   echo '```'
