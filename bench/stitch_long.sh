@@ -15,12 +15,13 @@ mkdir -p bench/results
 out=bench/results/stitch_long.md
 dir=/tmp/rcfd-stitch-long
 start=$(date +%s)
-log=$(mpiexec -n 2 "$build/rcfd" run -db "$db" -t_end "$tend" -path_type random -path_seed 5 \
+np=${NP:-1}
+log=$(mpiexec -n $np "$build/rcfd" run -db "$db" -t_end "$tend" -path_type random -path_seed 5 \
   -fractions_diameters 1.459e-3,4.075e-3 -fractions_mass_shares 0.564,0.436 -fields 0 \
   -monitor_every 200 -output_dir $dir -progress_interval 60 -carry_view -drift_view 2>&1)
 end=$(date +%s)
 {
-  echo "# stitched run of $tend s, $(date -u +%Y-%m-%dT%H:%MZ), 2 ranks, $((end - start)) s wall"
+  echo "# stitched run of $tend s, $(date -u +%Y-%m-%dT%H:%MZ), $np rank(s), $((end - start)) s wall"
   echo '```'
   grep -E "carry:|sub-steps|largest relative|Done" <<<"$log"
   echo '```'

@@ -23,6 +23,27 @@ expect_error() {
   fi
 }
 
+# same "label" "actual values" "expected values" [tolerance]: element-wise,
+# relative to max(1, |expected|).
+same() {
+  if awk -v a="$2" -v b="$3" -v tol="${4:-1e-12}" 'BEGIN {
+      na = split(a, x, /[ \n]+/); nb = split(b, y, /[ \n]+/);
+      if (na != nb) exit 1;
+      for (i = 1; i <= na; ++i) { d = x[i] - y[i]; if (d < 0) d = -d;
+        s = x[i] < 0 ? -x[i] : x[i]; if (s < 1) s = 1; if (d > tol * s) exit 1 }
+      exit 0 }'; then ok; else fail "$1: got '$(echo $2)', expected '$(echo $3)'"; fi
+}
+
+run() { # run "label" args...: the command must succeed
+  local label=$1
+  shift
+  if ! "$@" >"$work/out.txt" 2>&1; then
+    fail "$label: $(cat "$work/out.txt")"
+    return 1
+  fi
+  ok
+}
+
 dump() { # dump FILE TIMESTEP PARTICLE_LINE PARTICLE_LINE
   {
     printf 'ITEM: TIMESTEP\n%s\nITEM: NUMBER OF ATOMS\n2\nITEM: BOX BOUNDS ff ff ff\n' "$2"

@@ -17,14 +17,6 @@ work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 source "$(dirname "${BASH_SOURCE[0]}")/script_helpers.sh"
 
-# same "label" "actual values" "expected values" [tolerance]: element-wise.
-same() {
-  if awk -v a="$2" -v b="$3" -v tol="${4:-1e-12}" 'BEGIN {
-      na = split(a, x, /[ \n]+/); nb = split(b, y, /[ \n]+/);
-      if (na != nb) exit 1;
-      for (i = 1; i <= na; ++i) { d = x[i] - y[i]; if (d < 0) d = -d; if (d > tol) exit 1 }
-      exit 0 }'; then ok; else fail "$1: got '$(echo $2)', expected '$(echo $3)'"; fi
-}
 # below "label" value bound: value is a number and value < bound.
 below() {
   if [[ "$2" =~ ^-?[0-9.]+([eE][-+]?[0-9]+)?$ ]] && awk -v v="$2" -v b="$3" 'BEGIN { exit !(v + 0 < b + 0) }'; then
@@ -32,15 +24,6 @@ below() {
   else
     fail "$1: '$2' is not a number below $3"
   fi
-}
-run() { # run "label" args...: the command must succeed
-  local label=$1
-  shift
-  if ! "$@" >"$work/out.txt" 2>&1; then
-    fail "$label: $(cat "$work/out.txt")"
-    return 1
-  fi
-  ok
 }
 
 # ---- 1. uniform field on 2 x 1 x 4 cells of 1 cm, alpha_s = 0.4, u = 0.5 m/s,
