@@ -43,7 +43,7 @@ std::string usage() {
                   "commands:\n";
   for (const auto &c : commands) {
     char line[256];
-    std::snprintf(line, sizeof line, "  %-11s %s\n  %-11s   %s\n", c.name, c.summary, "", c.example);
+    std::snprintf(line, sizeof line, "  %-16s %s\n  %-16s   %s\n", c.name, c.summary, "", c.example);
     u += line;
   }
   return u + "\n`rcfd <command> -help` lists the command's options with their defaults.\n";
