@@ -17,8 +17,7 @@ PetscErrorCode setOption(const std::string &name, const std::string &value) {
 // An ensemble: the same case along stitched paths with seeds s, s+1, ...,
 // sharing one loaded database; each member writes OUTPUT/member_k/cog.csv,
 // and OUTPUT/ensemble.csv and ensemble.png give mean and spread.
-PetscErrorCode runEnsemble(MPI_Comm comm, const OperatorRegistry &registry, Run &first,
-                           PetscInt members, const std::string &outputDir, PetscInt seed) {
+PetscErrorCode runEnsemble(MPI_Comm comm, const OperatorRegistry &registry, PetscInt members, const std::string &outputDir, PetscInt seed) {
   PetscMPIInt rank;
   PetscFunctionBeginUser;
   PetscCallMPI(MPI_Comm_rank(comm, &rank));
@@ -40,7 +39,6 @@ PetscErrorCode runEnsemble(MPI_Comm comm, const OperatorRegistry &registry, Run 
     PetscCall(member.solve());
     csvs.push_back(dir + "/cog.csv");
   }
-  (void)first;
   PetscCall(collectively(comm, [&] {
     if (rank == 0)
       summariseEnsemble(csvs, outputDir + "/ensemble.csv", outputDir + "/ensemble.png", outputDir);
@@ -71,7 +69,7 @@ PetscErrorCode runCommand(MPI_Comm comm) {
   PetscCall(rejectUnusedOptions(comm, "run"));
   PetscCheck(members >= 1, comm, PETSC_ERR_USER_INPUT, "-ensemble must be at least 1");
   if (members > 1) {
-    PetscCall(runEnsemble(comm, registry, run, members, dir, seed));
+    PetscCall(runEnsemble(comm, registry, members, dir, seed)); // `run` only read the options
     PetscFunctionReturn(PETSC_SUCCESS);
   }
   PetscCall(run.setUp());
