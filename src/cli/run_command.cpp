@@ -17,7 +17,8 @@ PetscErrorCode setOption(const std::string &name, const std::string &value) {
 // An ensemble: the same case along stitched paths with seeds s, s+1, ...,
 // sharing one loaded database; each member writes OUTPUT/member_k/cog.csv,
 // and OUTPUT/ensemble.csv and ensemble.png give mean and spread.
-PetscErrorCode runEnsemble(MPI_Comm comm, const OperatorRegistry &registry, PetscInt members, const std::string &outputDir, PetscInt seed) {
+PetscErrorCode runEnsemble(MPI_Comm comm, const OperatorRegistry &registry, PetscInt members,
+                           const std::string &outputDir, PetscInt seed) {
   PetscMPIInt rank;
   PetscFunctionBeginUser;
   PetscCallMPI(MPI_Comm_rank(comm, &rank));
