@@ -224,7 +224,7 @@ private:
   std::vector<int32_t> voidStart_;
   // Scratch.
   std::vector<int32_t> column_, previousColumn_, voidColumn_, fill_, scratch_, dense_, air_, keys_, keyCount_, cellCount_;
-  std::vector<int32_t> received_, given_;
+  std::vector<int32_t> received_, given_, largestDrop_;
   struct Transfer {
     int from, to;
     double amount;
@@ -608,21 +608,22 @@ void SyntheticBed::levelSurface(double dt) {
   const double fy = std::min(0.125, opt_.surfaceDiffusivity * dt / (hy_ * hy_));
   received_.assign(ncol_, 0);
   std::fill(pulled_.begin(), pulled_.end(), 0);
-  // A column sinks by at most slumpSpeed * dt per substep, so that a crater
-  // wall slumps rather than drops.  Each donor's wanted transfers are scaled
-  // down together to that budget (spending it in sweep order would drift
-  // solids towards low indices).
-  constexpr double slumpSpeed = 0.5;
-  const double budget = std::max(1.0, std::floor(slumpSpeed * dt / slotHeight_));
+  // A column sinks at most at the speed sqrt(g dh) of a collapsing step of
+  // height dh (its largest drop to a neighbour), so a crater wall slumps
+  // rather than drops.  Each donor's wanted transfers are scaled down together
+  // to that budget (spending it in sweep order would drift solids towards low
+  // indices).
   std::vector<Transfer> &wanted = transfers_;
   wanted.clear();
   wantedBy_.assign(ncol_, 0.0);
+  largestDrop_.assign(ncol_, 0);
   auto want = [&](int a, int b, double f) {
     const int diff = top_[a] - top_[b];
     if (std::abs(diff) < 2) return; // ignore one-slot roughness
     const int from = diff > 0 ? a : b;
     wanted.push_back({from, diff > 0 ? b : a, f * std::abs(diff)});
     wantedBy_[from] += wanted.back().amount;
+    largestDrop_[from] = std::max(largestDrop_[from], std::abs(diff));
   };
   for (int j = 0; j < ny_; ++j)
     for (int i = 0; i < nx_; ++i) {
@@ -631,6 +632,8 @@ void SyntheticBed::levelSurface(double dt) {
       if (j + 1 < ny_) want(c, c + nx_, fy);
     }
   for (const Transfer &t : wanted) {
+    const double slump = std::sqrt(opt_.gravity * largestDrop_[t.from] * slotHeight_);
+    const double budget = std::max(1.0, std::floor(slump * dt / slotHeight_));
     const double amount = t.amount * std::min(1.0, budget / wantedBy_[t.from]);
     int count = static_cast<int>(amount);
     if (rng_.uniform() < amount - count) ++count; // stochastic rounding
@@ -642,9 +645,11 @@ void SyntheticBed::levelSurface(double dt) {
 // parcels taken are those of `from` at the height of the surface of `to` (the
 // foot of the step, not its top), so nothing jumps vertically: the parcel
 // slides sideways onto the lower surface and `from` settles by one slot.  If
-// `from` has a void at that height nothing slides.
+// `from` has a void at that height (a bulge over a bubble), its top parcel
+// slides off instead and falls.
 void SyntheticBed::slideParcels(int from, int to, int count) {
   const int ti = to % nx_, tj = to / nx_;
+  int32_t topPos = denseEnd_[from] - 1;
   for (int m = 0; m < count; ++m) {
     const int level = top_[to] + received_[to];
     int32_t lowest = -1;
@@ -653,13 +658,24 @@ void SyntheticBed::slideParcels(int from, int to, int count) {
       if (slot_[p] < level) break;
       if (!pulled_[p] && !airborne_[p]) lowest = p;
     }
-    // Nothing within a cell above that level (a void there): no slide.
-    if (lowest < 0 || slot_[lowest] >= level + ppc_) return;
-    pulled_[lowest] = 1;
-    x_[lowest] = (ti + rng_.uniform()) * hx_;
-    y_[lowest] = (tj + rng_.uniform()) * hy_;
-    zKey_[lowest] = (level + 0.5) * slotHeight_;
-    ++received_[to];
+    if (lowest >= 0 && slot_[lowest] < level + ppc_) {
+      pulled_[lowest] = 1;
+      x_[lowest] = (ti + rng_.uniform()) * hx_;
+      y_[lowest] = (tj + rng_.uniform()) * hy_;
+      zKey_[lowest] = (level + 0.5) * slotHeight_;
+      ++received_[to];
+      continue;
+    }
+    while (topPos >= colStart_[from] && (pulled_[order_[topPos]] || airborne_[order_[topPos]]))
+      --topPos;
+    if (topPos < colStart_[from]) return;
+    const int32_t p = order_[topPos--];
+    pulled_[p] = 1;
+    airborne_[p] = 1;
+    x_[p] = (ti + rng_.uniform()) * hx_;
+    y_[p] = (tj + rng_.uniform()) * hy_;
+    zKey_[p] = z_[p];
+    vx_[p] = vy_[p] = vz_[p] = 0.0;
   }
 }
 
@@ -830,9 +846,13 @@ void SyntheticBed::settleAirborne(std::vector<int32_t> &dense, int &cursor) {
   if (air_.empty()) return;
   cellCount_.assign(nz_, 0);
   for (int32_t p : dense) ++cellCount_[slot_[p] / ppc_];
+  const int surfaceLayer = cursor / ppc_;
   for (int32_t p : air_) {
     const int k0 = layerOf(z_[p]);
     int k = k0;
+    if (vz_[p] <= 0.0) // falling: to a free cell below, if any above the surface
+      while (cellCount_[k] >= ppc_ && k > surfaceLayer) --k;
+    if (cellCount_[k] >= ppc_) k = k0;
     while (k + 1 < nz_ && cellCount_[k] >= ppc_) ++k;
     while (cellCount_[k] >= ppc_ && k > 0) --k; // full up to the lid: look below
     if (k != k0) { // it hit the parcels there: moved, and no longer rising
@@ -1216,7 +1236,7 @@ SyntheticBedReport generateSyntheticBed(const SyntheticBedOptions &options, cons
   SyntheticBedReport report;
   report.parcels = bed.numParcels();
   report.parcelVolume = bed.alphaPerParcel() * cellVolume;
-  report.solidVolume = report.parcels * report.parcelVolume;
+  report.solidVolume = static_cast<double>(report.parcels) * report.parcelVolume;
   report.substepsPerFrame = substeps;
 
   const JumpMeter jumps(box);

@@ -26,14 +26,15 @@ struct SyntheticBedOptions {
   // Dense phase.
   double bedHeight = 0.25;  ///< settled height of the dense phase (without voids)
   double packing = 0.55;    ///< alpha_s of the dense phase; also the largest alpha_s written
-  int parcelsPerCell = 8;   ///< parcels in a full dense cell (accuracy vs speed)
-  double dispersion = 1e-4; ///< dispersion coefficient of the emulsion [m^2/s]
+  int parcelsPerCell = 8;   ///< parcels in a full dense cell; alpha_s comes in steps of packing / this
+  double dispersion = 1e-4; ///< emulsion dispersion (sideways swaps, vertical walk) [m^2/s]
   double surfaceDiffusivity = 1e-3; ///< levelling of the bed surface, dh/dt = D lap(h) [m^2/s]
 
   // Bubbles: nucleation at the distributor, growth with height, rise, eruption.
   double nucleationRate = 2500.0; ///< new bubbles per second and m^2 of distributor
-  double initialDiameter = 0.015; ///< diameter at nucleation
-  double maxDiameter = 0.05;      ///< asymptote of the growth law D(h) = D0 + (Dmax - D0) h / (h + L)
+  double initialDiameter = 0.015; ///< D0: size a new bubble opens to at the distributor
+  double maxDiameter = 0.05;      ///< asymptote of the growth law D(h) = D0 + (Dmax - D0) h / (h + L);
+                                  ///< coalescence may exceed it, up to half the wider bed side
   double growthLength = 0.1;      ///< L in the growth law
   double riseCoefficient = 0.711; ///< rise velocity U = c sqrt(g D)
   double wakeFraction = 0.25;     ///< share of a new bubble's sphere that is wake, in [0, 0.5]
