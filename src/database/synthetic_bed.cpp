@@ -28,6 +28,8 @@
 // with any standard library (given IEEE doubles without FMA contraction).
 #include "database/synthetic_bed.hpp"
 
+#include "path/frame_path.hpp"
+
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -38,37 +40,19 @@
 namespace rcfd {
 namespace {
 
-/// xoshiro256** (Blackman & Vigna), seeded through splitmix64.
+/// The project's xoshiro256** (src/path/frame_path.hpp) with the draws the
+/// kinematics use.
 class Rng {
 public:
-  explicit Rng(std::uint64_t seed) {
-    for (auto &word : s_) word = splitmix(seed);
-  }
-  std::uint64_t next() {
-    const std::uint64_t result = rotl(s_[1] * 5, 7) * 9;
-    const std::uint64_t t = s_[1] << 17;
-    s_[2] ^= s_[0];
-    s_[3] ^= s_[1];
-    s_[1] ^= s_[2];
-    s_[0] ^= s_[3];
-    s_[2] ^= t;
-    s_[3] = rotl(s_[3], 45);
-    return result;
-  }
+  explicit Rng(std::uint64_t seed) : generator(seed) {}
+  std::uint64_t next() { return generator.next(); }
   /// Uniform in [0, 1).
-  double uniform() { return static_cast<double>(next() >> 11) * 0x1.0p-53; }
+  double uniform() { return generator.uniform(); }
   /// Uniform in [-1, 1).
   double symmetric() { return 2.0 * uniform() - 1.0; }
 
 private:
-  static std::uint64_t rotl(std::uint64_t x, int k) { return (x << k) | (x >> (64 - k)); }
-  static std::uint64_t splitmix(std::uint64_t &x) {
-    std::uint64_t z = (x += 0x9e3779b97f4a7c15ULL);
-    z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ULL;
-    z = (z ^ (z >> 27)) * 0x94d049bb133111ebULL;
-    return z ^ (z >> 31);
-  }
-  std::uint64_t s_[4];
+  Xoshiro256 generator;
 };
 
 /// Cube root of v > 0 by Newton's method started above the root (from `upper`),
