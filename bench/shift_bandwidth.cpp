@@ -1,12 +1,14 @@
-// Achieved memory bandwidth of the shift step (MAIJ MatMult over the frames
-// of a database, cycling from memory) next to a STREAM-like triad measured in
-// the same run on the same ranks.
-// usage: mpiexec -n P shift_bandwidth DB.h5 NF [STEPS]
+// Achieved memory bandwidth of the shift step (cycling over the frames of a
+// database held in memory) next to a STREAM-like triad measured in the same
+// run on the same ranks.  KERNEL is the shift operator's -shift_kernel:
+// moving (default) or maij.
+// usage: mpiexec -n P shift_bandwidth DB.h5 NF [STEPS [KERNEL]]
 #include "rcfd/database.hpp"
 #include "rcfd/operator.hpp"
 
 #include <cstdio>
 #include <cstdlib>
+#include <string>
 #include <vector>
 
 using namespace rcfd;
@@ -37,7 +39,7 @@ double triadBandwidth(MPI_Comm comm) {
 int main(int argc, char **argv) {
   PetscCall(PetscInitialize(&argc, &argv, nullptr, nullptr));
   {
-    PetscCheck(argc >= 3, PETSC_COMM_WORLD, PETSC_ERR_USER_INPUT, "usage: shift_bandwidth DB NF [STEPS]");
+    PetscCheck(argc >= 3, PETSC_COMM_WORLD, PETSC_ERR_USER_INPUT, "usage: shift_bandwidth DB NF [STEPS [moving|maij]]");
     const int nf = std::atoi(argv[2]);
     const long steps = argc > 3 ? std::atol(argv[3]) : 2000;
     std::unique_ptr<Database> db;
@@ -48,20 +50,39 @@ int main(int argc, char **argv) {
     FractionState st;
     PetscCall(st.create(db->layout(), nf));
     PetscCall(VecSet(st.masses(), 1.0));
+    const std::string kernel = argc > 4 ? argv[4] : "moving";
+    PetscCheck(kernel == "moving" || kernel == "maij", PETSC_COMM_WORLD, PETSC_ERR_USER_INPUT,
+               "KERNEL must be moving or maij, got '%s'", kernel.c_str());
     ShiftOperator shift;
+    shift.setKernel(kernel == "maij" ? ShiftOperator::Kernel::Maij : ShiftOperator::Kernel::Moving);
     RunContext ctx{*db, set, 1440.0};
     PetscCall(shift.setUp(ctx));
-    // Bytes one product moves: the matrix (values, column indices, row
-    // pointers), the input and the output vectors.
-    double nnz = 0;
+    // Bytes one step must move at least.  maij: the whole matrix (values,
+    // column indices, row pointers), the input and the output vectors.
+    // moving: the moving rows' entries, row numbers and pointers, and their
+    // masses read and written once.
+    double nnz = 0, movingRows = 0, movingEntries = 0;
     for (int k = 0; k < db->numFrames(); ++k) {
       MatInfo info;
       PetscCall(MatGetInfo(db->shift(k), MAT_GLOBAL_SUM, &info));
       nnz += info.nz_used;
+      PetscInt ncols;
+      for (PetscInt row = db->layout().rowStart(); row < db->layout().rowEnd(); ++row) {
+        const PetscInt *c;
+        const PetscScalar *v;
+        PetscCall(MatGetRow(db->shift(k), row, &ncols, &c, &v));
+        if (!(ncols == 1 && c[0] == row && v[0] == 1.0)) ++movingRows, movingEntries += ncols;
+        PetscCall(MatRestoreRow(db->shift(k), row, &ncols, &c, &v));
+      }
     }
+    double sums[2] = {movingRows, movingEntries};
+    PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, sums, 2, MPI_DOUBLE, MPI_SUM, PETSC_COMM_WORLD));
     nnz /= db->numFrames();
+    movingRows = sums[0] / db->numFrames();
+    movingEntries = sums[1] / db->numFrames();
     const double N = db->mesh().numCells();
-    const double bytes = nnz * 12.0 + (N + 1) * 4.0 + 2.0 * N * nf * 8.0;
+    const double bytes = kernel == "maij" ? nnz * 12.0 + (N + 1) * 4.0 + 2.0 * N * nf * 8.0
+                                          : movingEntries * 12.0 + movingRows * 8.0 + 2.0 * movingRows * nf * 8.0;
     StepInfo step;
     for (int warm = 0; warm < db->numFrames(); ++warm) {
       step.frame = warm;
@@ -79,8 +100,8 @@ int main(int argc, char **argv) {
     int size;
     MPI_Comm_size(PETSC_COMM_WORLD, &size);
     PetscCall(PetscPrintf(PETSC_COMM_WORLD,
-                          "ranks %d  nf %d  cells %.0f  nnz/col %.2f  shift step %.3f ms  %.1f GB/s  triad %.1f GB/s  %.0f %% of triad\n",
-                          size, nf, N, nnz / N, perStep * 1e3, bytes / perStep / 1e9, triad / 1e9,
+                          "kernel %s  ranks %d  nf %d  cells %.0f  nnz/col %.2f  moving rows %.0f %%  shift step %.3f ms  %.1f GB/s  triad %.1f GB/s  %.0f %% of triad\n",
+                          kernel.c_str(), size, nf, N, nnz / N, 100.0 * movingRows / N, perStep * 1e3, bytes / perStep / 1e9, triad / 1e9,
                           100.0 * bytes / perStep / triad));
   }
   PetscCall(PetscFinalize());

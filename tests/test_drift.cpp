@@ -3,7 +3,8 @@
 // profile of the semi-discrete balance with first-order convergence in time,
 // a column along another axis with gravity along it giving the same answer,
 // and bulk/fraction conservation and positivity under stress (2, 5 and 20
-// fractions, k_d 100x the paper's, near-empty and near-packed cells).
+// fractions, k_d 100x the paper's, near-empty and near-packed cells, and no
+// alpha_s floor next to empty cells).
 // Runs at 1 and 2 ranks.
 #include "check.hpp"
 #include "rcfd/swaps.hpp"
@@ -311,6 +312,9 @@ int main(int argc, char **argv) {
   stress(2, "-model B -kd 5e3", false);
   stress(5, "-model B -kd 5e5 -hindered", true);
   stress(20, "-model A -kd 5e4 -local_d32", true);
+  // No alpha_s floor: faces next to the empty cells must still swap nothing
+  // (this produced NaN before faces with an empty side were skipped).
+  stress(5, "-model B -kd 5e4 -alpha_min 0", false);
   leftOutWhenNotNeeded();
   const int total = rcfd::test::globalFailures();
   PetscCall(PetscFinalize());

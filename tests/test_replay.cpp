@@ -2,7 +2,9 @@
 // fraction's mass is conserved to relative 1e-12 (with the run's mass
 // ledger, as `rcfd run` steps) and no mass ever becomes negative.  Without
 // the ledger the drift must still be pure round-off (below 1e-11), so the
-// ledger cannot be hiding a leak.  Runs at 1 and 2 ranks.
+// ledger cannot be hiding a leak.  The two shift kernels (moving rows in
+// place, whole-matrix MAIJ) give the same masses, and on 2 ranks the
+// partition shares the moving rows evenly.  Runs at 1 and 2 ranks.
 #include "check.hpp"
 #include "rcfd/database.hpp"
 #include "rcfd/mass_ledger.hpp"
@@ -83,6 +85,50 @@ int main(int argc, char **argv) {
     PetscCall(VecRestoreArrayRead(st.masses(), &a));
     PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, &outside, 1, MPI_DOUBLE, MPI_SUM, PETSC_COMM_WORLD));
     RCFD_CHECK(outside > 0.1 * after[0]);
+
+    // One cycle of frames with each kernel from the same start: identical on
+    // one rank (same summation order), round-off apart on two.
+    OwnedVec byMaij;
+    PetscCall(VecDuplicate(start, byMaij.put()));
+    for (auto kernel : {ShiftOperator::Kernel::Maij, ShiftOperator::Kernel::Moving}) {
+      ShiftOperator op;
+      op.setKernel(kernel);
+      PetscCall(op.setUp(ctx));
+      PetscCall(VecCopy(start, st.masses()));
+      StepInfo step;
+      for (int k = 0; k < db->numFrames(); ++k) {
+        step.frame = k;
+        PetscCall(op.apply(step, st));
+      }
+      if (kernel == ShiftOperator::Kernel::Maij) PetscCall(VecCopy(st.masses(), byMaij));
+    }
+    PetscReal largest, difference;
+    PetscCall(VecNorm(byMaij, NORM_INFINITY, &largest));
+    PetscCall(VecAXPY(byMaij, -1.0, st.masses()));
+    PetscCall(VecNorm(byMaij, NORM_INFINITY, &difference));
+    PetscMPIInt size;
+    PetscCallMPI(MPI_Comm_size(PETSC_COMM_WORLD, &size));
+    PetscCall(PetscPrintf(PETSC_COMM_WORLD, "moving-rows vs MAIJ kernel after %d steps: largest difference %.3e of %.3e\n",
+                          db->numFrames(), difference, largest));
+    RCFD_CHECK(size == 1 ? difference == 0.0 : difference <= 1e-13 * largest);
+
+    // The partition balances the work: each rank holds about its share of
+    // all frames' moving (non-identity) rows, though the freeboard, which
+    // never moves, is half of the cells.
+    double moving[2] = {0.0, 0.0}; // this rank's, all ranks'
+    for (int k = 0; k < db->numFrames(); ++k)
+      for (PetscInt row = db->layout().rowStart(); row < db->layout().rowEnd(); ++row) {
+        PetscInt n;
+        const PetscInt *c;
+        const PetscScalar *v;
+        PetscCall(MatGetRow(db->shift(k), row, &n, &c, &v));
+        if (!(n == 1 && c[0] == row && v[0] == 1.0)) moving[0] += 1.0;
+        PetscCall(MatRestoreRow(db->shift(k), row, &n, &c, &v));
+      }
+    PetscCallMPI(MPI_Allreduce(&moving[0], &moving[1], 1, MPI_DOUBLE, MPI_SUM, PETSC_COMM_WORLD));
+    const double share = moving[0] / moving[1] * size;
+    PetscCall(PetscPrintf(PETSC_COMM_SELF, "moving rows on this rank: %.1f %% of the fair share\n", 100.0 * share));
+    RCFD_CHECK(share > 0.8 && share < 1.2); // unweighted, one rank had all of them
   }
   int failures = rcfd::test::failures(), total = 0;
   MPI_Allreduce(&failures, &total, 1, MPI_INT, MPI_SUM, PETSC_COMM_WORLD);

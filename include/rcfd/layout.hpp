@@ -15,8 +15,11 @@ namespace rcfd {
 class Layout {
 public:
   /// Partition the mesh over the ranks of comm (collective).  On one rank the
-  /// numbering is the natural one.  Reads -partition_view.
-  static PetscErrorCode create(MPI_Comm comm, const Mesh &mesh, Layout *layout);
+  /// numbering is the natural one.  `work` (natural order, >= 0, optional)
+  /// is the work per cell, e.g. the number of frames in which it holds solid:
+  /// METIS then balances the work instead of the cells.  Reads -partition_view.
+  static PetscErrorCode create(MPI_Comm comm, const Mesh &mesh, Layout *layout,
+                               const std::vector<int> *work = nullptr);
 
   MPI_Comm comm() const { return comm_; }
   PetscInt numCells() const { return static_cast<PetscInt>(toNatural_.size()); }

@@ -120,17 +120,28 @@ private:
   bool isSetUp = false;
 };
 
-/// The shift operator: frame k's matrix applied to all fractions at once
-/// (a MAIJ view of the frame's AIJ matrix), exactly mass-conserving because
-/// the columns sum to one.
+class MovingRows;
+
+/// The shift operator: frame k's matrix applied to all fractions at once,
+/// exactly mass-conserving because the columns sum to one.  Two kernels give
+/// the same numbers: `moving` (default) updates in place only the rows of
+/// cells whose solid moves (see src/operator/moving_rows.hpp), `maij` is the
+/// product with a MAIJ view of the whole AIJ matrix (-shift_kernel).
 class ShiftOperator : public Operator {
 public:
+  enum class Kernel { Moving, Maij };
+  ShiftOperator();
+  ~ShiftOperator() override;
   std::string type() const override { return "shift"; }
+  PetscErrorCode setFromOptions(MPI_Comm comm) override;
   PetscErrorCode setUp(const RunContext &ctx) override;
   PetscErrorCode apply(const StepInfo &step, FractionState &state) override;
   PetscErrorCode view(PetscViewer viewer) const override;
+  void setKernel(Kernel k) { kernel = k; }
 
 private:
+  Kernel kernel = Kernel::Moving;
+  std::unique_ptr<MovingRows> moving;
   std::vector<OwnedMat> perFrame; // MAIJ wrappers, one per frame
   int nf = 0;
 };

@@ -40,9 +40,13 @@ public:
   long substepsTaken() const { return substeps; }
   int maxSubsteps() const { return mostSubsteps; }
 
+  /// Most fractions the swap kernels handle.
+  static constexpr int kMaxFractions = 64;
+
 private:
   PetscErrorCode substep(double dt, FractionState &state);
   PetscErrorCode substepsFor(double dt, FractionState &state, int *n);
+  template <int NF> void sweep(double dt); // NF = 0: nf read at run time
 
   Model model = Model::B;
   double kd = 5e3, d32Override = -1.0, alphaMax = 0.65, alphaMin = 1e-3, maxShare = 0.5;

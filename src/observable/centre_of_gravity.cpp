@@ -27,11 +27,13 @@ PetscErrorCode CentreOfGravity::measure(double time, Vec masses, Vec alpha, doub
   const PetscScalar *m, *a;
   // [mass_0..mass_nf-1, moment_0..moment_nf-1, |bulk mismatch|, database bulk]
   std::vector<double> sums(2 * nf + 2, 0.0);
+  double lowest = PETSC_MAX_REAL;
   PetscCall(VecGetArrayRead(masses, &m));
   PetscCall(VecGetArrayRead(alpha, &a));
   for (size_t c = 0; c < height.size(); ++c) {
     double bulk = 0.0;
     for (int i = 0; i < nf; ++i) {
+      lowest = m[c * nf + i] < lowest ? m[c * nf + i] : lowest;
       sums[i] += m[c * nf + i];
       sums[nf + i] += m[c * nf + i] * height[c];
       bulk += m[c * nf + i];
@@ -55,7 +57,7 @@ PetscErrorCode CentreOfGravity::measure(double time, Vec masses, Vec alpha, doub
   }
   s->zCogBed = total > 0 ? moment / total : 0.0;
   s->deltaZ = s->zCog[small] - s->zCog[large];
-  PetscCall(VecMin(masses, nullptr, &s->minMass));
+  PetscCallMPI(MPI_Allreduce(&lowest, &s->minMass, 1, MPI_DOUBLE, MPI_MIN, comm));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 

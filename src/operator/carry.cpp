@@ -71,11 +71,9 @@ PetscErrorCode CarryOperator::apply(const StepInfo &step, FractionState &state) 
 PetscErrorCode CarryOperator::sweep(const std::vector<double> &targetAlpha, FractionState &state) {
   PetscFunctionBeginUser;
   PetscCall(exchange->gather(state.masses()));
-  const PetscScalar *m = exchange->gatheredMasses();
-  PetscScalar *delta = exchange->changes();
   const double theta = 1.0 / std::max(1, exchange->maxFacesPerCell());
   for (const SwapFace &f : exchange->faces()) {
-    const PetscScalar *mA = m + f.lower * nf, *mB = m + f.upper * nf;
+    const PetscScalar *mA = exchange->massAt(f.lower), *mB = exchange->massAt(f.upper);
     double MA = 0.0, MB = 0.0;
     for (int i = 0; i < nf; ++i) MA += mA[i], MB += mB[i];
     const double eA = MA - rho * targetAlpha[f.lower] * f.volumeLower;
@@ -86,8 +84,8 @@ PetscErrorCode CarryOperator::sweep(const std::vector<double> &targetAlpha, Frac
     const double X = std::min(0.5 * theta * std::fabs(eA - eB), theta * Msend);
     if (!(X > 0.0)) continue;
     const PetscScalar *ms = fromA ? mA : mB;
-    PetscScalar *dS = delta + (fromA ? f.lower : f.upper) * nf;
-    PetscScalar *dR = delta + (fromA ? f.upper : f.lower) * nf;
+    PetscScalar *dS = exchange->changeAt(fromA ? f.lower : f.upper);
+    PetscScalar *dR = exchange->changeAt(fromA ? f.upper : f.lower);
     for (int i = 0; i < nf; ++i) {
       const double moved = X * ms[i] / Msend;
       dS[i] -= moved;
@@ -112,14 +110,13 @@ PetscErrorCode CarryOperator::remap(Vec targetAlpha, FractionState &state) {
   FractionState neighbours;
   PetscCall(neighbours.create(db->layout(), nf));
   PetscCall(exchange->gather(state.masses()));
-  {
-    const PetscScalar *m = exchange->gatheredMasses();
-    PetscScalar *sum = exchange->changes();
-    for (const SwapFace &f : exchange->faces())
-      for (int i = 0; i < nf; ++i) {
-        sum[f.lower * nf + i] += m[f.upper * nf + i];
-        sum[f.upper * nf + i] += m[f.lower * nf + i];
-      }
+  for (const SwapFace &f : exchange->faces()) {
+    PetscScalar *sumLower = exchange->changeAt(f.lower), *sumUpper = exchange->changeAt(f.upper);
+    const PetscScalar *mLower = exchange->massAt(f.lower), *mUpper = exchange->massAt(f.upper);
+    for (int i = 0; i < nf; ++i) {
+      sumLower[i] += mUpper[i];
+      sumUpper[i] += mLower[i];
+    }
   }
   PetscCall(exchange->endKernel());
   PetscCall(exchange->scatterAdd(neighbours.masses()));

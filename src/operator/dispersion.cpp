@@ -53,16 +53,14 @@ PetscErrorCode DispersionOperator::apply(const StepInfo &step, FractionState &st
   const double dt = step.dt / n;
   for (int s = 0; s < n; ++s) {
     PetscCall(exchange->gather(state.masses()));
-    const PetscScalar *m = exchange->gatheredMasses();
-    PetscScalar *delta = exchange->changes();
     for (const SwapFace &f : exchange->faces()) {
-      const PetscScalar *mL = m + f.lower * nf, *mU = m + f.upper * nf;
+      const PetscScalar *mL = exchange->massAt(f.lower), *mU = exchange->massAt(f.upper);
       double ML = 0.0, MU = 0.0;
       for (int i = 0; i < nf; ++i) ML += mL[i], MU += mU[i];
       const double aL = ML / (rho * f.volumeLower), aU = MU / (rho * f.volumeUpper);
       if (!(aL >= alphaMin && aU >= alphaMin)) continue;
       const double X = rho * std::min(aL, aU) * coefficient * f.area * dt / f.distance;
-      PetscScalar *dL = delta + f.lower * nf, *dU = delta + f.upper * nf;
+      PetscScalar *dL = exchange->changeAt(f.lower), *dU = exchange->changeAt(f.upper);
       for (int i = 0; i < nf; ++i) {
         const double net = X * (mL[i] / ML - mU[i] / MU);
         dL[i] -= net;

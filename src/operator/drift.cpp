@@ -81,6 +81,8 @@ PetscErrorCode DriftOperator::setUp(const RunContext &ctx) {
   comm = ctx.db.layout().comm();
   nf = ctx.fractions.size();
   rho = ctx.solidDensity;
+  PetscCheck(nf <= kMaxFractions, comm, PETSC_ERR_SUP,
+             "Drift handles at most %d fractions, the case has %d", kMaxFractions, nf);
   PetscCheck(model != Model::Constant || (int)constantVelocity.size() == nf, comm,
              PETSC_ERR_USER_INPUT, "-%svelocities has %zu values but there are %d fractions",
              prefix.c_str(), constantVelocity.size(), nf);
@@ -143,33 +145,47 @@ PetscErrorCode DriftOperator::apply(const StepInfo &step, FractionState &state) 
 PetscErrorCode DriftOperator::substep(double dt, FractionState &state) {
   PetscFunctionBeginUser;
   PetscCall(exchange->gather(state.masses()));
-  const PetscScalar *m = exchange->gatheredMasses();
-  PetscScalar *delta = exchange->changes();
+  switch (nf) { // the common inventories get loops the compiler unrolls
+  case 2: sweep<2>(dt); break;
+  case 3: sweep<3>(dt); break;
+  case 4: sweep<4>(dt); break;
+  case 5: sweep<5>(dt); break;
+  default: sweep<0>(dt); break;
+  }
+  PetscCall(exchange->endKernel());
+  PetscCall(exchange->scatterAdd(state.masses()));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+template <int NF> void DriftOperator::sweep(double dt) {
+  const int n = NF > 0 ? NF : nf;
+  constexpr int cap = NF > 0 ? NF : kMaxFractions;
   const double faceShare = 0.999 * (1.0 - maxShare) / std::max(1, exchange->maxFacesPerCell());
-  std::vector<double> uLower(nf), uUpper(nf), pLower(nf), pUpper(nf);
+  double uLowerLocal[cap], uUpperLocal[cap], pLower[cap], pUpper[cap];
+  // With the inventory's d32 every face uses the same velocities.
+  const double *uLower = localD32 ? uLowerLocal : velocityCache.data();
+  const double *uUpper = localD32 ? uUpperLocal : velocityCache.data();
   auto sauter = [&](const PetscScalar *mc, double total) {
     double s = 0.0;
-    for (int i = 0; i < nf; ++i) s += mc[i] / diameter[i];
+    for (int i = 0; i < n; ++i) s += mc[i] / diameter[i];
     return s > 0 ? total / s : d32;
   };
   for (const SwapFace &f : exchange->faces()) {
-    const PetscScalar *mL = m + f.lower * nf, *mU = m + f.upper * nf;
+    const PetscScalar *mL = exchange->massAt(f.lower), *mU = exchange->massAt(f.upper);
     double ML = 0.0, MU = 0.0;
-    for (int i = 0; i < nf; ++i) ML += mL[i], MU += mU[i];
+    for (int i = 0; i < n; ++i) ML += mL[i], MU += mU[i];
+    if (!(ML > 0.0 && MU > 0.0)) continue; // an empty side has nothing to swap with
     const double aL = ML / (rho * f.volumeLower), aU = MU / (rho * f.volumeUpper);
-    if (!(aL >= alphaMin && aU >= alphaMin)) continue; // empty neighbour: nothing to swap with
+    if (!(aL >= alphaMin && aU >= alphaMin)) continue;
     const double hL = hindered ? std::max(0.0, 1.0 - aL / alphaMax) : 1.0;
     const double hU = hindered ? std::max(0.0, 1.0 - aU / alphaMax) : 1.0;
     if (localD32) {
       const double sL = sauter(mL, ML), sU = sauter(mU, MU);
-      for (int i = 0; i < nf; ++i) uLower[i] = velocity(i, sL), uUpper[i] = velocity(i, sU);
-    } else {
-      std::copy(velocityCache.begin(), velocityCache.end(), uLower.begin());
-      std::copy(velocityCache.begin(), velocityCache.end(), uUpper.begin());
+      for (int i = 0; i < n; ++i) uLowerLocal[i] = velocity(i, sL), uUpperLocal[i] = velocity(i, sU);
     }
     const double cL = hL * f.area * dt / f.volumeLower, cU = hU * f.area * dt / f.volumeUpper;
     double up = 0.0, down = 0.0;
-    for (int i = 0; i < nf; ++i) {
+    for (int i = 0; i < n; ++i) {
       pLower[i] = uLower[i] > 0 ? mL[i] * uLower[i] * cL : 0.0;
       pUpper[i] = uUpper[i] < 0 ? -mU[i] * uUpper[i] * cU : 0.0;
       up += pLower[i];
@@ -179,8 +195,8 @@ PetscErrorCode DriftOperator::substep(double dt, FractionState &state) {
     if (X <= 0.0) continue;
     const double lambda = std::min({1.0, faceShare * ML / X, faceShare * MU / X});
     const double topLower = (X - up) / ML, topUpper = (X - down) / MU;
-    PetscScalar *dL = delta + f.lower * nf, *dU = delta + f.upper * nf;
-    for (int i = 0; i < nf; ++i) {
+    PetscScalar *dL = exchange->changeAt(f.lower), *dU = exchange->changeAt(f.upper);
+    for (int i = 0; i < n; ++i) {
       const double toUpper = lambda * (pLower[i] + topLower * mL[i]);
       const double toLower = lambda * (pUpper[i] + topUpper * mU[i]);
       const double net = toUpper - toLower;
@@ -188,9 +204,6 @@ PetscErrorCode DriftOperator::substep(double dt, FractionState &state) {
       dU[i] += net;
     }
   }
-  PetscCall(exchange->endKernel());
-  PetscCall(exchange->scatterAdd(state.masses()));
-  PetscFunctionReturn(PETSC_SUCCESS);
 }
 
 PetscErrorCode DriftOperator::view(PetscViewer viewer) const {

@@ -6,16 +6,20 @@
 
 namespace rcfd {
 
-PetscErrorCode FaceExchange::setUp(const Database &db, int nf, const Vec3 &direction,
+PetscErrorCode FaceExchange::setUp(const Database &db, int numFractions, const Vec3 &direction,
                                    double minShare) {
   PetscFunctionBeginUser;
   const Mesh &mesh = db.mesh();
   const Layout &L = db.layout();
   const double dn = std::hypot(direction[0], direction[1], direction[2]);
-  std::map<PetscInt, PetscInt> localIndex; // PETSc row -> gathered index
-  rows.clear();
+  nf = numFractions;
+  nlocal = L.numLocal();
+  rows.resize(nlocal);
+  for (PetscInt r = 0; r < nlocal; ++r) rows[r] = L.rowStart() + r;
+  std::map<PetscInt, PetscInt> ghostIndex; // PETSc row -> local index of a ghost cell
   auto index = [&](PetscInt row) {
-    auto [it, inserted] = localIndex.emplace(row, static_cast<PetscInt>(rows.size()));
+    if (row >= L.rowStart() && row < L.rowEnd()) return row - L.rowStart();
+    auto [it, inserted] = ghostIndex.emplace(row, static_cast<PetscInt>(rows.size()));
     if (inserted) rows.push_back(row);
     return it->second;
   };
@@ -76,24 +80,34 @@ PetscErrorCode FaceExchange::setUp(const Database &db, int nf, const Vec3 &direc
   PetscCallMPI(MPI_Allreduce(&localMax, &maxAoverV, 1, MPI_DOUBLE, MPI_MAX, L.comm()));
   PetscCallMPI(MPI_Allreduce(&localFaces, &maxPerCell, 1, MPI_INT, MPI_MAX, L.comm()));
 
-  OwnedIS from, to;
-  PetscCall(ISCreateBlock(PETSC_COMM_SELF, nf, gathered, rows.data(), PETSC_COPY_VALUES, from.put()));
-  PetscCall(ISCreateStride(PETSC_COMM_SELF, gathered * nf, 0, 1, to.put()));
-  PetscCall(VecCreateSeq(PETSC_COMM_SELF, gathered * nf, local.put()));
-  PetscCall(VecDuplicate(local, delta.put()));
-  FractionState layoutOfState; // the scatter is built against the state's parallel layout
-  PetscCall(layoutOfState.create(L, nf));
-  PetscCall(VecScatterCreate(layoutOfState.masses(), from, local, to, scatter.put()));
+  const PetscInt nghost = gathered - nlocal;
+  ownChanges.assign(static_cast<size_t>(nlocal) * nf, 0.0);
+  PetscCall(VecCreateSeq(PETSC_COMM_SELF, nghost * nf, ghostMasses.put()));
+  PetscCall(VecDuplicate(ghostMasses, ghostChanges.put()));
+  PetscCall(VecZeroEntries(ghostChanges));
+  PetscMPIInt size;
+  PetscCallMPI(MPI_Comm_size(L.comm(), &size));
+  if (size > 1) {
+    OwnedIS from, to;
+    PetscCall(ISCreateBlock(PETSC_COMM_SELF, nf, nghost, rows.data() + nlocal, PETSC_COPY_VALUES, from.put()));
+    PetscCall(ISCreateStride(PETSC_COMM_SELF, nghost * nf, 0, 1, to.put()));
+    FractionState layoutOfState; // the scatter is built against the state's parallel layout
+    PetscCall(layoutOfState.create(L, nf));
+    PetscCall(VecScatterCreate(layoutOfState.masses(), from, ghostMasses, to, ghostScatter.put()));
+  }
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
 PetscErrorCode FaceExchange::gather(Vec masses) {
   PetscFunctionBeginUser;
-  PetscCall(VecScatterBegin(scatter, masses, local, INSERT_VALUES, SCATTER_FORWARD));
-  PetscCall(VecScatterEnd(scatter, masses, local, INSERT_VALUES, SCATTER_FORWARD));
-  PetscCall(VecZeroEntries(delta));
-  PetscCall(VecGetArrayRead(local, const_cast<const PetscScalar **>(&massArray)));
-  PetscCall(VecGetArray(delta, &changeArray));
+  if (ghostScatter) {
+    PetscCall(VecScatterBegin(ghostScatter, masses, ghostMasses, INSERT_VALUES, SCATTER_FORWARD));
+    PetscCall(VecScatterEnd(ghostScatter, masses, ghostMasses, INSERT_VALUES, SCATTER_FORWARD));
+  }
+  openMasses = masses;
+  PetscCall(VecGetArrayRead(masses, &ownMasses));
+  PetscCall(VecGetArrayRead(ghostMasses, &ghostMassArray));
+  PetscCall(VecGetArray(ghostChanges, &ghostChangeArray));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
@@ -117,15 +131,31 @@ PetscErrorCode FaceExchange::gatherScalar(Vec cellValues, std::vector<double> *o
 
 PetscErrorCode FaceExchange::endKernel() {
   PetscFunctionBeginUser;
-  PetscCall(VecRestoreArrayRead(local, const_cast<const PetscScalar **>(&massArray)));
-  PetscCall(VecRestoreArray(delta, &changeArray));
+  PetscCall(VecRestoreArrayRead(openMasses, &ownMasses));
+  PetscCall(VecRestoreArrayRead(ghostMasses, &ghostMassArray));
+  PetscCall(VecRestoreArray(ghostChanges, &ghostChangeArray));
+  openMasses = nullptr;
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
 PetscErrorCode FaceExchange::scatterAdd(Vec masses) {
   PetscFunctionBeginUser;
-  PetscCall(VecScatterBegin(scatter, delta, masses, ADD_VALUES, SCATTER_REVERSE));
-  PetscCall(VecScatterEnd(scatter, delta, masses, ADD_VALUES, SCATTER_REVERSE));
+  PetscScalar *m;
+  PetscCall(VecGetArray(masses, &m));
+  // Add and zero in one pass, over the cells that can have changed (the
+  // freeboard, typically the upper half of a rank's rows, is left alone).
+  for (size_t k = static_cast<size_t>(changedFrom) * nf; k < static_cast<size_t>(changedTo) * nf; ++k) {
+    m[k] += ownChanges[k];
+    ownChanges[k] = 0.0;
+  }
+  changedFrom = PETSC_MAX_INT;
+  changedTo = 0;
+  PetscCall(VecRestoreArray(masses, &m));
+  if (ghostScatter) {
+    PetscCall(VecScatterBegin(ghostScatter, ghostChanges, masses, ADD_VALUES, SCATTER_REVERSE));
+    PetscCall(VecScatterEnd(ghostScatter, ghostChanges, masses, ADD_VALUES, SCATTER_REVERSE));
+    PetscCall(VecZeroEntries(ghostChanges));
+  }
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 

@@ -1,6 +1,23 @@
 #include "rcfd/operator.hpp"
 
+#include "operator/moving_rows.hpp"
+
 namespace rcfd {
+
+ShiftOperator::ShiftOperator() = default;
+ShiftOperator::~ShiftOperator() = default;
+
+PetscErrorCode ShiftOperator::setFromOptions(MPI_Comm comm) {
+  const char *kernels[] = {"moving", "maij"};
+  PetscInt which = static_cast<PetscInt>(kernel);
+  PetscFunctionBeginUser;
+  PetscOptionsBegin(comm, prefix.c_str(), "Shift (one database frame per step)", "rcfd");
+  PetscCall(PetscOptionsEList("-kernel", "moving: only the rows of cells whose solid moves, in place; maij: whole-matrix MAIJ product",
+                              "", kernels, 2, kernels[which], &which, nullptr));
+  PetscOptionsEnd();
+  kernel = static_cast<Kernel>(which);
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
 
 PetscErrorCode ShiftOperator::setUp(const RunContext &ctx) {
   PetscFunctionBeginUser;
@@ -8,6 +25,12 @@ PetscErrorCode ShiftOperator::setUp(const RunContext &ctx) {
              "The shift operator needs a database loaded with its shift matrices");
   nf = ctx.fractions.size();
   perFrame.clear();
+  moving.reset();
+  if (kernel == Kernel::Moving) {
+    moving = std::make_unique<MovingRows>();
+    PetscCall(moving->setUp(ctx.db, nf));
+    PetscFunctionReturn(PETSC_SUCCESS);
+  }
   for (int k = 0; k < ctx.db.numFrames(); ++k) {
     OwnedMat m;
     // MAIJ applies the cell-to-cell matrix to all nf interleaved fractions in
@@ -20,6 +43,10 @@ PetscErrorCode ShiftOperator::setUp(const RunContext &ctx) {
 
 PetscErrorCode ShiftOperator::apply(const StepInfo &step, FractionState &state) {
   PetscFunctionBeginUser;
+  if (moving) {
+    PetscCall(moving->apply(step.frame, state.masses()));
+    PetscFunctionReturn(PETSC_SUCCESS);
+  }
   PetscCall(MatMult(perFrame[step.frame], state.masses(), state.scratch()));
   state.swap();
   PetscFunctionReturn(PETSC_SUCCESS);
@@ -27,8 +54,13 @@ PetscErrorCode ShiftOperator::apply(const StepInfo &step, FractionState &state) 
 
 PetscErrorCode ShiftOperator::view(PetscViewer viewer) const {
   PetscFunctionBeginUser;
-  PetscCall(PetscViewerASCIIPrintf(viewer, "shift: %zu frames, %d fractions per product (MAIJ)\n",
-                                   perFrame.size(), nf));
+  if (!moving) {
+    PetscCall(PetscViewerASCIIPrintf(viewer, "shift: %zu frames, %d fractions per product (MAIJ)\n",
+                                     perFrame.size(), nf));
+    PetscFunctionReturn(PETSC_SUCCESS);
+  }
+  PetscCall(PetscViewerASCIIPrintf(viewer, "shift: moving rows only, %d fractions at once; on this rank %zu entries in all frames, %.1f MB, %" PetscInt_FMT " ghost cells\n",
+                                   nf, moving->numEntries(), moving->bytes() / 1e6, moving->numGhosts()));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 

@@ -1,5 +1,6 @@
 #include "rcfd/mass_ledger.hpp"
 
+#include <algorithm>
 #include <cmath>
 
 namespace rcfd {
@@ -47,12 +48,15 @@ PetscErrorCode MassLedger::check(long step, FractionState &state) {
     largest = std::fmax(largest, std::fabs(change));
     factor[i] = totals[i] / now[i];
   }
-  PetscScalar *m;
-  PetscInt n;
-  PetscCall(VecGetLocalSize(state.masses(), &n));
-  PetscCall(VecGetArray(state.masses(), &m));
-  for (PetscInt k = 0; k < n; ++k) m[k] *= factor[k % nf];
-  PetscCall(VecRestoreArray(state.masses(), &m));
+  if (std::any_of(factor.begin(), factor.end(), [](double f) { return f != 1.0; })) {
+    PetscScalar *m;
+    PetscInt n;
+    PetscCall(VecGetLocalSize(state.masses(), &n));
+    PetscCall(VecGetArray(state.masses(), &m));
+    for (PetscInt c = 0; c < n; c += nf)
+      for (int i = 0; i < nf; ++i) m[c + i] *= factor[i];
+    PetscCall(VecRestoreArray(state.masses(), &m));
+  }
   lastStep = step;
   PetscFunctionReturn(PETSC_SUCCESS);
 }
