@@ -175,15 +175,17 @@ template <int NF> void DriftOperator::sweep(double dt) {
     double ML = 0.0, MU = 0.0;
     for (int i = 0; i < n; ++i) ML += mL[i], MU += mU[i];
     if (!(ML > 0.0 && MU > 0.0)) continue; // an empty side has nothing to swap with
-    const double aL = ML / (rho * f.volumeLower), aU = MU / (rho * f.volumeUpper);
-    if (!(aL >= alphaMin && aU >= alphaMin)) continue;
-    const double hL = hindered ? std::max(0.0, 1.0 - aL / alphaMax) : 1.0;
-    const double hU = hindered ? std::max(0.0, 1.0 - aU / alphaMax) : 1.0;
+    // alpha_s >= alpha_min on both sides, without dividing (most faces stop here or above).
+    if (!(ML >= alphaMin * rho * f.volumeLower && MU >= alphaMin * rho * f.volumeUpper)) continue;
+    double cL = f.areaOverVolumeLower * dt, cU = f.areaOverVolumeUpper * dt;
+    if (hindered) {
+      cL *= std::max(0.0, 1.0 - ML / (rho * f.volumeLower * alphaMax));
+      cU *= std::max(0.0, 1.0 - MU / (rho * f.volumeUpper * alphaMax));
+    }
     if (localD32) {
       const double sL = sauter(mL, ML), sU = sauter(mU, MU);
       for (int i = 0; i < n; ++i) uLowerLocal[i] = velocity(i, sL), uUpperLocal[i] = velocity(i, sU);
     }
-    const double cL = hL * f.area * dt / f.volumeLower, cU = hU * f.area * dt / f.volumeUpper;
     double up = 0.0, down = 0.0;
     for (int i = 0; i < n; ++i) {
       pLower[i] = uLower[i] > 0 ? mL[i] * uLower[i] * cL : 0.0;
@@ -193,8 +195,10 @@ template <int NF> void DriftOperator::sweep(double dt) {
     }
     const double X = std::max(up, down);
     if (X <= 0.0) continue;
-    const double lambda = std::min({1.0, faceShare * ML / X, faceShare * MU / X});
-    const double topLower = (X - up) / ML, topUpper = (X - down) / MU;
+    const double perX = faceShare / X;
+    const double lambda = std::min({1.0, perX * ML, perX * MU});
+    // The side that sent less tops up with its own mixture (one of the two is zero).
+    const double topLower = up < X ? (X - up) / ML : 0.0, topUpper = down < X ? (X - down) / MU : 0.0;
     PetscScalar *dL = exchange->changeAt(f.lower), *dU = exchange->changeAt(f.upper);
     for (int i = 0; i < n; ++i) {
       const double toUpper = lambda * (pLower[i] + topLower * mL[i]);

@@ -37,8 +37,10 @@ PetscErrorCode FaceExchange::setUp(const Database &db, int numFractions, const V
     const Vec3 &a = mesh.cellCentre[lo], &b = mesh.cellCentre[up];
     const double normalDistance =
         std::fabs((b[0] - a[0]) * S[0] + (b[1] - a[1]) * S[1] + (b[2] - a[2]) * S[2]) / area;
-    swapFaces.push_back({index(L.petscRow(lo)), index(L.petscRow(up)), std::fabs(along),
-                         mesh.cellVolume[lo], mesh.cellVolume[up], normalDistance});
+    const double projected = std::fabs(along);
+    swapFaces.push_back({index(L.petscRow(lo)), index(L.petscRow(up)), projected,
+                         mesh.cellVolume[lo], mesh.cellVolume[up], normalDistance,
+                         projected / mesh.cellVolume[lo], projected / mesh.cellVolume[up]});
   }
   gathered = static_cast<PetscInt>(rows.size());
 

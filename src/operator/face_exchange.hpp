@@ -22,6 +22,7 @@ struct SwapFace {
   double area;           // area projected on the chosen direction, > 0
   double volumeLower, volumeUpper;
   double distance; // between the two cell centres, along the face normal
+  double areaOverVolumeLower, areaOverVolumeUpper; // area / volume of each side [1/m]
 };
 
 class FaceExchange {
