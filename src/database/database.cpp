@@ -301,7 +301,7 @@ PetscErrorCode Database::optionsFromCommandLine(DatabaseLoadOptions *o) {
   // Read by Layout::create while loading; registered here so that -help lists
   // it and the check for unknown options, which runs before loading, knows it.
   PetscBool viewPartition = PETSC_FALSE;
-  PetscCall(PetscOptionsBool("-partition_view", "Print the cells (and filled cells) of each rank", "",
+  PetscCall(PetscOptionsBool("-partition_view", "Print each rank's rows and share of the work", "",
                              viewPartition, &viewPartition, nullptr));
   PetscOptionsEnd();
   o->firstFrame = window[0];

@@ -1,7 +1,6 @@
 #include "rcfd/frames.hpp"
 
 #include <algorithm>
-#include <numeric>
 #include <stdexcept>
 
 namespace rcfd {
@@ -26,11 +25,27 @@ CsrMatrix shiftFromTransfers(int n, std::vector<int32_t> dest, std::vector<int32
       weight.push_back(1.0);
       colTotal[i] = 1.0;
     }
+  // Order the triplets by (destination, source): a counting sort by
+  // destination (linear; a comparison sort of all triplets took a third of
+  // `rcfd synth`), then each row's few entries by source.
+  std::vector<size_t> rowStart(static_cast<size_t>(n) + 1, 0);
+  for (int32_t d : dest) ++rowStart[static_cast<size_t>(d) + 1];
+  for (int r = 0; r < n; ++r) rowStart[r + 1] += rowStart[r];
   std::vector<size_t> order(dest.size());
-  std::iota(order.begin(), order.end(), size_t{0});
-  std::sort(order.begin(), order.end(), [&](size_t a, size_t b) {
-    return dest[a] != dest[b] ? dest[a] < dest[b] : src[a] < src[b];
-  });
+  {
+    std::vector<size_t> next(rowStart.begin(), rowStart.end() - 1);
+    for (size_t e = 0; e < dest.size(); ++e) order[next[dest[e]]++] = e;
+  }
+  const auto bySource = [&](size_t a, size_t b) { return src[a] < src[b]; };
+  for (int r = 0; r < n; ++r) {
+    const auto first = order.begin() + rowStart[r], last = order.begin() + rowStart[r + 1];
+    if (last - first > 32) { // many particles into one cell: stable_sort's buffer pays off
+      std::stable_sort(first, last, bySource);
+      continue;
+    }
+    for (auto a = first + 1; a < last; ++a) // insertion sort, stable
+      for (auto b = a; b > first && bySource(*b, *(b - 1)); --b) std::iter_swap(b, b - 1);
+  }
   CsrMatrix T;
   T.n = n;
   T.rowPtr.assign(n + 1, 0);
