@@ -21,6 +21,9 @@ expect_error "-fractions_mass_shares sum to 0.9" run -db "$db" \
   -fractions_diameters 1e-3,2e-3 -fractions_mass_shares 0.5,0.4
 expect_error "-fractions_mass_shares has 1 values but -fractions_diameters has 2" run -db "$db" \
   -fractions_diameters 1e-3,2e-3 -fractions_mass_shares 1
+many_d=$(seq -s, 1 65 | sed 's/[0-9]\+/1e-3/g') many_w=$(seq -s, 1 65 | sed 's/[0-9]\+/0.015384615384615385/g')
+expect_error "-fractions_diameters has 65 diameters; rcfd handles at most 64 fractions" run -db "$db" \
+  -fractions_diameters "$many_d" -fractions_mass_shares "$many_w"
 expect_error "-pipeline: unknown operator 'shfit'" run -db "$db" -pipeline shfit
 expect_error "-init sideways is not known" run -db "$db" -init sideways
 expect_error "-init file needs -init_file FILE" run -db "$db" -init file

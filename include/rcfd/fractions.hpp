@@ -9,6 +9,10 @@
 
 namespace rcfd {
 
+/// Most size fractions a case may have (the kernels keep per-fraction sums
+/// on the stack).
+inline constexpr int kMaxFractions = 64;
+
 /// The inventory's size classes: diameter [m] and share of the total mass.
 class FractionSet {
 public:

@@ -40,9 +40,6 @@ public:
   long substepsTaken() const { return substeps; }
   int maxSubsteps() const { return mostSubsteps; }
 
-  /// Most fractions the swap kernels handle.
-  static constexpr int kMaxFractions = 64;
-
 private:
   PetscErrorCode substep(double dt, FractionState &state);
   PetscErrorCode substepsFor(double dt, FractionState &state, int *n);

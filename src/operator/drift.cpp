@@ -81,8 +81,6 @@ PetscErrorCode DriftOperator::setUp(const RunContext &ctx) {
   comm = ctx.db.layout().comm();
   nf = ctx.fractions.size();
   rho = ctx.solidDensity;
-  PetscCheck(nf <= kMaxFractions, comm, PETSC_ERR_SUP,
-             "Drift handles at most %d fractions, the case has %d", kMaxFractions, nf);
   PetscCheck(model != Model::Constant || (int)constantVelocity.size() == nf, comm,
              PETSC_ERR_USER_INPUT, "-%svelocities has %zu values but there are %d fractions",
              prefix.c_str(), constantVelocity.size(), nf);

@@ -15,7 +15,7 @@ void moveRows(const std::vector<int32_t> &rowsMoving, const std::vector<int32_t>
               const double *ghost, PetscInt nlocal, int nfRuntime, double *out) {
   const int nf = NF > 0 ? NF : nfRuntime;
   const size_t rows = rowsMoving.size();
-  double sum[NF > 0 ? NF : 64];
+  double sum[NF > 0 ? NF : kMaxFractions];
   for (size_t r = 0; r < rows; ++r) {
     for (int i = 0; i < nf; ++i) sum[i] = 0.0;
     for (int32_t e = ptr[r]; e < ptr[r + 1]; ++e) {
@@ -91,8 +91,8 @@ PetscErrorCode MovingRows::setUp(const Database &db, int numFractions) {
   PetscFunctionBeginUser;
   const Layout &L = db.layout();
   nf = numFractions;
-  PetscCheck(nf >= 1 && nf <= 64, L.comm(), PETSC_ERR_ARG_OUTOFRANGE,
-             "The shift handles 1 to 64 fractions, got %d", nf);
+  PetscCheck(nf >= 1 && nf <= kMaxFractions, L.comm(), PETSC_ERR_ARG_OUTOFRANGE,
+             "The shift handles 1 to %d fractions, got %d", kMaxFractions, nf);
   nlocal = L.numLocal();
 
   // The off-rank source cells of all frames.
@@ -137,6 +137,9 @@ PetscErrorCode MovingRows::setUp(const Database &db, int numFractions) {
       f.ptr.push_back(static_cast<int32_t>(f.col.size()));
     }
     PetscCall(T.close());
+    PetscCheck(f.col.size() < static_cast<size_t>(INT32_MAX), PETSC_COMM_SELF, PETSC_ERR_SUP,
+               "Frame %d has %zu moving entries on one rank, more than 32-bit offsets hold: use more ranks",
+               k, f.col.size());
     f.rows.shrink_to_fit();
     f.ptr.shrink_to_fit();
     f.col.shrink_to_fit();
@@ -146,7 +149,7 @@ PetscErrorCode MovingRows::setUp(const Database &db, int numFractions) {
   buffer.assign(mostRows * nf, 0.0);
 
   // Ghost values arrive through one scatter of the union of all frames'
-  // off-rank sources: a few hundred cells along the partition boundary.
+  // off-rank sources (about a thousand cells on two ranks of the default bed).
   PetscMPIInt size;
   PetscCallMPI(MPI_Comm_size(L.comm(), &size));
   if (size > 1) {

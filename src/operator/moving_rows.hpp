@@ -28,8 +28,7 @@ public:
   PetscErrorCode apply(int k, Vec masses);
   /// Bytes held for all frames (this rank).
   size_t bytes() const;
-  /// Moving rows of frame k on this rank, and all frames' nonzeros on this rank.
-  size_t numRows(int k) const { return frames[k].rows.size(); }
+  /// All frames' moving entries on this rank.
   size_t numEntries() const;
   PetscInt numGhosts() const { return static_cast<PetscInt>(ghostRows.size()); }
 

@@ -12,6 +12,10 @@ namespace rcfd {
 FractionSet::FractionSet(std::vector<double> diameters, std::vector<double> massShares)
     : d(std::move(diameters)), w(std::move(massShares)) {
   if (d.empty()) throw std::invalid_argument("-fractions_diameters: at least one diameter is needed");
+  if (d.size() > static_cast<size_t>(kMaxFractions))
+    throw std::invalid_argument("-fractions_diameters has " + std::to_string(d.size()) +
+                                " diameters; rcfd handles at most " + std::to_string(kMaxFractions) +
+                                " fractions");
   if (d.size() != w.size())
     throw std::invalid_argument("-fractions_mass_shares has " + std::to_string(w.size()) +
                                 " values but -fractions_diameters has " + std::to_string(d.size()) +
