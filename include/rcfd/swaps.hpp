@@ -20,7 +20,8 @@ class FaceExchange;
 /// -drift_model A|B|constant|none, -drift_kd [1/(m s)], -drift_velocities
 /// [m/s per fraction], -drift_d32 [m] (override), -drift_local_d32,
 /// -drift_hindered, -drift_alpha_max, -drift_alpha_min, -drift_max_share,
-/// -drift_max_substeps, -drift_view.
+/// -drift_max_substeps, -drift_every N (the drift of N steps every N steps),
+/// -drift_view.
 class DriftOperator : public Operator {
 public:
   DriftOperator();
@@ -48,7 +49,7 @@ private:
   Model model = Model::B;
   double kd = 5e3, d32Override = -1.0, alphaMax = 0.65, alphaMin = 1e-3, maxShare = 0.5;
   PetscBool localD32 = PETSC_FALSE, hindered = PETSC_FALSE;
-  PetscInt substepLimit = 10000;
+  PetscInt substepLimit = 10000, every = 1;
   std::vector<double> constantVelocity, diameter, velocityCache;
   double d32 = 0.0, rho = 0.0;
   int nf = 0;

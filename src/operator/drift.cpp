@@ -41,6 +41,8 @@ PetscErrorCode DriftOperator::setFromOptions(MPI_Comm c) {
                              "", maxShare, &maxShare, nullptr));
   PetscCall(PetscOptionsInt("-max_substeps", "Refuse steps that would need more sub-steps", "",
                             substepLimit, &substepLimit, nullptr));
+  PetscCall(PetscOptionsInt("-every", "Apply the drift of N steps at once, every N steps (speed against splitting error, see docs/drift.md)",
+                            "", every, &every, nullptr));
   PetscOptionsEnd();
   model = static_cast<Model>(which);
   constantVelocity.assign(velocities, velocities + (setV ? nv : 0));
@@ -51,6 +53,8 @@ PetscErrorCode DriftOperator::setFromOptions(MPI_Comm c) {
   PetscCheck(alphaMax > 0 && alphaMin >= 0, comm, PETSC_ERR_USER_INPUT,
              "-%salpha_max must be positive and -%salpha_min non-negative", prefix.c_str(),
              prefix.c_str());
+  PetscCheck(every >= 1, comm, PETSC_ERR_USER_INPUT, "-%severy must be at least 1, got %d",
+             prefix.c_str(), (int)every);
   PetscCheck(model != Model::Constant || setV, comm, PETSC_ERR_USER_INPUT,
              "-%smodel constant needs -%svelocities (one per fraction, m/s, up positive)",
              prefix.c_str(), prefix.c_str());
@@ -123,8 +127,12 @@ PetscErrorCode DriftOperator::substepsFor(double dt, FractionState &, int *n) {
 PetscErrorCode DriftOperator::apply(const StepInfo &step, FractionState &state) {
   int n;
   PetscFunctionBeginUser;
-  PetscCall(substepsFor(step.dt, state, &n));
-  for (int s = 0; s < n; ++s) PetscCall(substep(step.dt / n, state));
+  // With -drift_every N the drift of N steps is applied at the end of every
+  // N-th step (counted from the run's start, so a restart keeps the rhythm).
+  if ((step.step + 1) % every != 0) PetscFunctionReturn(PETSC_SUCCESS);
+  const double dt = step.dt * static_cast<double>(every);
+  PetscCall(substepsFor(dt, state, &n));
+  for (int s = 0; s < n; ++s) PetscCall(substep(dt / n, state));
   ++steps;
   substeps += n;
   mostSubsteps = std::max(mostSubsteps, n);
@@ -212,10 +220,10 @@ PetscErrorCode DriftOperator::view(PetscViewer viewer) const {
   const char *names[] = {"A: u = -kd (d^2 - d32^2)", "B: u = -kd (d - d32)|d - d32|",
                          "constant velocities", "none"};
   PetscFunctionBeginUser;
-  PetscCall(PetscViewerASCIIPrintf(viewer, "drift: model %s, kd = %g 1/(m s), d32 = %.4g mm (%s)%s\n",
+  PetscCall(PetscViewerASCIIPrintf(viewer, "drift: model %s, kd = %g 1/(m s), d32 = %.4g mm (%s)%s; applied every %d step(s)\n",
                                    names[static_cast<int>(model)], kd, d32 * 1e3,
                                    localD32 ? "local per sending cell" : (d32Override > 0 ? "given" : "inventory"),
-                                   hindered ? ", hindered" : ""));
+                                   hindered ? ", hindered" : "", (int)every));
   PetscCall(PetscViewerASCIIPushTab(viewer));
   for (int i = 0; i < nf; ++i)
     PetscCall(PetscViewerASCIIPrintf(viewer, "fraction %d (d = %.4g mm): u_d = %+.4g m/s\n", i,
