@@ -67,6 +67,10 @@ public:
   /// within tolerance are rescaled so that they sum to 1 to round-off.
   static PetscErrorCode load(MPI_Comm comm, const std::string &path,
                              const DatabaseLoadOptions &options, std::unique_ptr<Database> *db);
+  Database();
+  ~Database();
+  Database(const Database &) = delete;
+  Database &operator=(const Database &) = delete;
   /// Read the options -db_column_tolerance, -db_frames first:last.
   static PetscErrorCode optionsFromCommandLine(DatabaseLoadOptions *options);
 
@@ -96,6 +100,10 @@ private:
   Mesh mesh_;
   Layout layout_;
   DatabaseMetadata meta;
+  // The shifts' CSR arrays, which PETSc uses in place (no copy): declared
+  // before the matrices so that they are destroyed after them.
+  struct ShiftArrays;
+  std::vector<std::unique_ptr<ShiftArrays>> shiftArrays;
   std::vector<OwnedVec> alpha;
   std::vector<OwnedMat> shifts;
   std::vector<double> volumes;
