@@ -15,6 +15,7 @@
 #include "rcfd/fractions.hpp"
 #include "rcfd/handle.hpp"
 
+#include <array>
 #include <cstdint>
 #include <vector>
 
@@ -35,10 +36,14 @@ public:
 private:
   // Rows that move, in local numbering; their entries' columns index the
   // local cells (< nlocal) or the ghost buffer (nlocal + g).
+  // Rows are grouped by their number of entries: 0, 1, 2, 3, 4, more.
+  static constexpr int kGroups = 6;
   struct Frame {
     std::vector<int32_t> rows, ptr, col;
     std::vector<double> val;
+    std::array<int32_t, kGroups + 1> group{}; // first row of each group, then the end
   };
+  template <int NF> void move(const Frame &f, double *x, const double *ghost, double *out) const;
   std::vector<Frame> frames;
   std::vector<PetscInt> ghostRows; // PETSc rows of the off-rank source cells, all frames
   std::vector<double> buffer;      // new masses of the moving rows
