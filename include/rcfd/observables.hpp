@@ -75,8 +75,8 @@ private:
   const FractionSet *fractions = nullptr;
   double rho = 0.0;
   std::string dir;
-  OwnedVec natural, naturalAlpha;
-  OwnedScatter toNatural, alphaToNatural;
+  OwnedVec natural, naturalAlpha, zeroMasses, zeroAlpha; // zero*: everything on rank 0
+  OwnedScatter toNatural, alphaToNatural, toZero, alphaToZero;
   std::vector<double> times;
 };
 

@@ -1,6 +1,7 @@
 #include "rcfd/observables.hpp"
 
-#include <petscviewerhdf5.h>
+#include "util/collective.hpp"
+#include "util/h5.hpp"
 
 #include <cmath>
 #include <cstdio>
@@ -26,65 +27,65 @@ PetscErrorCode FieldWriter::setUp(const Database &database, const FractionSet &s
   dir = directory;
   PetscCall(db->layout().naturalScatter(set.size(), stateTemplate, natural.put(), toNatural.put()));
   PetscCall(db->layout().naturalScatter(1, db->alphaS(0), naturalAlpha.put(), alphaToNatural.put()));
+  PetscCall(VecScatterCreateToZero(natural, toZero.put(), zeroMasses.put()));
+  PetscCall(VecScatterCreateToZero(naturalAlpha, alphaToZero.put(), zeroAlpha.put()));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
+// The fields are gathered on rank 0 in natural order and written there with
+// HDF5's plain file driver: a collective MPI-IO file took 35 ms per output
+// on one rank and 100 ms on two for 56,000 cells, several times the step
+// they describe.
 PetscErrorCode FieldWriter::write(double time, int frame, Vec masses) {
   const int nf = fractions->size();
   PetscFunctionBeginUser;
   PetscCall(VecScatterBegin(toNatural, masses, natural, INSERT_VALUES, SCATTER_FORWARD));
   PetscCall(VecScatterEnd(toNatural, masses, natural, INSERT_VALUES, SCATTER_FORWARD));
+  PetscCall(VecScatterBegin(toZero, natural, zeroMasses, INSERT_VALUES, SCATTER_FORWARD));
+  PetscCall(VecScatterEnd(toZero, natural, zeroMasses, INSERT_VALUES, SCATTER_FORWARD));
   PetscCall(VecScatterBegin(alphaToNatural, db->alphaS(frame), naturalAlpha, INSERT_VALUES,
                             SCATTER_FORWARD));
   PetscCall(VecScatterEnd(alphaToNatural, db->alphaS(frame), naturalAlpha, INSERT_VALUES,
                           SCATTER_FORWARD));
-  PetscInt first, last;
-  PetscCall(VecGetOwnershipRange(naturalAlpha, &first, &last));
-  const PetscInt n = last - first;
-
-  // Derived fields on the natural ordering: alpha_s of the state, alpha of
-  // each fraction, local Sauter diameter.
-  std::vector<OwnedVec> fields(nf + 2);
-  std::vector<std::string> names = {"alpha_s", "d32"};
-  for (int i = 0; i < nf; ++i) names.push_back("alpha_" + fractions->label(i));
-  std::vector<PetscScalar *> out(nf + 2);
-  for (int f = 0; f < nf + 2; ++f) {
-    PetscCall(VecDuplicate(naturalAlpha, fields[f].put()));
-    PetscCall(PetscObjectSetName((PetscObject)fields[f].get(), names[f].c_str()));
-    PetscCall(VecGetArrayWrite(fields[f], &out[f]));
-  }
-  const PetscScalar *m;
-  PetscCall(VecGetArrayRead(natural, &m));
-  const auto &vol = db->mesh().cellVolume;
-  for (PetscInt c = 0; c < n; ++c) {
-    const double solid = rho * vol[first + c];
-    double total = 0.0, surface = 0.0;
-    for (int i = 0; i < nf; ++i) {
-      const double mi = m[c * nf + i];
-      out[2 + i][c] = mi / solid;
-      total += mi;
-      surface += mi / fractions->diameter(i);
-    }
-    out[0][c] = total / solid;
-    out[1][c] = surface > 0 ? total / surface : NAN; // no solid: no diameter (ParaView greys it)
-  }
-  PetscCall(VecRestoreArrayRead(natural, &m));
-  for (int f = 0; f < nf + 2; ++f) PetscCall(VecRestoreArrayWrite(fields[f], &out[f]));
-  PetscCall(PetscObjectSetName((PetscObject)naturalAlpha.get(), "alpha_s_database"));
-
-  const std::string file = dir + "/" + fieldFileName(count());
-  {
-    OwnedViewer v;
-    PetscCall(PetscViewerHDF5Open(db->layout().comm(), (file + ".tmp").c_str(), FILE_MODE_WRITE,
-                                  v.put()));
-    for (auto &f : fields) PetscCall(VecView(f, v));
-    PetscCall(VecView(naturalAlpha, v));
-  } // closed here, before the rename
+  PetscCall(VecScatterBegin(alphaToZero, naturalAlpha, zeroAlpha, INSERT_VALUES, SCATTER_FORWARD));
+  PetscCall(VecScatterEnd(alphaToZero, naturalAlpha, zeroAlpha, INSERT_VALUES, SCATTER_FORWARD));
   PetscMPIInt rank;
   PetscCallMPI(MPI_Comm_rank(db->layout().comm(), &rank));
-  if (rank == 0)
-    PetscCheck(std::rename((file + ".tmp").c_str(), file.c_str()) == 0, PETSC_COMM_SELF,
-               PETSC_ERR_FILE_WRITE, "Cannot rename '%s.tmp' to '%s'", file.c_str(), file.c_str());
+  const std::string file = dir + "/" + fieldFileName(count());
+  const PetscScalar *m = nullptr, *a = nullptr;
+  PetscCall(VecGetArrayRead(zeroMasses, &m));
+  PetscCall(VecGetArrayRead(zeroAlpha, &a));
+  PetscCall(collectively(db->layout().comm(), [&] {
+    if (rank != 0) return;
+    // Derived fields: alpha_s of the state, alpha of each fraction, local
+    // Sauter diameter; and the database's alpha_s for comparison.
+    const size_t n = static_cast<size_t>(db->mesh().numCells());
+    std::vector<std::vector<double>> fields(nf + 2, std::vector<double>(n));
+    const auto &vol = db->mesh().cellVolume;
+    for (size_t c = 0; c < n; ++c) {
+      const double solid = rho * vol[c];
+      double total = 0.0, surface = 0.0;
+      for (int i = 0; i < nf; ++i) {
+        const double mi = m[c * nf + i];
+        fields[2 + i][c] = mi / solid;
+        total += mi;
+        surface += mi / fractions->diameter(i);
+      }
+      fields[0][c] = total / solid;
+      fields[1][c] = surface > 0 ? total / surface : NAN; // no solid: no diameter (ParaView greys it)
+    }
+    {
+      const h5::File out = h5::File::create(file + ".tmp");
+      out.write("/alpha_s", fields[0]);
+      out.write("/d32", fields[1]);
+      for (int i = 0; i < nf; ++i) out.write("/alpha_" + fractions->label(i), fields[2 + i]);
+      out.write("/alpha_s_database", std::vector<double>(a, a + n));
+    } // closed here, before the rename
+    if (std::rename((file + ".tmp").c_str(), file.c_str()) != 0)
+      throw std::runtime_error("cannot rename '" + file + ".tmp' to '" + file + "'");
+  }, PETSC_ERR_FILE_WRITE));
+  PetscCall(VecRestoreArrayRead(zeroAlpha, &a));
+  PetscCall(VecRestoreArrayRead(zeroMasses, &m));
   times.push_back(time);
   PetscCall(writeIndex());
   PetscFunctionReturn(PETSC_SUCCESS);
