@@ -5,7 +5,9 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 bash tools/setup.sh
 export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
-if [ ! -s build/default-bed.h5 ]; then
+# Made again whenever the program is newer than the file, so that the
+# database always comes from the current generator.
+if [ ! -s build/default-bed.h5 ] || [ build/rcfd -nt build/default-bed.h5 ]; then
   echo "== generating the default database (synthetic bubbling bed, 300 frames)"
   ./build/rcfd synth -o build/default-bed.h5
 fi
