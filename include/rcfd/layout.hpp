@@ -42,6 +42,13 @@ public:
   PetscErrorCode naturalScatter(PetscInt bs, Vec petscOrdered, Vec *natural,
                                 VecScatter *scatter) const;
 
+  /// Collective.  A scatter from a PETSc-ordered Vec with block size bs to a
+  /// sequential Vec holding the blocks of the given PETSc rows, in that order
+  /// (created here, zeroed); SCATTER_REVERSE with ADD_VALUES adds them back to
+  /// their owners.  Used for ghost cells.
+  PetscErrorCode rowsScatter(PetscInt bs, PetscInt n, const PetscInt *rows, Vec *local,
+                             VecScatter *scatter) const;
+
   /// Collective: the values of a PETSc-ordered Vec with block size bs, in
   /// natural order, on every rank (for small global needs: tests, layers).
   PetscErrorCode gatherToAll(PetscInt bs, Vec petscOrdered, std::vector<double> *natural) const;

@@ -140,6 +140,20 @@ PetscErrorCode Layout::naturalScatter(PetscInt bs, Vec petscOrdered, Vec *natura
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
+PetscErrorCode Layout::rowsScatter(PetscInt bs, PetscInt n, const PetscInt *rows, Vec *local,
+                                   VecScatter *scatter) const {
+  OwnedVec parallel;
+  OwnedIS from, to;
+  PetscFunctionBeginUser;
+  PetscCall(VecCreateMPI(comm_, numLocal() * bs, numCells() * bs, parallel.put()));
+  PetscCall(VecSetBlockSize(parallel, bs));
+  PetscCall(ISCreateBlock(PETSC_COMM_SELF, bs, n, rows, PETSC_COPY_VALUES, from.put()));
+  PetscCall(ISCreateStride(PETSC_COMM_SELF, n * bs, 0, 1, to.put()));
+  PetscCall(VecCreateSeq(PETSC_COMM_SELF, n * bs, local));
+  PetscCall(VecScatterCreate(parallel, from, *local, to, scatter));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
 PetscErrorCode Layout::gatherToAll(PetscInt bs, Vec petscOrdered, std::vector<double> *out) const {
   OwnedVec natural, all;
   OwnedScatter toNatural, toAll;

@@ -13,6 +13,7 @@ PetscErrorCode FaceExchange::setUp(const Database &db, int numFractions, const V
   const Layout &L = db.layout();
   const double dn = std::hypot(direction[0], direction[1], direction[2]);
   nf = numFractions;
+  layout = &L;
   nlocal = L.numLocal();
   rows.resize(nlocal);
   for (PetscInt r = 0; r < nlocal; ++r) rows[r] = L.rowStart() + r;
@@ -48,7 +49,8 @@ PetscErrorCode FaceExchange::setUp(const Database &db, int numFractions, const V
   // A cell's faces may be handled by several ranks: the per-cell sums are
   // added up on the owning rank through a reverse scatter before the maxima.
   OwnedVec sums;
-  PetscCall(VecCreateSeq(PETSC_COMM_SELF, 3 * gathered, sums.put()));
+  OwnedScatter add;
+  PetscCall(L.rowsScatter(3, gathered, rows.data(), sums.put(), add.put()));
   PetscScalar *s3;
   PetscCall(VecGetArrayWrite(sums, &s3));
   std::fill(s3, s3 + 3 * gathered, 0.0);
@@ -61,15 +63,8 @@ PetscErrorCode FaceExchange::setUp(const Database &db, int numFractions, const V
   PetscCall(VecRestoreArrayWrite(sums, &s3));
   FractionState perCell;
   PetscCall(perCell.create(L, 3));
-  {
-    OwnedIS from3, to3;
-    OwnedScatter add;
-    PetscCall(ISCreateBlock(PETSC_COMM_SELF, 3, gathered, rows.data(), PETSC_COPY_VALUES, from3.put()));
-    PetscCall(ISCreateStride(PETSC_COMM_SELF, 3 * gathered, 0, 1, to3.put()));
-    PetscCall(VecScatterCreate(perCell.masses(), from3, sums, to3, add.put()));
-    PetscCall(VecScatterBegin(add, sums, perCell.masses(), ADD_VALUES, SCATTER_REVERSE));
-    PetscCall(VecScatterEnd(add, sums, perCell.masses(), ADD_VALUES, SCATTER_REVERSE));
-  }
+  PetscCall(VecScatterBegin(add, sums, perCell.masses(), ADD_VALUES, SCATTER_REVERSE));
+  PetscCall(VecScatterEnd(add, sums, perCell.masses(), ADD_VALUES, SCATTER_REVERSE));
   const PetscScalar *t;
   double localMax = 0.0;
   int localFaces = 0;
@@ -82,30 +77,17 @@ PetscErrorCode FaceExchange::setUp(const Database &db, int numFractions, const V
   PetscCallMPI(MPI_Allreduce(&localMax, &maxAoverV, 1, MPI_DOUBLE, MPI_MAX, L.comm()));
   PetscCallMPI(MPI_Allreduce(&localFaces, &maxPerCell, 1, MPI_INT, MPI_MAX, L.comm()));
 
-  const PetscInt nghost = gathered - nlocal;
   ownChanges.assign(static_cast<size_t>(nlocal) * nf, 0.0);
-  PetscCall(VecCreateSeq(PETSC_COMM_SELF, nghost * nf, ghostMasses.put()));
+  PetscCall(L.rowsScatter(nf, gathered - nlocal, rows.data() + nlocal, ghostMasses.put(), ghostScatter.put()));
   PetscCall(VecDuplicate(ghostMasses, ghostChanges.put()));
   PetscCall(VecZeroEntries(ghostChanges));
-  PetscMPIInt size;
-  PetscCallMPI(MPI_Comm_size(L.comm(), &size));
-  if (size > 1) {
-    OwnedIS from, to;
-    PetscCall(ISCreateBlock(PETSC_COMM_SELF, nf, nghost, rows.data() + nlocal, PETSC_COPY_VALUES, from.put()));
-    PetscCall(ISCreateStride(PETSC_COMM_SELF, nghost * nf, 0, 1, to.put()));
-    FractionState layoutOfState; // the scatter is built against the state's parallel layout
-    PetscCall(layoutOfState.create(L, nf));
-    PetscCall(VecScatterCreate(layoutOfState.masses(), from, ghostMasses, to, ghostScatter.put()));
-  }
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
 PetscErrorCode FaceExchange::gather(Vec masses) {
   PetscFunctionBeginUser;
-  if (ghostScatter) {
-    PetscCall(VecScatterBegin(ghostScatter, masses, ghostMasses, INSERT_VALUES, SCATTER_FORWARD));
-    PetscCall(VecScatterEnd(ghostScatter, masses, ghostMasses, INSERT_VALUES, SCATTER_FORWARD));
-  }
+  PetscCall(VecScatterBegin(ghostScatter, masses, ghostMasses, INSERT_VALUES, SCATTER_FORWARD));
+  PetscCall(VecScatterEnd(ghostScatter, masses, ghostMasses, INSERT_VALUES, SCATTER_FORWARD));
   openMasses = masses;
   PetscCall(VecGetArrayRead(masses, &ownMasses));
   PetscCall(VecGetArrayRead(ghostMasses, &ghostMassArray));
@@ -115,13 +97,7 @@ PetscErrorCode FaceExchange::gather(Vec masses) {
 
 PetscErrorCode FaceExchange::gatherScalar(Vec cellValues, std::vector<double> *out) {
   PetscFunctionBeginUser;
-  if (!scalarScatter) {
-    OwnedIS from, to;
-    PetscCall(ISCreateGeneral(PETSC_COMM_SELF, gathered, rows.data(), PETSC_COPY_VALUES, from.put()));
-    PetscCall(ISCreateStride(PETSC_COMM_SELF, gathered, 0, 1, to.put()));
-    PetscCall(VecCreateSeq(PETSC_COMM_SELF, gathered, scalarLocal.put()));
-    PetscCall(VecScatterCreate(cellValues, from, scalarLocal, to, scalarScatter.put()));
-  }
+  if (!scalarScatter) PetscCall(layout->rowsScatter(1, gathered, rows.data(), scalarLocal.put(), scalarScatter.put()));
   PetscCall(VecScatterBegin(scalarScatter, cellValues, scalarLocal, INSERT_VALUES, SCATTER_FORWARD));
   PetscCall(VecScatterEnd(scalarScatter, cellValues, scalarLocal, INSERT_VALUES, SCATTER_FORWARD));
   const PetscScalar *a;
@@ -153,11 +129,9 @@ PetscErrorCode FaceExchange::scatterAdd(Vec masses) {
   changedFrom = PETSC_MAX_INT;
   changedTo = 0;
   PetscCall(VecRestoreArray(masses, &m));
-  if (ghostScatter) {
-    PetscCall(VecScatterBegin(ghostScatter, ghostChanges, masses, ADD_VALUES, SCATTER_REVERSE));
-    PetscCall(VecScatterEnd(ghostScatter, ghostChanges, masses, ADD_VALUES, SCATTER_REVERSE));
-    PetscCall(VecZeroEntries(ghostChanges));
-  }
+  PetscCall(VecScatterBegin(ghostScatter, ghostChanges, masses, ADD_VALUES, SCATTER_REVERSE));
+  PetscCall(VecScatterEnd(ghostScatter, ghostChanges, masses, ADD_VALUES, SCATTER_REVERSE));
+  PetscCall(VecZeroEntries(ghostChanges));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 

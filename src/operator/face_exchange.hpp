@@ -70,6 +70,7 @@ private:
   Vec openMasses = nullptr;
   const PetscScalar *ownMasses = nullptr, *ghostMassArray = nullptr;
   PetscScalar *ghostChangeArray = nullptr;
+  const Layout *layout = nullptr;
   PetscInt gathered = 0, nlocal = 0;
   PetscInt changedFrom = PETSC_MAX_INT, changedTo = 0; // own cells with changes
   int nf = 0;

@@ -182,16 +182,7 @@ PetscErrorCode MovingRows::setUp(const Database &db, int numFractions) {
   // off-rank sources (about a thousand cells on two ranks of the default bed).
   PetscMPIInt size;
   PetscCallMPI(MPI_Comm_size(L.comm(), &size));
-  if (size > 1) {
-    FractionState layoutOfState;
-    PetscCall(layoutOfState.create(L, nf));
-    OwnedIS from, to;
-    const PetscInt ng = numGhosts();
-    PetscCall(ISCreateBlock(PETSC_COMM_SELF, nf, ng, ghostRows.data(), PETSC_COPY_VALUES, from.put()));
-    PetscCall(ISCreateStride(PETSC_COMM_SELF, ng * nf, 0, 1, to.put()));
-    PetscCall(VecCreateSeq(PETSC_COMM_SELF, ng * nf, ghosts.put()));
-    PetscCall(VecScatterCreate(layoutOfState.masses(), from, ghosts, to, toGhosts.put()));
-  }
+  if (size > 1) PetscCall(L.rowsScatter(nf, numGhosts(), ghostRows.data(), ghosts.put(), toGhosts.put()));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
