@@ -314,8 +314,9 @@ namespace {
 // Number of frames in which each cell holds solid: the work a cell costs
 // the shift and the swaps.  In a bubbling bed about half of the domain is
 // freeboard that never holds any, and the splash zone only sometimes; the
-// partition balances this count (balancing the cells left one of two ranks
-// with 50 % more to do).  The ranks read the frames' alpha_s in turns; a
+// partition balances this count (balancing the cells gave one of two ranks
+// the whole bed, balancing the ever-filled cells left one with 50 % more
+// moving rows).  The ranks read the frames' alpha_s in turns; a
 // frame whose alpha_s is missing or of the wrong size is skipped here and
 // refused by the reader afterwards.
 PetscErrorCode framesFilled(MPI_Comm comm, const h5::File &file, int first, int last, int n,
