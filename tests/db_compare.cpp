@@ -13,7 +13,7 @@
 //            (mass consistency of OTHER; empty for its last frame)
 //   alpha    max_c |alpha_other(k, c) - alpha_exact(k, c)|
 // The last two lines: "mean" and "max" of each column over the frames.
-#include "util/h5.hpp"
+#include "base/h5.hpp"
 
 #include <algorithm>
 #include <cmath>

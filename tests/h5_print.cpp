@@ -3,7 +3,7 @@
 // h5_print FILE OBJECT ATTR string  prints a string attribute
 // A test helper for scripts that check what the rcfd program wrote
 // (the machine may have no h5dump).  Numbers are printed with 17 digits.
-#include "util/h5.hpp"
+#include "base/h5.hpp"
 
 #include <cstdio>
 #include <exception>

@@ -5,7 +5,7 @@
 #include "rcfd/database.hpp"
 #include "rcfd/operator.hpp"
 #include "state_access.hpp"
-#include "util/h5.hpp"
+#include "base/h5.hpp"
 
 #include <cstdio>
 #include <functional>

@@ -4,7 +4,7 @@
 // tracer ending in an empty cell, a cell no tracer reaches), the velocity a
 // shift implies, and proportional scaling to a feasible target.
 #include "check.hpp"
-#include "database/eulerian_frames.hpp"
+#include "builders/eulerian/eulerian_frames.hpp"
 
 #include <algorithm>
 #include <cmath>

@@ -4,8 +4,8 @@
 // two densities), file-driven builds with stride and window, and a
 // hand-computed centre of gravity.
 #include "check.hpp"
-#include "database/particle_builder.hpp"
-#include "database/particle_reference.hpp"
+#include "builders/particles/particle_builder.hpp"
+#include "analysis/particle_reference.hpp"
 
 #include <zlib.h>
 

@@ -2,8 +2,8 @@
 // equally spaced times, the mesh from a (flipped) dump box, masses per cell
 // and class, and the Eq. 7 / RMS scores on hand-computed curves.
 #include "check.hpp"
-#include "database/snapshot_series.hpp"
-#include "observable/segregation_score.hpp"
+#include "builders/particles/snapshot_series.hpp"
+#include "analysis/segregation_score.hpp"
 
 #include <cmath>
 #include <cstdio>

@@ -2,7 +2,7 @@
 // alpha_k+1), bounded alpha_s, conserved solid, an empty freeboard, rising
 // voids, determinism, and clear errors for bad options.
 #include "check.hpp"
-#include "database/synthetic_bed.hpp"
+#include "builders/synthetic/synthetic_bed.hpp"
 
 #include <cmath>
 #include <stdexcept>

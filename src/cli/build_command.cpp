@@ -4,10 +4,10 @@
 #include "cli/commands.hpp"
 
 #include "cli/particle_input.hpp"
-#include "database/particle_reference.hpp"
+#include "analysis/particle_reference.hpp"
 #include "rcfd/database.hpp"
-#include "util/collective.hpp"
-#include "util/h5.hpp"
+#include "base/collective.hpp"
+#include "base/h5.hpp"
 
 #include <chrono>
 #include <cstdio>

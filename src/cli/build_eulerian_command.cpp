@@ -3,10 +3,10 @@
 // solid velocity and proportional scaling (src/database/eulerian_frames.hpp).
 #include "cli/commands.hpp"
 
-#include "database/eulerian_frames.hpp"
-#include "database/snapshot_series.hpp"
+#include "builders/eulerian/eulerian_frames.hpp"
+#include "builders/particles/snapshot_series.hpp"
 #include "rcfd/database.hpp"
-#include "util/collective.hpp"
+#include "base/collective.hpp"
 
 #include <chrono>
 #include <cstdio>

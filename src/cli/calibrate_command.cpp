@@ -6,9 +6,9 @@
 // golden-section search refines it.
 #include "cli/commands.hpp"
 
-#include "observable/segregation_score.hpp"
+#include "analysis/segregation_score.hpp"
 #include "rcfd/run.hpp"
-#include "util/collective.hpp"
+#include "base/collective.hpp"
 
 #include <algorithm>
 #include <cmath>

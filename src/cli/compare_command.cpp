@@ -4,9 +4,9 @@
 // reference's peak.
 #include "cli/commands.hpp"
 
-#include "observable/segregation_score.hpp"
+#include "analysis/segregation_score.hpp"
 #include "plot/png_plot.hpp"
-#include "util/collective.hpp"
+#include "base/collective.hpp"
 
 #include <cmath>
 #include <cstdio>

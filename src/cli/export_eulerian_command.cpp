@@ -7,10 +7,10 @@
 // database (a window of frames at a time, PETSC_COMM_SELF) and writes.
 #include "cli/commands.hpp"
 
-#include "database/eulerian_frames.hpp"
+#include "builders/eulerian/eulerian_frames.hpp"
 #include "rcfd/database.hpp"
-#include "util/collective.hpp"
-#include "util/h5.hpp"
+#include "base/collective.hpp"
+#include "base/h5.hpp"
 
 #include <algorithm>
 #include <cstdio>

@@ -2,8 +2,8 @@
 // reference): which files, their times, the axes, the mesh, the window.
 #pragma once
 
-#include "database/particle_builder.hpp"
-#include "database/snapshot_series.hpp"
+#include "builders/particles/particle_builder.hpp"
+#include "builders/particles/snapshot_series.hpp"
 #include "rcfd/handle.hpp"
 
 #include <limits>

@@ -1,7 +1,7 @@
 #include "cli/commands.hpp"
 
 #include "observable/cog_plot.hpp"
-#include "util/collective.hpp"
+#include "base/collective.hpp"
 
 namespace rcfd::cli {
 

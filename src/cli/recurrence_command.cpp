@@ -2,8 +2,8 @@
 
 #include "path/database_recurrence.hpp"
 #include "plot/png_plot.hpp"
-#include "util/collective.hpp"
-#include "util/h5.hpp"
+#include "base/collective.hpp"
+#include "base/h5.hpp"
 
 #include <algorithm>
 

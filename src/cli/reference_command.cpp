@@ -5,8 +5,8 @@
 #include "cli/commands.hpp"
 
 #include "cli/particle_input.hpp"
-#include "database/particle_reference.hpp"
-#include "util/collective.hpp"
+#include "analysis/particle_reference.hpp"
+#include "base/collective.hpp"
 
 #include <chrono>
 #include <cmath>

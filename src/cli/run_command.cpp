@@ -2,7 +2,7 @@
 
 #include "observable/cog_plot.hpp"
 #include "rcfd/run.hpp"
-#include "util/collective.hpp"
+#include "base/collective.hpp"
 
 #include <string>
 #include <vector>

@@ -1,8 +1,8 @@
 #include "cli/commands.hpp"
 
-#include "database/synthetic_bed.hpp"
+#include "builders/synthetic/synthetic_bed.hpp"
 #include "rcfd/database.hpp"
-#include "util/collective.hpp"
+#include "base/collective.hpp"
 
 #include <cstdio>
 

@@ -1,7 +1,7 @@
 #include "rcfd/database.hpp"
 
-#include "util/collective.hpp"
-#include "util/h5.hpp"
+#include "base/collective.hpp"
+#include "base/h5.hpp"
 
 #include <algorithm>
 #include <cmath>

@@ -1,7 +1,7 @@
 #include "rcfd/observables.hpp"
 
-#include "util/collective.hpp"
-#include "util/h5.hpp"
+#include "base/collective.hpp"
+#include "base/h5.hpp"
 
 #include <cmath>
 #include <cstdio>

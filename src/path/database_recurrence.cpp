@@ -1,6 +1,6 @@
 #include "path/database_recurrence.hpp"
 
-#include "util/collective.hpp"
+#include "base/collective.hpp"
 
 namespace rcfd {
 

@@ -12,6 +12,8 @@
 // The first step of a path starts it and is not a jump.
 #pragma once
 
+#include "base/random.hpp"
+
 #include <array>
 #include <cstdint>
 #include <memory>
@@ -20,24 +22,6 @@
 #include <vector>
 
 namespace rcfd {
-
-/// xoshiro256** (Blackman & Vigna), seeded through splitmix64.  Integer-only,
-/// so its output is the same on every platform and compiler.
-class Xoshiro256 {
-public:
-  explicit Xoshiro256(std::uint64_t seed = 0);
-  std::uint64_t next();
-  /// Uniform in [0, 1), 53 random bits.
-  double uniform();
-  /// Uniform integer in [0, n), without modulo bias; n must be > 0.
-  std::uint64_t below(std::uint64_t n);
-  std::array<std::uint64_t, 4> state() const { return s_; }
-  /// Throws std::invalid_argument for the all-zero state, which xoshiro never leaves.
-  void setState(const std::array<std::uint64_t, 4> &s);
-
-private:
-  std::array<std::uint64_t, 4> s_;
-};
 
 /// Parameters of the built-in path kinds.  Unset values take the kind's
 /// default, which depends on the number of frames K (docs/paths.md).  Setting

@@ -10,8 +10,8 @@
 //   root attributes    format = "rcfd-checkpoint", step, num_fractions, num_cells, database
 #include "path/frame_path.hpp"
 #include "rcfd/run.hpp"
-#include "util/collective.hpp"
-#include "util/h5.hpp"
+#include "base/collective.hpp"
+#include "base/h5.hpp"
 
 #include <petscviewerhdf5.h>
 

@@ -4,8 +4,8 @@
 #include "observable/cog_plot.hpp"
 #include "path/frame_path.hpp"
 
-#include "util/collective.hpp"
-#include "util/h5.hpp"
+#include "base/collective.hpp"
+#include "base/h5.hpp"
 
 #include <petscviewerhdf5.h>
 

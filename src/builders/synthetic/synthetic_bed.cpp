@@ -26,9 +26,9 @@
 // Randomness comes from one xoshiro256** stream and only IEEE-exact operations
 // (+ - * / sqrt floor ceil) shape the state, so a seed gives the same frames
 // with any standard library (given IEEE doubles without FMA contraction).
-#include "database/synthetic_bed.hpp"
+#include "builders/synthetic/synthetic_bed.hpp"
 
-#include "path/frame_path.hpp"
+#include "base/random.hpp"
 
 #include <algorithm>
 #include <array>

@@ -1,4 +1,4 @@
-#include "operator/face_exchange.hpp"
+#include "operator/swap/face_exchange.hpp"
 
 #include <algorithm>
 #include <cmath>

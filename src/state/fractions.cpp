@@ -1,6 +1,6 @@
 #include "rcfd/fractions.hpp"
 
-#include "util/collective.hpp"
+#include "base/collective.hpp"
 
 #include <algorithm>
 #include <cmath>

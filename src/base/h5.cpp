@@ -1,4 +1,4 @@
-#include "util/h5.hpp"
+#include "base/h5.hpp"
 
 #include <algorithm>
 #include <cstdint>

@@ -13,7 +13,7 @@
 // All heights are rcfd z (after the AxisMap), SI units.
 #pragma once
 
-#include "database/particle_dump.hpp"
+#include "builders/particles/particle_dump.hpp"
 #include "rcfd/mesh.hpp"
 
 #include <limits>

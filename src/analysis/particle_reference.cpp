@@ -1,4 +1,4 @@
-#include "database/particle_reference.hpp"
+#include "analysis/particle_reference.hpp"
 
 #include <algorithm>
 #include <cmath>

@@ -1,4 +1,4 @@
-#include "util/collective.hpp"
+#include "base/collective.hpp"
 
 #include "rcfd/handle.hpp"
 

@@ -1,4 +1,4 @@
-#include "database/particle_builder.hpp"
+#include "builders/particles/particle_builder.hpp"
 
 #include <algorithm>
 #include <cmath>

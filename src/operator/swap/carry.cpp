@@ -1,6 +1,6 @@
 #include "rcfd/swaps.hpp"
 
-#include "operator/face_exchange.hpp"
+#include "operator/swap/face_exchange.hpp"
 
 #include <algorithm>
 #include <cmath>

@@ -1,6 +1,6 @@
-#include "database/eulerian_frames.hpp"
+#include "builders/eulerian/eulerian_frames.hpp"
 
-#include "path/frame_path.hpp"
+#include "base/random.hpp"
 
 #include <algorithm>
 #include <charconv>

@@ -31,7 +31,7 @@
 // masses of all four kinds are in the report.
 #pragma once
 
-#include "database/particle_dump.hpp"
+#include "builders/particles/particle_dump.hpp"
 #include "rcfd/frames.hpp"
 #include "rcfd/mesh.hpp"
 

@@ -1,4 +1,4 @@
-#include "database/snapshot_series.hpp"
+#include "builders/particles/snapshot_series.hpp"
 
 #include <glob.h>
 

@@ -1,4 +1,4 @@
-#include "observable/segregation_score.hpp"
+#include "analysis/segregation_score.hpp"
 
 #include <algorithm>
 #include <cerrno>

@@ -1,4 +1,4 @@
-#include "database/particle_dump.hpp"
+#include "builders/particles/particle_dump.hpp"
 
 #include <zlib.h>
 

@@ -1,7 +1,7 @@
 #include "rcfd/swaps.hpp"
 
-#include "operator/face_exchange.hpp"
-#include "util/collective.hpp"
+#include "operator/swap/face_exchange.hpp"
+#include "base/collective.hpp"
 
 #include <algorithm>
 #include <cmath>

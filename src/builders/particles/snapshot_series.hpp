@@ -4,8 +4,8 @@
 // std::invalid_argument for bad arguments) with one sentence naming the file.
 #pragma once
 
-#include "database/particle_dump.hpp"
-#include "database/particle_reference.hpp"
+#include "builders/particles/particle_dump.hpp"
+#include "analysis/particle_reference.hpp"
 #include "rcfd/mesh.hpp"
 
 #include <array>
