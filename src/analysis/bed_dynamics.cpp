@@ -1,5 +1,7 @@
 #include "analysis/bed_dynamics.hpp"
 
+#include "rcfd/zone.hpp"
+
 #include <cmath>
 #include <stdexcept>
 
@@ -23,6 +25,36 @@ double databaseDistance(double a, double b) {
     throw std::invalid_argument("the database distance needs a positive, finite bed dynamics of the "
                                 "second (denominator) database");
   return std::fabs(a - b) / b;
+}
+
+PetscErrorCode databaseBedCentres(const Database &db, std::vector<double> *zCog) {
+  PetscFunctionBeginUser;
+  int axis = 2;
+  bool upward = true;
+  verticalAxis(db.metadata().gravity, &axis, &upward);
+  const Mesh &mesh = db.mesh();
+  const auto &owned = db.layout().ownedNatural();
+  const auto &volume = db.localVolumes();
+  const int K = db.numFrames();
+  std::vector<double> sums(2 * static_cast<std::size_t>(K), 0.0); // sum(alpha V h), sum(alpha V)
+  for (int k = 0; k < K; ++k) {
+    const PetscScalar *alpha;
+    PetscCall(VecGetArrayRead(db.alphaS(k), &alpha));
+    for (std::size_t i = 0; i < owned.size(); ++i) {
+      const double h = upward ? mesh.cellCentre[owned[i]][axis] : -mesh.cellCentre[owned[i]][axis];
+      sums[2 * k] += alpha[i] * volume[i] * h;
+      sums[2 * k + 1] += alpha[i] * volume[i];
+    }
+    PetscCall(VecRestoreArrayRead(db.alphaS(k), &alpha));
+  }
+  PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, sums.data(), 2 * K, MPI_DOUBLE, MPI_SUM, db.layout().comm()));
+  zCog->resize(K);
+  for (int k = 0; k < K; ++k) {
+    PetscCheck(sums[2 * k + 1] > 0, db.layout().comm(), PETSC_ERR_FILE_UNEXPECTED,
+               "Database '%s': frame %d holds no solid, so it has no centre of gravity", db.path().c_str(), k);
+    (*zCog)[k] = sums[2 * k] / sums[2 * k + 1];
+  }
+  PetscFunctionReturn(PETSC_SUCCESS);
 }
 
 } // namespace rcfd

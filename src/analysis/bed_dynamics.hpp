@@ -1,6 +1,8 @@
 // Bed dynamics and the distance between two databases (paper Sec. 3.3).
 #pragma once
 
+#include "rcfd/database.hpp"
+
 #include <vector>
 
 namespace rcfd {
@@ -16,5 +18,10 @@ double bedDynamics(const std::vector<double> &zCog);
 /// The paper's (1 - |a - b|) 100 % mixes metres with a pure number; its Table 6 values
 /// read as this relative difference.  Throws std::invalid_argument when b is not positive.
 double databaseDistance(double a, double b);
+
+/// Collective: the bed's centre of gravity of every frame of a database from its alpha_s,
+/// sum(alpha_s V h) / sum(alpha_s V), h the height along the vertical (against gravity) [m],
+/// on every rank.  With bedDynamics() it gives a database's Delta z_CoG.
+PetscErrorCode databaseBedCentres(const Database &db, std::vector<double> *zCog);
 
 } // namespace rcfd

@@ -1,5 +1,6 @@
 #include "cli/commands.hpp"
 
+#include "analysis/bed_dynamics.hpp"
 #include "rcfd/database.hpp"
 
 namespace rcfd::cli {
@@ -21,6 +22,12 @@ PetscErrorCode infoCommand(MPI_Comm comm, const char *positional) {
   std::unique_ptr<Database> db;
   PetscCall(Database::load(comm, file, options, &db));
   PetscCall(db->view(PETSC_VIEWER_STDOUT_(comm)));
+  std::vector<double> zCog;
+  PetscCall(databaseBedCentres(*db, &zCog));
+  double mean = 0.0;
+  for (double z : zCog) mean += z / static_cast<double>(zCog.size());
+  PetscCall(PetscPrintf(comm, "  bed dynamics: mean z_CoG %.6g m, Delta z_CoG = mean |z_CoG - mean| = %.6g m over %d frames\n",
+                        mean, bedDynamics(zCog), static_cast<int>(zCog.size())));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
