@@ -17,7 +17,9 @@ PetscErrorCode run(const std::string &dir) {
   PetscFunctionBeginUser;
   PetscMPIInt rank;
   PetscCallMPI(MPI_Comm_rank(PETSC_COMM_WORLD, &rank));
-  const std::string path = dir + "/bed_dynamics_column.h5";
+  int size;
+  MPI_Comm_size(PETSC_COMM_WORLD, &size); // np1 and np2 run side by side
+  const std::string path = dir + "/bed_dynamics_column_np" + std::to_string(size) + ".h5";
   // Cells 0.1 m high with centres at 0.05, 0.15, 0.25 m; three frames:
   //   (0.5, 0, 0)   -> z_CoG 0.05
   //   (0.25,0.25,0) -> 0.10
