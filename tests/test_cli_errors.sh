@@ -31,5 +31,29 @@ expect_error "-db_frames 5:2 is outside" run -db "$db" -db_frames 5,2
 expect_error "Unknown option -bogus" info "$db" -bogus
 expect_error "cannot open file 'nope.h5'" info nope.h5
 
+# Words PETSc would ignore, options files it cannot read, lists that are empty or repeat.
+expect_error "unexpected argument 'strayword'" run -db "$db" strayword
+expect_error "unexpected argument 'b.h5'" info "$db" b.h5
+expect_error "unexpected argument 'dump.2.gz'" build -dumps dump.1.gz dump.2.gz -o x.h5
+expect_error "-options_file '$work/none.yaml' cannot be read" run -options_file "$work/none.yaml"
+printf 'db: x.h5\nt_end 5\n' >"$work/bad.yaml"
+expect_error "-options_file '$work/bad.yaml' line 2 is not 'name: value'" run -options_file "$work/bad.yaml"
+printf 'db: x.h5\n\tt_end: 5\n' >"$work/tab.yaml"
+expect_error "line 2 is indented with a tab" run -options_file "$work/tab.yaml"
+printf 'db: "x.h5\n' >"$work/quote.yaml"
+expect_error "line 1 opens a quote it does not close" run -options_file "$work/quote.yaml"
+expect_error "-fractions_diameters is empty" run -db "$db" -fractions_diameters ""
+expect_error "-fractions_mass_shares was given without -fractions_diameters" run -db "$db" \
+  -fractions_mass_shares 0.5,0.5
+expect_error "diameters 1 and 2 are equal" run -db "$db" -fractions_diameters 2e-3,2e-3 \
+  -fractions_mass_shares 0.5,0.5
+# Diameters that print alike at three decimals get labels that tell them apart.
+if "$rcfd" run -db "$db" -fractions_diameters 2.0001e-3,2.0004e-3 -fractions_mass_shares 0.5,0.5 \
+  -t_end 0.01 -output_dir "$work/alike" -quiet -fields false -plot false &&
+  head -1 "$work/alike/cog.csv" | grep -q "z_cog_d2.0001mm_m,z_cog_d2.0004mm_m"; then ok
+else fail "labels of 2.0001 and 2.0004 mm: $(head -1 "$work/alike/cog.csv" 2>&1)"; fi
+# Help from the program itself, not "unknown command".
+if "$rcfd" -help | grep -q "usage: rcfd <command>"; then ok; else fail "rcfd -help"; fi
+
 echo "$passed passed, $failures failed"
 [ $failures -eq 0 ]

@@ -18,7 +18,7 @@ class FractionSet {
 public:
   /// Validate and build; throws std::invalid_argument with a sentence naming
   /// the option when diameters are not positive, shares are negative or do
-  /// not sum to 1 within 1e-6, or the lists differ in length.
+  /// not sum to 1 within 1e-6, the lists differ in length, or a diameter repeats.
   FractionSet(std::vector<double> diameters, std::vector<double> massShares);
   FractionSet() = default;
 
@@ -34,12 +34,14 @@ public:
   /// Indices of the smallest and largest diameters.
   int smallest() const;
   int largest() const;
-  /// Column label of fraction i, e.g. "d1.950mm".
+  /// Column label of fraction i, e.g. "d1.950mm": millimetres with three decimals,
+  /// or more when two diameters would print alike (labels never collide).
   std::string label(int i) const;
   PetscErrorCode view(PetscViewer viewer) const;
 
 private:
   std::vector<double> d, w;
+  int labelDigits = 3;
 };
 
 /// Masses [kg] of every fraction in every cell: one PETSc Vec with block size

@@ -1,4 +1,5 @@
 // rcfd: command-line front end.  `rcfd <command> [FILE] [PETSc options]`.
+#include "cli/argument_check.hpp"
 #include "cli/commands.hpp"
 
 #include <cstdio>
@@ -50,7 +51,8 @@ std::string usage() {
 }
 
 bool isHelp(const char *a) {
-  return !std::strcmp(a, "-h") || !std::strcmp(a, "--help") || !std::strcmp(a, "help");
+  return !std::strcmp(a, "-h") || !std::strcmp(a, "--help") || !std::strcmp(a, "-help") ||
+         !std::strcmp(a, "help");
 }
 
 } // namespace
@@ -84,6 +86,20 @@ int main(int argc, char **argv) {
     positional = pargv[1];
     for (int i = 1; i + 1 < pargc; ++i) pargv[i] = pargv[i + 1];
     --pargc;
+  }
+  // PETSc would ignore a word that is neither an option nor its value.
+  const std::string stray = rcfd::cli::strayArgument(pargc, pargv, 1);
+  if (!stray.empty()) {
+    std::fprintf(stderr,
+                 "rcfd %s: error: unexpected argument '%s'; every value follows its option (an unquoted "
+                 "pattern such as dump/*.gz expands to many words: quote it)\n",
+                 command->name, stray.c_str());
+    return 2;
+  }
+  const std::string badFile = rcfd::cli::checkOptionsFiles(pargc, pargv);
+  if (!badFile.empty()) {
+    std::fprintf(stderr, "rcfd %s: error: %s\n", command->name, badFile.c_str());
+    return 2;
   }
   const std::string help = usage();
   if (PetscInitialize(&pargc, &pargv, nullptr, help.c_str()) != 0) return 1;

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <numeric>
 #include <stdexcept>
 
@@ -33,6 +34,19 @@ FractionSet::FractionSet(std::vector<double> diameters, std::vector<double> mass
     throw std::invalid_argument("-fractions_mass_shares sum to " + std::to_string(sum) +
                                 ", expected 1 (within 1e-6)");
   for (double &x : w) x /= sum; // exact normalisation of what is within tolerance
+  for (size_t i = 0; i < d.size(); ++i)
+    for (size_t j = i + 1; j < d.size(); ++j)
+      if (d[i] == d[j])
+        throw std::invalid_argument("-fractions_diameters: diameters " + std::to_string(i + 1) + " and " +
+                                    std::to_string(j + 1) + " are equal; give each size once");
+  // Labels name CSV columns and datasets: three decimals of a millimetre unless
+  // two diameters would print alike, then as many as tell them apart.
+  for (labelDigits = 3; labelDigits < 17; ++labelDigits) {
+    std::vector<std::string> names;
+    for (int i = 0; i < size(); ++i) names.push_back(label(i));
+    std::sort(names.begin(), names.end());
+    if (std::adjacent_find(names.begin(), names.end()) == names.end()) break;
+  }
 }
 
 PetscErrorCode FractionSet::fromOptions(MPI_Comm comm, FractionSet *set) {
@@ -47,6 +61,16 @@ PetscErrorCode FractionSet::fromOptions(MPI_Comm comm, FractionSet *set) {
                                   "Share of the inventory's mass in each fraction (sums to 1)", "",
                                   ww, &nw, &setW));
   PetscOptionsEnd();
+  PetscBool namedD = PETSC_FALSE, namedW = PETSC_FALSE;
+  PetscCall(PetscOptionsHasName(nullptr, nullptr, "-fractions_diameters", &namedD));
+  PetscCall(PetscOptionsHasName(nullptr, nullptr, "-fractions_mass_shares", &namedW));
+  PetscCheck(setD == namedD && (nd > 0 || !setD), comm, PETSC_ERR_USER_INPUT,
+             "-fractions_diameters is empty; give the diameters in m, e.g. 1.95e-3,2.82e-3");
+  PetscCheck(setW == namedW && (nw > 0 || !setW), comm, PETSC_ERR_USER_INPUT,
+             "-fractions_mass_shares is empty; give one mass share per diameter, summing to 1");
+  PetscCheck(!setW || setD, comm, PETSC_ERR_USER_INPUT,
+             "-fractions_mass_shares was given without -fractions_diameters; give the diameters they "
+             "belong to");
   if (!setD) nd = 2;
   if (!setW) nw = setD ? 0 : 2;
   PetscCheck(setW || !setD || nd == 0, comm, PETSC_ERR_USER_INPUT,
@@ -71,8 +95,8 @@ int FractionSet::largest() const {
 }
 
 std::string FractionSet::label(int i) const {
-  char text[32];
-  std::snprintf(text, sizeof text, "d%.3fmm", d[i] * 1e3);
+  char text[48];
+  std::snprintf(text, sizeof text, "d%.*fmm", labelDigits, d[i] * 1e3);
   return text;
 }
 
