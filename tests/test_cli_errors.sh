@@ -52,6 +52,7 @@ if "$rcfd" run -db "$db" -fractions_diameters 2.0001e-3,2.0004e-3 -fractions_mas
   -t_end 0.01 -output_dir "$work/alike" -quiet -fields false -plot false &&
   head -1 "$work/alike/cog.csv" | grep -q "z_cog_d2.0001mm_m,z_cog_d2.0004mm_m"; then ok
 else fail "labels of 2.0001 and 2.0004 mm: $(head -1 "$work/alike/cog.csv" 2>&1)"; fi
+expect_error "-synth_cells 2000,2000,2000 asks for 8e+09 cells" synth -synth_cells 2000,2000,2000 -o "$work/s.h5"
 # Help from the program itself, not "unknown command".
 if "$rcfd" -help | grep -q "usage: rcfd <command>"; then ok; else fail "rcfd -help"; fi
 

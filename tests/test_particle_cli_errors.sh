@@ -37,5 +37,14 @@ expect_error "-vertical_axis w is not known" reference "${common[@]}" -vertical_
 expect_error "cannot open the centre-of-gravity file '$work/none.csv'" compare \
   -reference "$work/none.csv" -rcfd "$work/none.csv"
 
+# Sizes too large to hold: one sentence, not std::bad_alloc.
+sed 's/^2$/1000000000000000/' "$work/dump/dump.0.txt" >"$work/huge.txt"
+printf '%s\n' "$work/huge.txt" "$work/a.txt" >"$work/list3.txt"
+expect_error "particle snapshot '$work/huge.txt', line 12: expected 1000000000000000 atom lines" build \
+  -dump_list "$work/list3.txt" -dump_dt 0.1 -mesh_cells 2,1,2 -o "$work/x.h5"
+expect_error "-mesh_cells (2000 x 2000 x 2000) asks for 8e+09 cells, more than the 2147483647" build \
+  -dump_list "$work/list.txt" -dump_dt 0.1 -mesh_cells 2000,2000,2000 -o "$work/x.h5"
+expect_error "-mesh_cell_size (" build -dumps "$work/dump/dump.*.txt" -dump_dt 0.1 -mesh_cell_size 1e-9 \
+  -o "$work/x.h5"
 echo "$passed passed, $failures failed"
 [ $failures -eq 0 ]

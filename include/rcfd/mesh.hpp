@@ -24,6 +24,10 @@ struct BoxSpec {
   Vec3 spacing() const { return {length[0] / nx, length[1] / ny, length[2] / nz}; }
   /// Index of the cell holding point p, or -1 when p is outside the box.
   int locate(const Vec3 &p) const;
+  /// Why nx x ny x nz cells cannot be made here, or "" when they can: a count below
+  /// 1, more cells than an int numbers, or a mesh alone larger than this machine's
+  /// memory.  Checked before anything per cell is allocated.
+  static std::string sizeProblem(double nx, double ny, double nz);
 };
 
 class Mesh {

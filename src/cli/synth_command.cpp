@@ -45,6 +45,9 @@ PetscErrorCode readSynthOptions(MPI_Comm comm, SyntheticBedOptions *o, std::stri
              "-synth_cells and -synth_length take three values each (x, y, z)");
   PetscCheck(frames >= 1 && seed >= 0 && parcels >= 1, comm, PETSC_ERR_USER_INPUT,
              "-synth_frames and -synth_parcels_per_cell must be positive and -synth_seed non-negative");
+  const std::string tooBig = BoxSpec::sizeProblem(cells[0], cells[1], cells[2]);
+  PetscCheck(tooBig.empty(), comm, PETSC_ERR_USER_INPUT, "-synth_cells %d,%d,%d %s", (int)cells[0],
+             (int)cells[1], (int)cells[2], tooBig.c_str());
   o->box.nx = static_cast<int>(cells[0]);
   o->box.ny = static_cast<int>(cells[1]);
   o->box.nz = static_cast<int>(cells[2]);

@@ -1,7 +1,10 @@
 #include "rcfd/mesh.hpp"
 
+#include <climits>
 #include <cmath>
 #include <numeric>
+#include <stdexcept>
+#include <unistd.h>
 
 namespace rcfd {
 
@@ -17,7 +20,30 @@ int BoxSpec::locate(const Vec3 &p) const {
   return cellIndex(idx[0], idx[1], idx[2]);
 }
 
+std::string BoxSpec::sizeProblem(double nx, double ny, double nz) {
+  if (!(nx >= 1 && ny >= 1 && nz >= 1)) return "needs at least one cell along each axis";
+  const double cells = nx * ny * nz;
+  char text[200];
+  if (cells > INT_MAX) {
+    std::snprintf(text, sizeof text, "asks for %.3g cells, more than the %d a mesh can number", cells, INT_MAX);
+    return text;
+  }
+  // Centres, volumes and about three faces of owner, neighbour and area per cell.
+  constexpr double bytesPerCell = 24 + 8 + 3 * (4 + 4 + 24);
+  const double memory = static_cast<double>(sysconf(_SC_PHYS_PAGES)) * sysconf(_SC_PAGE_SIZE);
+  if (memory > 0 && cells * bytesPerCell > memory) {
+    std::snprintf(text, sizeof text, "asks for %.3g cells, whose mesh alone needs %.3g GB of the %.3g GB of memory here",
+                  cells, cells * bytesPerCell / 1e9, memory / 1e9);
+    return text;
+  }
+  return "";
+}
+
 Mesh Mesh::box(const BoxSpec &spec) {
+  const std::string problem = BoxSpec::sizeProblem(spec.nx, spec.ny, spec.nz);
+  if (!problem.empty())
+    throw std::invalid_argument("a box mesh of " + std::to_string(spec.nx) + " x " + std::to_string(spec.ny) +
+                                " x " + std::to_string(spec.nz) + " cells " + problem);
   Mesh m;
   m.hasBox = true;
   m.spec = spec;

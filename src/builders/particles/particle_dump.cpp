@@ -373,11 +373,14 @@ public:
     splitWhitespace(header.substr(std::strlen("ITEM: ATOMS")), tok);
     const ColumnLayout layout = resolveColumns(tok, in.path(), headerLine, {"diameter"});
     const ParticleLineParser parser(layout, in.path(), opt.defaultDensity);
-    snap.id.reserve(count);
-    snap.type.reserve(count);
-    snap.position.reserve(count);
-    snap.diameter.reserve(count);
-    snap.mass.reserve(count);
+    // The header's count is a claim until the lines are there: reserve no more
+    // than a million up front, so that a wrong count is reported, not a bad_alloc.
+    const auto expected = static_cast<std::size_t>(std::min<int64_t>(count, int64_t{1} << 20));
+    snap.id.reserve(expected);
+    snap.type.reserve(expected);
+    snap.position.reserve(expected);
+    snap.diameter.reserve(expected);
+    snap.mass.reserve(expected);
     std::string_view line;
     for (int64_t n = 0; n < count; ++n) {
       const bool got = in.next(line);

@@ -136,20 +136,24 @@ BoxSpec resolveMesh(const MeshRequest &req, const ParticleSnapshot &first, const
       throw std::runtime_error(text);
     }
   }
-  std::array<int, 3> n{};
+  double n[3] = {0, 0, 0};
+  const char *option = req.cells ? "-mesh_cells" : "-mesh_cell_size";
   if (req.cells) {
-    n = *req.cells;
+    for (int d = 0; d < 3; ++d) n[d] = (*req.cells)[d];
   } else if (req.cellSize > 0.0) {
-    for (int d = 0; d < 3; ++d)
-      n[d] = std::max(1, static_cast<int>(std::lround(box.length[d] / req.cellSize)));
+    for (int d = 0; d < 3; ++d) n[d] = std::max(1.0, std::round(box.length[d] / req.cellSize));
   } else {
     throw std::runtime_error("the mesh needs -mesh_cells nx,ny,nz or -mesh_cell_size h.");
   }
-  if (n[0] < 1 || n[1] < 1 || n[2] < 1)
-    throw std::runtime_error("-mesh_cells needs three positive counts.");
-  box.nx = n[0];
-  box.ny = n[1];
-  box.nz = n[2];
+  const std::string problem = BoxSpec::sizeProblem(n[0], n[1], n[2]);
+  if (!problem.empty()) {
+    char counts[96];
+    std::snprintf(counts, sizeof counts, " (%.0f x %.0f x %.0f) ", n[0], n[1], n[2]);
+    throw std::runtime_error(std::string(option) + counts + problem + ".");
+  }
+  box.nx = static_cast<int>(n[0]);
+  box.ny = static_cast<int>(n[1]);
+  box.nz = static_cast<int>(n[2]);
   return box;
 }
 
