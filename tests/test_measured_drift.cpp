@@ -1,0 +1,78 @@
+// The drift measured from particles: two hand-made particles in one cell
+// give their velocities relative to the cell's bulk by hand, with the
+// standard error of two frames; particles seen once or outside are left out;
+// the least-squares k_d recovers the k_d that made a drift.
+#include "check.hpp"
+
+#include "analysis/measured_drift.hpp"
+
+#include <cmath>
+#include <stdexcept>
+
+using namespace rcfd;
+
+namespace {
+
+ParticleSnapshot snapshot(const std::vector<int64_t> &id, const std::vector<double> &d,
+                          const std::vector<double> &z) {
+  ParticleSnapshot s;
+  s.id = id;
+  s.diameter = d;
+  for (std::size_t p = 0; p < id.size(); ++p) {
+    s.type.push_back(1);
+    s.position.push_back({0.01, 0.01, z[p]});
+    s.mass.push_back(1000.0 * M_PI / 6.0 * d[p] * d[p] * d[p]); // the large one weighs 8 small ones
+  }
+  return s;
+}
+
+} // namespace
+
+int main() {
+  SizeClasses classes;
+  classes.diameter = {1e-3, 2e-3};
+  BoxSpec cell;
+  cell.nx = cell.ny = cell.nz = 1;
+  cell.length = {0.02, 0.02, 0.02};
+  MeasuredDrift drift(classes, AxisMap{}, cell);
+  const double dt = 0.01;
+  // Frame 1: small +3e-4 m, large -1e-4 m; bulk (3e-4 - 8e-4) / 9.  Particle 3 is
+  // only in the first snapshot, particle 4 starts outside the mesh.
+  drift.add(snapshot({1, 2, 3, 4}, {1e-3, 2e-3, 1e-3, 1e-3}, {0.010, 0.012, 0.005, 0.05}),
+            snapshot({2, 1, 4}, {2e-3, 1e-3, 1e-3}, {0.0119, 0.0103, 0.0}), dt);
+  // Frame 2: small +1e-4 m, large -1e-4 m.
+  drift.add(snapshot({1, 2}, {1e-3, 2e-3}, {0.010, 0.012}), snapshot({1, 2}, {1e-3, 2e-3}, {0.0101, 0.0119}),
+            dt);
+  const auto r = drift.result();
+  RCFD_CHECK(r.size() == 2 && drift.framesAdded() == 2);
+  const double bulk1 = (3e-4 - 8e-4) / 9.0, bulk2 = (1e-4 - 8e-4) / 9.0;
+  const double s1 = (3e-4 - bulk1) / dt, s2 = (1e-4 - bulk2) / dt;
+  const double l1 = (-1e-4 - bulk1) / dt, l2 = (-1e-4 - bulk2) / dt;
+  RCFD_CHECK_CLOSE(r[0].velocity, 0.5 * (s1 + s2), 1e-12);
+  RCFD_CHECK_CLOSE(r[1].velocity, 0.5 * (l1 + l2), 1e-12);
+  // Two frame means: standard error |a - b| / 2.
+  RCFD_CHECK_CLOSE(r[0].standardError, std::fabs(s1 - s2) / 2.0, 1e-12);
+  RCFD_CHECK(r[0].particles == 2 && r[1].particles == 2 && r[0].frames == 2);
+  // Relative to the bulk: the mass-weighted drifts cancel in every frame.
+  RCFD_CHECK_CLOSE(r[0].velocity * 1.0 + r[1].velocity * 8.0, 0.0, 1e-12);
+  // The fit recovers k_d from drifts made with it, for both shapes.
+  const double kd = 4.2e3, d32 = 2.2e-3;
+  for (DriftLawShape shape : {DriftLawShape::A, DriftLawShape::B}) {
+    std::vector<MeasuredDrift::ClassDrift> made;
+    for (double d : {1.5e-3, 2.0e-3, 3.0e-3}) {
+      const double dd = d - d32, x = shape == DriftLawShape::A ? d * d - d32 * d32 : dd * std::fabs(dd);
+      made.push_back({d, -kd * x, 1e-4, 100, 10});
+    }
+    const DriftFit fit = fitDriftCoefficient(made, d32, shape);
+    RCFD_CHECK_CLOSE(fit.kd / kd, 1.0, 1e-12);
+    RCFD_CHECK(fit.chiSquarePerDof < 1e-20 && fit.standardError > 0.0);
+  }
+  bool refused = false;
+  try {
+    fitDriftCoefficient({{1e-3, 0.1, 0.0, 1, 1}}, 1e-3, DriftLawShape::B);
+  } catch (const std::invalid_argument &) {
+    refused = true;
+  }
+  RCFD_CHECK(refused);
+  return RCFD_TEST_RESULT();
+}
