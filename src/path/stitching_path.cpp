@@ -303,10 +303,12 @@ PetscErrorCode StitchingPath::setFromOptions(MPI_Comm comm) {
   PetscFunctionBeginUser;
   PetscCall(PetscStrncpy(norm, recurrenceNormName(norm_), sizeof norm));
   const std::string title = "Frame path " + kind + ": stitched sequences of frames";
+  if (optionsPrefix() == "path_") { // the option's name before paths read their own options
+    PetscOptionsBegin(comm, nullptr, title.c_str(), "rcfd");
+    PetscCall(PetscOptionsDeprecated("-recurrence_norm", "-path_recurrence_norm", "0.2", nullptr));
+    PetscOptionsEnd();
+  }
   PetscOptionsBegin(comm, optionsPrefix().c_str(), title.c_str(), "rcfd");
-  if (optionsPrefix() == "path_") // the option's name before paths read their own options
-    PetscCall(PetscOptionsDeprecated("-recurrence_norm", "-recurrence_norm", "0.2",
-                                     "Use -path_recurrence_norm"));
   PetscCall(PetscOptionsInt("-seed", "Seed of the stitching path", "", seed, &seed, nullptr));
   PetscCall(PetscOptionsInt("-start", "Frame of the first step", "", start, &start, nullptr));
   PetscCall(PetscOptionsInt("-min_length", "Shortest sequence [frames] (default: by kind)", "",
