@@ -42,12 +42,12 @@ class Monitor {
 public:
   virtual ~Monitor() = default;
   /// Collective.  `state` gives the layout of the masses the monitor will see.
+  /// The default does nothing.
   virtual PetscErrorCode setUp(const RunContext &run, const FractionState &state,
-                               const std::string &outputDirectory) {
-    return PETSC_SUCCESS;
-  }
+                               const std::string &outputDirectory);
   virtual PetscErrorCode sample(const MonitorContext &ctx) = 0;
-  virtual PetscErrorCode flush() { return PETSC_SUCCESS; }
+  /// The default does nothing.
+  virtual PetscErrorCode flush();
 };
 
 /// A monitor given as a function.

@@ -304,7 +304,7 @@ PetscErrorCode StitchingPath::setFromOptions(MPI_Comm comm) {
   PetscCall(PetscStrncpy(norm, recurrenceNormName(norm_), sizeof norm));
   const std::string title = "Frame path " + kind + ": stitched sequences of frames";
   if (optionsPrefix() == "path_") { // the option's name before paths read their own options
-    PetscOptionsBegin(comm, nullptr, title.c_str(), "rcfd");
+    PetscOptionsBegin(comm, nullptr, "Frame path: renamed options", "rcfd");
     PetscCall(PetscOptionsDeprecated("-recurrence_norm", "-path_recurrence_norm", "0.2", nullptr));
     PetscOptionsEnd();
   }
