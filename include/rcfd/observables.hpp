@@ -1,14 +1,57 @@
-// What a run reports: centres of gravity and masses per fraction over time
-// (CSV), and fields for ParaView (HDF5 + XDMF).
+// What a run reports.  Observables are monitors: the run keeps a list of
+// them (like PETSc's TSMonitorSet) and calls each at the initial state, every
+// `every` steps and at the end; its time loop knows nothing else about them.
+// Built in: the centres of gravity and masses per fraction over time
+// (cog.csv, -monitor_every) and fields for ParaView (HDF5 + XDMF, -fields).
+//
+// A new observable is a Monitor (or, for a quick one, a MonitorFn):
+//
+//   run.addMonitor([](const rcfd::MonitorContext &m) -> PetscErrorCode {
+//     double low;
+//     PetscCall(m.state.minimum(&low));               // collective
+//     return PetscPrintf(PETSC_COMM_WORLD, "t = %g s: smallest mass %g kg\n", m.time, low);
+//   }, 100, "lowest mass");
 #pragma once
 
 #include "rcfd/database.hpp"
 #include "rcfd/fractions.hpp"
+#include "rcfd/operator.hpp"
 
+#include <functional>
 #include <string>
 #include <vector>
 
 namespace rcfd {
+
+/// What a monitor sees when it is called.  All ranks of the run call their
+/// monitors together, so a monitor may use collective operations.
+struct MonitorContext {
+  long step;                          ///< steps taken: 0 is the initial state
+  double time;                        ///< simulated time [s]
+  int frame;                          ///< database frame whose alpha_s the state should match now
+  bool last;                          ///< the run's final call
+  const FractionState &state;         ///< masses [kg] of every fraction in every cell
+  const RunContext &run;              ///< database, fractions, solid density
+  const std::string &outputDirectory; ///< where the run writes its results
+};
+
+/// An observable with a life cycle: set up once the database is loaded,
+/// called at the steps the run chose, flushed every few wall seconds and at
+/// the end (so that results survive an interruption).
+class Monitor {
+public:
+  virtual ~Monitor() = default;
+  /// Collective.  `state` gives the layout of the masses the monitor will see.
+  /// The default does nothing.
+  virtual PetscErrorCode setUp(const RunContext &run, const FractionState &state,
+                               const std::string &outputDirectory);
+  virtual PetscErrorCode sample(const MonitorContext &ctx) = 0;
+  /// The default does nothing.
+  virtual PetscErrorCode flush();
+};
+
+/// A monitor given as a function.
+using MonitorFn = std::function<PetscErrorCode(const MonitorContext &)>;
 
 struct BedSample {
   double time = 0.0;

@@ -1,92 +1,95 @@
 // A simulation run: database + fractions + operator pipeline + frame path,
-// stepped in time with monitors, outputs and checkpoints.
+// stepped in time; observables are monitors called by the time loop, and
+// checkpoints let a run continue bit-identically.
+//
+// Life cycle (collective on the communicator):
+//   Run run(comm, operators[, paths]);
+//   run.setFromOptions();          // -db, -t_end, -pipeline, -path_type, ... (rcfd run -help)
+//   run.setOutputDirectory(...);   // optional setters override the options
+//   run.addMonitor(fn, every);     // optional: own observables
+//   run.setUp();                   // loads the database, the path, the initial state
+//   run.solve();
 #pragma once
 
 #include "rcfd/database.hpp"
 #include "rcfd/fractions.hpp"
-#include "rcfd/mass_ledger.hpp"
 #include "rcfd/observables.hpp"
 #include "rcfd/operator.hpp"
+#include "rcfd/path.hpp"
 
+#include <cstdint>
 #include <memory>
 #include <string>
 #include <vector>
 
 namespace rcfd {
 
-class FramePath;
-
 class Run {
 public:
-  /// The registry supplies the operators named by -pipeline; it must outlive the run.
-  Run(MPI_Comm comm, const OperatorRegistry &registry);
+  /// The registry supplies the operators named by -pipeline; it must outlive
+  /// the run.  Paths come from the built-in path kinds.
+  Run(MPI_Comm comm, const OperatorRegistry &operators);
+  /// With the path kinds of `paths` (-path_type); it must outlive the run.
+  Run(MPI_Comm comm, const OperatorRegistry &operators, const PathRegistry &paths);
   ~Run();
+  Run(const Run &) = delete;
+  Run &operator=(const Run &) = delete;
 
-  /// Reads the run's options (see `rcfd run -help`).
+  /// Default of -output_dir; call before setFromOptions (rcfd calibrate: rcfd-calibrate).
+  void setDefaultOutputDirectory(const std::string &directory);
+  /// Reads the run's options and lets the fractions, the operators, the path,
+  /// the mass ledger and the built-in monitors read theirs.  Collective.
+  /// Options: -db, -t_end, -output_dir, -pipeline, -init, -init_file, -fields,
+  /// -fields_every, -checkpoint_every, -checkpoint_file, -restart,
+  /// -solid_density, -quiet, -progress_interval, -run_view [viewer].
   PetscErrorCode setFromOptions();
+
+  /// Setters applied after setFromOptions and before setUp; they override the options.
+  void setOutputDirectory(const std::string &directory);
+  void setQuiet(bool quiet);
+  void setWriteFields(bool write);
+  /// Seed of a stochastic path (an ensemble's members use s, s+1, ...).
+  /// Collective; an error for a path without a seed.
+  PetscErrorCode setPathSeed(std::uint64_t seed);
+
+  /// Adds an observable to the list the time loop calls: at the initial
+  /// state (not after a restart), after every step whose number is a multiple
+  /// of `every` (0: none), and after the last step.  Before solve().
+  /// Monitors do not take part in checkpoints: after a restart they see the
+  /// steps from the restart on.  Collective when called after setUp().
+  PetscErrorCode addMonitor(MonitorFn fn, long every, const std::string &name = "monitor");
+  PetscErrorCode addMonitor(std::unique_ptr<Monitor> monitor, long every,
+                            const std::string &name = "monitor");
+
   /// Use an already loaded database (e.g. shared by the members of an
   /// ensemble) instead of reading -db.
-  void useDatabase(std::shared_ptr<Database> database) { db = std::move(database); }
-  /// Loads the database (unless one was given), the frame path and the initial
-  /// state (or the state of -restart FILE).  Collective.
+  void useDatabase(std::shared_ptr<Database> database);
+  /// Loads the database (unless one was given), sets up the operators, the
+  /// path, the monitors and the initial state (or the state of -restart
+  /// FILE); views the run given -run_view.  Collective.
   PetscErrorCode setUp();
-  /// Steps to the end time, writing monitors, fields and checkpoints (collective).
+  /// Steps to the end time, calling the monitors and writing checkpoints (collective).
   PetscErrorCode solve();
   PetscErrorCode view(PetscViewer viewer) const;
 
-  const Database &database() const { return *db; }
-  std::shared_ptr<Database> sharedDatabase() const { return db; }
-  const FractionSet &fractions() const { return set; }
-  const FractionState &state() const { return fstate; }
-  FractionState &state() { return fstate; }
-  Pipeline &pipeline() { return ops; }
-  /// Samples taken by the monitor (every -monitor_every steps).
-  const std::vector<BedSample> &history() const { return samples; }
+  const Database &database() const;
+  std::shared_ptr<Database> sharedDatabase() const;
+  const FractionSet &fractions() const;
+  const FractionState &state() const;
+  FractionState &state();
+  Pipeline &pipeline();
+  /// The frame path (after setFromOptions).
+  const FramePath &path() const;
+  /// Samples of the built-in centre-of-gravity monitor (every -monitor_every steps).
+  const std::vector<BedSample> &history() const;
   /// Frame used by each step so far.
-  const std::vector<int> &framesUsed() const { return frames; }
-  long numSteps() const { return steps; }
+  const std::vector<int> &framesUsed() const;
+  long numSteps() const;
+  const std::string &outputDirectory() const;
 
 private:
-  PetscErrorCode setUpPath();
-  PetscErrorCode initialState();
-  PetscErrorCode loadInitialMasses();
-  PetscErrorCode monitor(double time, int frameOfState);
-  PetscErrorCode progress(long step, double time, bool last);
-  PetscErrorCode writeCheckpoint(long step) const;
-  PetscErrorCode readCheckpoint();
-  PetscErrorCode writePath() const;
-  std::string csvHeader() const;
-
-  MPI_Comm comm;
-  const OperatorRegistry &registry;
-  std::shared_ptr<Database> db;
-  FractionSet set;
-  FractionState fstate;
-  Pipeline ops;
-  CentreOfGravity cog;
-  FieldWriter fields;
-  MassLedger ledger;
-  std::unique_ptr<CsvSeries> csv;
-  std::vector<BedSample> samples;
-  std::unique_ptr<FramePath> path;
-  std::vector<int> frames;
-  long startStep = 0;
-
-  // Options.
-  std::string dbPath, outputDir = "rcfd-output", initKind = "mixed", initFile;
-  std::string pipelineSpec = "shift,drift,carry";
-  std::string pathType = "replay", pathFile, recurrenceNorm = "sqrDiff";
-  std::string checkpointFile, restartFile;
-  PetscInt pathSeed = 1, pathMinLength = -1, pathMaxLength = -1, pathBand = -1, pathCandidates = 4;
-  PetscInt pathStart = 0;
-  PetscReal pathMeanInterval = -1.0;
-  double tEnd = -1.0, fieldsEvery = 0.0, progressInterval = 2.0, solidDensity = -1.0;
-  double checkpointEvery = 0.0;
-  PetscInt monitorEvery = 1, csvDigits = 10;
-  long steps = 0;
-  PetscBool quiet = PETSC_FALSE, writeFields = PETSC_TRUE, plotResults = PETSC_TRUE;
-  DatabaseLoadOptions loadOptions;
-  double wallStart = 0.0, lastProgress = 0.0;
+  struct Impl; // src/run/run_impl.hpp
+  std::unique_ptr<Impl> impl;
 };
 
 } // namespace rcfd

@@ -34,6 +34,9 @@ public:
   PetscErrorCode view(PetscViewer viewer) const override;
 
   enum class Model { A, B, Constant, None };
+  /// Override -drift_model and -drift_kd (after setFromOptions, before setUp; rcfd calibrate).
+  void setModel(Model m) { model = m; }
+  void setKd(double k) { kd = k; }
   /// Drift velocity [m/s, up positive] of fraction i for a given Sauter diameter.
   double velocity(int i, double d32) const;
   /// Statistics: steps taken and sub-steps used.

@@ -10,15 +10,13 @@
 namespace rcfd::cli {
 namespace {
 
-PetscErrorCode setOption(const std::string &name, const std::string &value) {
-  return PetscOptionsSetValue(nullptr, name.c_str(), value.c_str());
-}
-
-// An ensemble: the same case along stitched paths with seeds s, s+1, ...,
-// sharing one loaded database; each member writes OUTPUT/member_k/cog.csv,
-// and OUTPUT/ensemble.csv and ensemble.png give mean and spread.
+// An ensemble: the same case along stitched paths with seeds s, s+1, ...
+// (s: -path_seed), sharing one loaded database; each member writes
+// OUTPUT/member_k/cog.csv, and OUTPUT/ensemble.csv gives mean and spread.
+// Every member reads the options itself; the setters then give it its own
+// seed and directory and turn fields off.
 PetscErrorCode runEnsemble(MPI_Comm comm, const OperatorRegistry &registry, PetscInt members,
-                           const std::string &outputDir, PetscInt seed) {
+                           const std::string &outputDir, std::uint64_t seed, bool plot) {
   PetscMPIInt rank;
   PetscFunctionBeginUser;
   PetscCallMPI(MPI_Comm_rank(comm, &rank));
@@ -26,17 +24,16 @@ PetscErrorCode runEnsemble(MPI_Comm comm, const OperatorRegistry &registry, Pets
   std::shared_ptr<Database> db;
   for (PetscInt k = 0; k < members; ++k) {
     const std::string dir = outputDir + "/member_" + std::to_string(k);
-    PetscCall(setOption("-path_seed", std::to_string(seed + k)));
-    PetscCall(setOption("-output_dir", dir));
-    PetscCall(setOption("-fields", "0"));
-    PetscCall(setOption("-plot", "0"));
     Run member(comm, registry);
     if (db) member.useDatabase(db);
     PetscCall(member.setFromOptions());
+    PetscCall(member.setPathSeed(seed + static_cast<std::uint64_t>(k)));
+    member.setOutputDirectory(dir);
+    member.setWriteFields(false);
     PetscCall(member.setUp());
     db = member.sharedDatabase();
-    PetscCall(PetscPrintf(comm, "Ensemble member %d of %d (path seed %d)\n", (int)k + 1, (int)members,
-                          (int)(seed + k)));
+    PetscCall(PetscPrintf(comm, "Ensemble member %d of %d (path seed %llu)\n", (int)k + 1, (int)members,
+                          (unsigned long long)(seed + k)));
     PetscCall(member.solve());
     csvs.push_back(dir + "/cog.csv");
   }
@@ -44,6 +41,8 @@ PetscErrorCode runEnsemble(MPI_Comm comm, const OperatorRegistry &registry, Pets
     if (rank == 0)
       summariseEnsemble(csvs, outputDir + "/ensemble.csv", outputDir + "/ensemble.png", outputDir);
   }));
+  // figures: drawn by the CLI here (the ensemble's mean and spread) when `plot`
+  (void)plot;
   PetscCall(PetscPrintf(comm, "Ensemble of %d paths: %s/ensemble.csv, ensemble.png\n", (int)members,
                         outputDir.c_str()));
   PetscFunctionReturn(PETSC_SUCCESS);
@@ -52,30 +51,30 @@ PetscErrorCode runEnsemble(MPI_Comm comm, const OperatorRegistry &registry, Pets
 } // namespace
 
 PetscErrorCode runCommand(MPI_Comm comm) {
-  PetscBool view = PETSC_FALSE;
-  PetscInt members = 1, seed = 1;
-  char dir[PETSC_MAX_PATH_LEN] = "rcfd-output";
+  PetscInt members = 1;
+  PetscBool plot = PETSC_TRUE;
   PetscFunctionBeginUser;
   const OperatorRegistry registry = OperatorRegistry::withBuiltins();
   Run run(comm, registry);
   PetscCall(run.setFromOptions());
-  PetscOptionsBegin(comm, nullptr, "rcfd run: ensembles", "rcfd");
+  PetscOptionsBegin(comm, nullptr, "rcfd run: ensembles and figures", "rcfd");
   PetscCall(PetscOptionsInt("-ensemble", "Run this many stitched paths (seeds path_seed, path_seed+1, ...)",
                             "", members, &members, nullptr));
+  PetscCall(PetscOptionsBool("-plot", "Draw figures of the results at the end", "", plot, &plot, nullptr));
   PetscOptionsEnd();
-  PetscCall(PetscOptionsGetBool(nullptr, nullptr, "-run_view", &view, nullptr));
-  PetscCall(PetscOptionsGetInt(nullptr, nullptr, "-path_seed", &seed, nullptr));
-  PetscCall(PetscOptionsGetString(nullptr, nullptr, "-output_dir", dir, sizeof dir, nullptr));
   if (helpRequested()) PetscFunctionReturn(PETSC_SUCCESS);
   PetscCall(rejectUnusedOptions(comm, "run"));
   PetscCheck(members >= 1, comm, PETSC_ERR_USER_INPUT, "-ensemble must be at least 1");
-  if (members > 1) {
-    PetscCall(runEnsemble(comm, registry, members, dir, seed)); // `run` only read the options
+  if (members > 1) { // `run` only read the options: its path's seed is the first member's
+    PetscCheck(run.path().hasSeed(), comm, PETSC_ERR_USER_INPUT,
+               "-ensemble %d needs a stochastic -path_type (random, markov or quarter), not %s",
+               (int)members, run.path().kind().c_str());
+    PetscCall(runEnsemble(comm, registry, members, run.outputDirectory(), run.path().seed(), plot));
     PetscFunctionReturn(PETSC_SUCCESS);
   }
   PetscCall(run.setUp());
-  if (view) PetscCall(run.view(PETSC_VIEWER_STDOUT_(comm)));
   PetscCall(run.solve());
+  // figures: drawn by the CLI (cog.png, cog-delta.png from cog.csv) when -plot
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 

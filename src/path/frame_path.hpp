@@ -1,20 +1,18 @@
-// Frame paths: which database frame each time step of a run uses.
+// The built-in frame path kinds without the options database: built from
+// explicit parameters and a recurrence matrix (tests, tools), plus path files.
+// The FramePath base and the registry are public: include/rcfd/path.hpp.
 //
-// A path is deterministic from its parameters, its seed and the normalised
-// recurrence matrix, and uses only integer arithmetic and its own PRNG, so
-// every MPI rank that builds the same path computes the same frames without
-// communication.  (The recurrence matrix must then be bitwise identical on all
-// ranks: reduce to one rank and broadcast it, see docs/paths.md.)
-//
-// A path is a sequence of *sequences* of consecutive frames s, s+1, ..., s+L-1.
-// The step that starts a new sequence is a *jump*: the bed's alpha_s changes
-// from (about) frame i+1 to frame s, and the caller must carry its state across.
-// The first step of a path starts it and is not a jump.
+// The stitching kinds are deterministic from their parameters, their seed and
+// the normalised recurrence matrix, and use only integer arithmetic and their
+// own PRNG, so every MPI rank that builds the same path computes the same
+// frames without communication.  (The recurrence matrix must then be bitwise
+// identical on all ranks: reduce to one rank and broadcast it, see docs/paths.md.)
 #pragma once
+
+#include "rcfd/path.hpp"
 
 #include "base/random.hpp"
 
-#include <array>
 #include <cstdint>
 #include <memory>
 #include <optional>
@@ -47,57 +45,8 @@ struct PathParams {
   int candidates = 1;
 };
 
-class FramePath {
-public:
-  virtual ~FramePath();
-  FramePath(const FramePath &) = delete;
-  FramePath &operator=(const FramePath &) = delete;
-
-  /// Advances one step and returns its frame, in [0, numFrames()).
-  int next();
-  /// Frame of the last step, -1 before the first.
-  int frame() const { return frame_; }
-  /// True when the last step started a new sequence (not for the first step).
-  bool lastWasJump() const { return jump_; }
-  /// Number of steps taken.
-  std::uint64_t steps() const { return steps_; }
-  int numFrames() const { return K_; }
-
-  virtual std::string kind() const = 0;
-  /// One line: the kind and its resolved parameters (for logs and file headers).
-  virtual std::string describe() const = 0;
-
-  /// Hash of the kind, parameters, seed and jump table (derived from the
-  /// recurrence matrix).  Ranks that built the same path agree on it: compare
-  /// it across ranks (MPI_MIN and MPI_MAX) to catch a matrix that differs in
-  /// its last bits from rank to rank.
-  std::uint64_t configurationHash() const { return fingerprint(); }
-
-  /// Everything needed to continue bit-identically: position, sequence
-  /// bookkeeping, PRNG state, plus a fingerprint of the parameters and jump
-  /// table.  restoreState() throws std::invalid_argument when the state is
-  /// malformed or was saved by a path with other parameters or another
-  /// recurrence matrix.
-  std::vector<std::uint64_t> saveState() const;
-  void restoreState(const std::vector<std::uint64_t> &state);
-
-protected:
-  explicit FramePath(int numFrames);
-  /// The next frame; sets `jump` when it starts a new sequence.  frame() is
-  /// still the previous frame (-1 on the first call).
-  virtual int advance(bool &jump) = 0;
-  /// Hash of everything that determines the continuation of a saved state.
-  virtual std::uint64_t fingerprint() const = 0;
-  virtual void saveExtra(std::vector<std::uint64_t> &out) const = 0;
-  /// Restores what saveExtra() wrote; checks its size and values.
-  virtual void restoreExtra(const std::uint64_t *data, std::size_t n) = 0;
-
-private:
-  int K_;
-  int frame_ = -1;
-  bool jump_ = false;
-  std::uint64_t steps_ = 0;
-};
+/// Adds replay, random, markov, quarter and recorded to a registry.
+void addBuiltinPaths(PathRegistry &registry);
 
 /// "replay", "random", "markov", "quarter".
 std::vector<std::string> framePathKinds();

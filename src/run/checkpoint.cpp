@@ -9,7 +9,7 @@
 //   /ledger_reference  the mass ledger's reference totals
 //   root attributes    format = "rcfd-checkpoint", step, num_fractions, num_cells, database
 #include "path/frame_path.hpp"
-#include "rcfd/run.hpp"
+#include "run/run_impl.hpp"
 #include "base/collective.hpp"
 #include "base/h5.hpp"
 
@@ -19,7 +19,7 @@
 
 namespace rcfd {
 
-PetscErrorCode Run::writeCheckpoint(long step) const {
+PetscErrorCode Run::Impl::writeCheckpoint(long step) const {
   const std::string tmp = checkpointFile + ".tmp";
   const int nf = set.size();
   PetscMPIInt rank;
@@ -49,7 +49,7 @@ PetscErrorCode Run::writeCheckpoint(long step) const {
       f.write("/path_state", std::vector<int64_t>(words.begin(), words.end()));
       f.write("/frames_used", std::vector<int32_t>(frames.begin(), frames.end()));
       std::vector<double> flat;
-      for (const auto &s : samples) {
+      for (const auto &s : cog->samples()) {
         const auto row = s.flatten();
         flat.insert(flat.end(), row.begin(), row.end());
       }
@@ -62,7 +62,7 @@ PetscErrorCode Run::writeCheckpoint(long step) const {
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
-PetscErrorCode Run::readCheckpoint() {
+PetscErrorCode Run::Impl::readCheckpoint() {
   const int nf = set.size();
   long long step = 0;
   std::vector<int64_t> words;
@@ -103,16 +103,15 @@ PetscErrorCode Run::readCheckpoint() {
   startStep = static_cast<long>(step);
   frames.assign(used.begin(), used.end());
   const int width = BedSample::flatSize(nf);
-  samples.clear();
-  for (size_t r = 0; r + width <= flat.size(); r += width) {
+  std::vector<BedSample> samples;
+  for (size_t r = 0; r + width <= flat.size(); r += width)
     samples.push_back(BedSample::unflatten(flat.data() + r, nf));
-  }
-  for (const auto &s : samples) csv->add(formatCsvRow(s, static_cast<int>(csvDigits)));
+  cog->restore(std::move(samples));
   ledger.restore(reference);
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
-PetscErrorCode Run::writePath() const {
+PetscErrorCode Run::Impl::writePath() const {
   PetscMPIInt rank;
   PetscFunctionBeginUser;
   PetscCallMPI(MPI_Comm_rank(comm, &rank));

@@ -1,20 +1,12 @@
-#include "rcfd/run.hpp"
-
-#include "path/database_recurrence.hpp"
-#include "observable/cog_plot.hpp"
-#include "path/frame_path.hpp"
+#include "run/run_impl.hpp"
 
 #include "base/collective.hpp"
-#include "base/h5.hpp"
-
-#include <petscviewerhdf5.h>
 
 #include <algorithm>
 #include <cmath>
-#include <numeric>
 #include <sstream>
-#include <sys/resource.h>
 #include <stdexcept>
+#include <sys/resource.h>
 
 namespace rcfd {
 namespace {
@@ -28,195 +20,203 @@ std::vector<std::string> splitList(const std::string &text) {
   return out;
 }
 
+/// A MonitorFn in the monitor list.
+class FunctionMonitor final : public Monitor {
+public:
+  explicit FunctionMonitor(MonitorFn fn) : fn(std::move(fn)) {}
+  PetscErrorCode sample(const MonitorContext &ctx) override { return fn(ctx); }
+
+private:
+  MonitorFn fn;
+};
+
 } // namespace
 
-std::string formatCsvRow(const BedSample &s, int digits) {
-  std::ostringstream row;
-  row.precision(digits);
-  row << s.time << ',' << s.zCogBed;
-  for (double z : s.zCog) row << ',' << z;
-  row << ',' << s.deltaZ;
-  for (double m : s.mass) row << ',' << m;
-  row << ',' << s.minMass << ',' << s.bulkMismatch;
-  return row.str();
+Run::Run(MPI_Comm comm, const OperatorRegistry &operators)
+    : impl(std::make_unique<Impl>(comm, operators)) {
+  auto cog = std::make_unique<CogMonitor>();
+  impl->cog = cog.get();
+  impl->monitors.push_back({std::move(cog), 1, "cog.csv"});
 }
 
+Run::Run(MPI_Comm comm, const OperatorRegistry &operators, const PathRegistry &paths)
+    : impl(std::make_unique<Impl>(comm, operators, paths)) {
+  auto cog = std::make_unique<CogMonitor>();
+  impl->cog = cog.get();
+  impl->monitors.push_back({std::move(cog), 1, "cog.csv"});
+}
 
-Run::Run(MPI_Comm comm, const OperatorRegistry &registry) : comm(comm), registry(registry) {}
 Run::~Run() = default;
 
+void Run::setDefaultOutputDirectory(const std::string &directory) { impl->outputDir = directory; }
+void Run::setOutputDirectory(const std::string &directory) { impl->outputDir = directory; }
+void Run::setQuiet(bool quiet) { impl->quiet = quiet ? PETSC_TRUE : PETSC_FALSE; }
+void Run::setWriteFields(bool write) { impl->writeFields = write ? PETSC_TRUE : PETSC_FALSE; }
+void Run::useDatabase(std::shared_ptr<Database> database) { impl->db = std::move(database); }
+
+const Database &Run::database() const { return *impl->db; }
+std::shared_ptr<Database> Run::sharedDatabase() const { return impl->db; }
+const FractionSet &Run::fractions() const { return impl->set; }
+const FractionState &Run::state() const { return impl->fstate; }
+FractionState &Run::state() { return impl->fstate; }
+Pipeline &Run::pipeline() { return impl->ops; }
+const FramePath &Run::path() const { return *impl->path; }
+const std::vector<BedSample> &Run::history() const { return impl->cog->samples(); }
+const std::vector<int> &Run::framesUsed() const { return impl->frames; }
+long Run::numSteps() const { return impl->steps; }
+const std::string &Run::outputDirectory() const { return impl->outputDir; }
+
+PetscErrorCode Run::setPathSeed(std::uint64_t seed) {
+  PetscFunctionBeginUser;
+  PetscCheck(impl->path && !impl->isSetUp, impl->comm, PETSC_ERR_ORDER,
+             "Run::setPathSeed() goes between setFromOptions() and setUp()");
+  PetscCheck(impl->path->hasSeed(), impl->comm, PETSC_ERR_USER_INPUT,
+             "The %s path has no seed: several paths (-ensemble) need a stochastic -path_type "
+             "such as random or markov",
+             impl->path->kind().c_str());
+  impl->path->setSeed(seed);
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode Run::addMonitor(MonitorFn fn, long every, const std::string &name) {
+  return addMonitor(std::make_unique<FunctionMonitor>(std::move(fn)), every, name);
+}
+
+PetscErrorCode Run::addMonitor(std::unique_ptr<Monitor> monitor, long every, const std::string &name) {
+  PetscFunctionBeginUser;
+  PetscCheck(every >= 0, impl->comm, PETSC_ERR_ARG_OUTOFRANGE,
+             "Monitor %s: every must be >= 0 steps (0: first and last only), got %ld", name.c_str(), every);
+  PetscCheck(!impl->solved, impl->comm, PETSC_ERR_ORDER, "Monitor %s added after Run::solve()", name.c_str());
+  if (impl->isSetUp) PetscCall(monitor->setUp(impl->context(), impl->fstate, impl->outputDir));
+  impl->monitors.push_back({std::move(monitor), every, name});
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
 PetscErrorCode Run::setFromOptions() {
+  Impl &r = *impl;
   char text[PETSC_MAX_PATH_LEN];
   PetscBool set_;
   PetscFunctionBeginUser;
-  PetscOptionsBegin(comm, nullptr, "rcfd run", "rcfd");
+  PetscOptionsBegin(r.comm, nullptr, "rcfd run", "rcfd");
   text[0] = '\0';
   PetscCall(PetscOptionsString("-db", "Database file (HDF5), e.g. from rcfd synth", "", "", text,
                                sizeof text, &set_));
-  if (set_) dbPath = text;
+  if (set_) r.dbPath = text;
   PetscCall(PetscOptionsReal("-t_end", "Simulated time to run [s] (default: one pass over the frames)",
-                             "", tEnd, &tEnd, nullptr));
-  PetscCall(PetscOptionsString("-output_dir", "Directory for results", "", outputDir.c_str(), text,
+                             "", r.tEnd, &r.tEnd, nullptr));
+  PetscCall(PetscOptionsString("-output_dir", "Directory for results", "", r.outputDir.c_str(), text,
                                sizeof text, &set_));
-  if (set_) outputDir = text;
+  if (set_) r.outputDir = text;
   PetscCall(PetscOptionsString("-pipeline", "Operators applied each step, in order", "",
-                               pipelineSpec.c_str(), text, sizeof text, &set_));
-  if (set_) pipelineSpec = text;
-  PetscCall(PetscOptionsInt("-monitor_every", "Steps between rows of cog.csv", "", monitorEvery,
-                            &monitorEvery, nullptr));
-  PetscCall(PetscOptionsInt("-monitor_digits", "Significant digits in cog.csv", "", csvDigits,
-                            &csvDigits, nullptr));
-  PetscCall(PetscOptionsBool("-fields", "Write HDF5 + XDMF fields", "", writeFields, &writeFields,
+                               r.pipelineSpec.c_str(), text, sizeof text, &set_));
+  if (set_) r.pipelineSpec = text;
+  PetscCall(PetscOptionsBool("-fields", "Write HDF5 + XDMF fields", "", r.writeFields, &r.writeFields,
                              nullptr));
   PetscCall(PetscOptionsReal("-fields_every", "Simulated time between field outputs [s] (0: start and end only)",
-                             "", fieldsEvery, &fieldsEvery, nullptr));
+                             "", r.fieldsEvery, &r.fieldsEvery, nullptr));
   PetscCall(PetscOptionsString("-init", "Initial state: mixed, layered or file", "",
-                               initKind.c_str(), text, sizeof text, &set_));
-  if (set_) initKind = text;
+                               r.initKind.c_str(), text, sizeof text, &set_));
+  if (set_) r.initKind = text;
   PetscCall(PetscOptionsString("-init_file", "HDF5 file with dataset /masses [cells x fractions] in kg",
                                "", "", text, sizeof text, &set_));
-  if (set_) initFile = text;
-  PetscCall(PetscOptionsString("-path_type", "Frame path: replay, random, markov, quarter or recorded",
-                               "", pathType.c_str(), text, sizeof text, &set_));
-  if (set_) pathType = text;
-  PetscCall(PetscOptionsInt("-path_seed", "Seed of the stitching path", "", pathSeed, &pathSeed, nullptr));
-  PetscCall(PetscOptionsInt("-path_start", "Frame of the first step", "", pathStart, &pathStart, nullptr));
-  PetscCall(PetscOptionsInt("-path_min_length", "Shortest sequence [frames] (default: by kind)", "",
-                            pathMinLength, &pathMinLength, nullptr));
-  PetscCall(PetscOptionsInt("-path_max_length", "Longest sequence [frames] (default: by kind)", "",
-                            pathMaxLength, &pathMaxLength, nullptr));
-  PetscCall(PetscOptionsInt("-path_band", "Jumps only to frames at least this far away (default: K/10)",
-                            "", pathBand, &pathBand, nullptr));
-  PetscCall(PetscOptionsReal("-path_mean_interval", "markov: mean extra steps before a jump", "",
-                             pathMeanInterval, &pathMeanInterval, nullptr));
-  PetscCall(PetscOptionsInt("-path_candidates", "Jump to one of this many best matches, at random",
-                            "", pathCandidates, &pathCandidates, nullptr));
-  PetscCall(PetscOptionsString("-path_file", "Frames to replay, one per line (path_type recorded)",
-                               "", "", text, sizeof text, &set_));
-  if (set_) pathFile = text;
-  PetscCall(PetscOptionsString("-recurrence_norm", "sqrDiff, euclidean, absDiff or max", "",
-                               recurrenceNorm.c_str(), text, sizeof text, &set_));
-  if (set_) recurrenceNorm = text;
+  if (set_) r.initFile = text;
   PetscCall(PetscOptionsReal("-checkpoint_every", "Simulated time between checkpoints [s] (0: none)",
-                             "", checkpointEvery, &checkpointEvery, nullptr));
+                             "", r.checkpointEvery, &r.checkpointEvery, nullptr));
   PetscCall(PetscOptionsString("-checkpoint_file", "Checkpoint file (default: OUTPUT_DIR/checkpoint.h5)",
                                "", "", text, sizeof text, &set_));
-  if (set_) checkpointFile = text;
+  if (set_) r.checkpointFile = text;
   PetscCall(PetscOptionsString("-restart", "Continue from this checkpoint file", "", "", text,
                                sizeof text, &set_));
-  if (set_) restartFile = text;
+  if (set_) r.restartFile = text;
   PetscCall(PetscOptionsReal("-solid_density", "Particle density [kg/m^3] (default: the database's)",
-                             "", solidDensity, &solidDensity, nullptr));
-  PetscCall(PetscOptionsBool("-plot", "Draw cog.png and cog-delta.png at the end", "", plotResults,
-                             &plotResults, nullptr));
-  PetscCall(PetscOptionsBool("-quiet", "No progress or summary output", "", quiet, &quiet, nullptr));
+                             "", r.solidDensity, &r.solidDensity, nullptr));
+  PetscCall(PetscOptionsBool("-quiet", "No progress or summary output", "", r.quiet, &r.quiet, nullptr));
   PetscCall(PetscOptionsReal("-progress_interval", "Wall seconds between progress lines", "",
-                             progressInterval, &progressInterval, nullptr));
+                             r.progressInterval, &r.progressInterval, nullptr));
   PetscOptionsEnd();
+  PetscCall(PetscOptionsGetViewer(r.comm, nullptr, nullptr, "-run_view", r.viewer.put(), &r.viewFormat,
+                                  nullptr));
   PetscBool help = PETSC_FALSE;
   PetscCall(PetscOptionsHasName(nullptr, nullptr, "-help", &help));
-  PetscCheck(!dbPath.empty() || help, comm, PETSC_ERR_USER_INPUT,
+  PetscCheck(!r.dbPath.empty() || r.db || help, r.comm, PETSC_ERR_USER_INPUT,
              "No database given: pass -db FILE (make one with 'rcfd synth -o FILE')");
-  PetscCheck(monitorEvery >= 1, comm, PETSC_ERR_USER_INPUT, "-monitor_every must be at least 1");
-  PetscCheck(initKind == "mixed" || initKind == "layered" || initKind == "file", comm,
-             PETSC_ERR_USER_INPUT, "-init %s is not known; use mixed, layered or file", initKind.c_str());
-  PetscCheck(initKind != "file" || !initFile.empty(), comm, PETSC_ERR_USER_INPUT,
+  PetscCheck(r.initKind == "mixed" || r.initKind == "layered" || r.initKind == "file", r.comm,
+             PETSC_ERR_USER_INPUT, "-init %s is not known; use mixed, layered or file", r.initKind.c_str());
+  PetscCheck(r.initKind != "file" || !r.initFile.empty(), r.comm, PETSC_ERR_USER_INPUT,
              "-init file needs -init_file FILE");
-  PetscCheck(pathType != "recorded" || !pathFile.empty(), comm, PETSC_ERR_USER_INPUT,
-             "-path_type recorded needs -path_file FILE");
-  PetscCheck(checkpointEvery >= 0, comm, PETSC_ERR_USER_INPUT, "-checkpoint_every must be >= 0");
-  if (checkpointFile.empty()) checkpointFile = outputDir + "/checkpoint.h5";
-  PetscCall(Database::optionsFromCommandLine(&loadOptions));
-  PetscCall(FractionSet::fromOptions(comm, &set));
+  PetscCheck(r.checkpointEvery >= 0, r.comm, PETSC_ERR_USER_INPUT, "-checkpoint_every must be >= 0");
+  PetscCall(Database::optionsFromCommandLine(&r.loadOptions));
+  PetscCall(FractionSet::fromOptions(r.comm, &r.set));
 
   std::vector<std::unique_ptr<Operator>> created;
   PetscCall(collectively(
-      comm,
+      r.comm,
       [&] {
-        for (const auto &name : splitList(pipelineSpec)) created.push_back(registry.create(name));
+        for (const auto &name : splitList(r.pipelineSpec)) created.push_back(r.registry.create(name));
       },
       PETSC_ERR_USER_INPUT));
-  for (auto &op : created) PetscCall(ops.add(std::move(op)));
-  PetscCall(ops.setFromOptions(comm));
-  PetscCall(ledger.setFromOptions(comm));
+  for (auto &op : created) PetscCall(r.ops.add(std::move(op)));
+  PetscCall(r.ops.setFromOptions(r.comm));
+  PetscCall(r.paths.createFromOptions(r.comm, &r.path));
+  PetscCall(r.ledger.setFromOptions(r.comm));
+  PetscCall(r.cog->setFromOptions(r.comm));
+  r.monitors.front().every = r.cog->every();
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
 PetscErrorCode Run::setUp() {
+  Impl &r = *impl;
   PetscFunctionBeginUser;
-  if (!db) {
+  PetscCheck(r.path, r.comm, PETSC_ERR_ORDER, "Run::setUp() needs Run::setFromOptions() first");
+  if (!r.db) {
     std::unique_ptr<Database> loaded;
-    PetscCall(Database::load(comm, dbPath, loadOptions, &loaded));
-    db = std::move(loaded);
+    PetscCall(Database::load(r.comm, r.dbPath, r.loadOptions, &loaded));
+    r.db = std::move(loaded);
   }
-  if (solidDensity <= 0) solidDensity = db->metadata().solidDensity;
-  if (tEnd < 0) tEnd = db->numFrames() * db->metadata().dtRec;
-  steps = std::lround(tEnd / db->metadata().dtRec);
-  PetscCall(fstate.create(db->layout(), set.size()));
-  RunContext ctx{*db, set, solidDensity};
-  PetscCall(ops.setUp(ctx));
-  PetscCall(cog.setUp(*db, set));
-  PetscCall(setUpPath());
-  PetscCall(makeDirectories(comm, outputDir));
-  csv = std::make_unique<CsvSeries>(comm, outputDir + "/cog.csv", csvHeader());
-  if (writeFields) PetscCall(fields.setUp(*db, set, solidDensity, outputDir, fstate.masses()));
-  if (restartFile.empty()) PetscCall(initialState());
-  else PetscCall(readCheckpoint());
+  const double dt = r.db->metadata().dtRec;
+  if (r.solidDensity <= 0) r.solidDensity = r.db->metadata().solidDensity;
+  if (r.tEnd < 0) r.tEnd = r.db->numFrames() * dt;
+  if (r.checkpointFile.empty()) r.checkpointFile = r.outputDir + "/checkpoint.h5";
+  r.steps = std::lround(r.tEnd / dt);
+  PetscCall(r.fstate.create(r.db->layout(), r.set.size()));
+  const RunContext ctx = r.context();
+  PetscCall(r.ops.setUp(ctx));
+  PetscCall(r.path->setUp(PathContext{*r.db, r.quiet == PETSC_TRUE}));
+  PetscCall(makeDirectories(r.comm, r.outputDir));
+  if (r.writeFields) { // right after the centres of gravity
+    const long fieldSteps = r.fieldsEvery > 0 ? std::max(1L, std::lround(r.fieldsEvery / dt)) : 0L;
+    r.monitors.insert(r.monitors.begin() + 1, {std::make_unique<FieldMonitor>(), fieldSteps, "fields"});
+  }
+  for (auto &m : r.monitors) PetscCall(m.monitor->setUp(ctx, r.fstate, r.outputDir));
+  r.isSetUp = true;
+  if (r.restartFile.empty()) PetscCall(r.initialState());
+  else PetscCall(r.readCheckpoint());
+  if (r.viewer) {
+    PetscCall(PetscViewerPushFormat(r.viewer, r.viewFormat));
+    PetscCall(view(r.viewer));
+    PetscCall(PetscViewerPopFormat(r.viewer));
+  }
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
-std::string Run::csvHeader() const {
-  std::string header = "time_s,z_cog_bed_m";
-  for (int i = 0; i < set.size(); ++i) header += ",z_cog_" + set.label(i) + "_m";
-  header += ",delta_z_m";
-  for (int i = 0; i < set.size(); ++i) header += ",mass_" + set.label(i) + "_kg";
-  return header + ",min_cell_mass_kg,bulk_mismatch";
-}
-
-// The path is built identically on every rank: from the stored recurrence
-// matrix (or one computed and broadcast from rank 0), its parameters and seed.
-PetscErrorCode Run::setUpPath() {
+// A monitor is called at the initial state, after every `every`-th step and
+// after the last one.
+PetscErrorCode Run::Impl::callMonitors(long step, double time, int frame, bool last) {
   PetscFunctionBeginUser;
-  const int K = db->numFrames();
-  if (pathType == "recorded") {
-    PetscCall(collectively(
-        comm, [&] { path = makeRecordedPath(K, readPathFile(pathFile)); }, PETSC_ERR_USER_INPUT));
-    PetscFunctionReturn(PETSC_SUCCESS);
-  }
-  std::vector<double> R;
-  if (pathType != "replay") {
-    RecurrenceNorm norm = RecurrenceNorm::SqrDiff;
-    PetscCall(collectively(
-        comm, [&] { norm = parseRecurrenceNorm(recurrenceNorm); }, PETSC_ERR_USER_INPUT));
-    bool stored = false;
-    PetscCall(loadOrComputeRecurrence(*db, norm, &R, &stored));
-    if (!quiet && !stored)
-      PetscCall(PetscPrintf(comm, "Computed the %s recurrence matrix of %d frames (store it with "
-                                  "'rcfd recurrence %s' to reuse it)\n",
-                            recurrenceNorm.c_str(), K, dbPath.c_str()));
-  }
-  PathParams p;
-  p.seed = static_cast<std::uint64_t>(pathSeed);
-  p.startFrame = static_cast<int>(pathStart);
-  if (pathMinLength > 0) p.minLength = static_cast<int>(pathMinLength);
-  if (pathMaxLength > 0) p.maxLength = static_cast<int>(pathMaxLength);
-  if (pathBand > 0) p.band = static_cast<int>(pathBand);
-  if (pathMeanInterval >= 0) p.meanIntervalSteps = pathMeanInterval;
-  if (pathType != "replay") p.candidates = static_cast<int>(pathCandidates);
-  PetscCall(collectively(comm, [&] { path = makeFramePath(pathType, K, R, p); }, PETSC_ERR_USER_INPUT));
+  const RunContext ctx = context();
+  const MonitorContext m{step, time, frame, last, fstate, ctx, outputDir};
+  for (auto &e : monitors)
+    if (step == 0 || last || (e.every > 0 && step % e.every == 0)) PetscCall(e.monitor->sample(m));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
-PetscErrorCode Run::monitor(double time, int frameOfState) {
+PetscErrorCode Run::Impl::flushMonitors() {
   PetscFunctionBeginUser;
-  BedSample s;
-  PetscCall(cog.measure(time, fstate.masses(), db->alphaS(frameOfState), solidDensity, &s));
-  samples.push_back(s);
-  csv->add(formatCsvRow(s, static_cast<int>(csvDigits)));
+  for (auto &e : monitors) PetscCall(e.monitor->flush());
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
-PetscErrorCode Run::progress(long step, double time, bool last) {
+PetscErrorCode Run::Impl::progress(long step, double time, bool last) {
   PetscFunctionBeginUser;
   if (quiet) PetscFunctionReturn(PETSC_SUCCESS);
   const double now = MPI_Wtime();
@@ -231,99 +231,95 @@ PetscErrorCode Run::progress(long step, double time, bool last) {
 }
 
 PetscErrorCode Run::solve() {
+  Impl &r = *impl;
   PetscFunctionBeginUser;
-  const double dt = db->metadata().dtRec;
+  PetscCheck(r.isSetUp && !r.solved, r.comm, PETSC_ERR_ORDER,
+             "Run::solve() needs Run::setUp() first and runs once");
+  r.solved = true;
+  const double dt = r.db->metadata().dtRec;
   std::vector<double> initialMass;
-  PetscCall(fstate.totals(&initialMass));
-  const bool ledgerOn = ops.conservesMass();
-  if (ledgerOn && startStep == 0) PetscCall(ledger.start(fstate));
+  PetscCall(r.fstate.totals(&initialMass));
+  const bool ledgerOn = r.ops.conservesMass();
+  if (ledgerOn && r.startStep == 0) PetscCall(r.ledger.start(r.fstate));
   // The frame of the next step; after a restart the path stands on it.
-  int frame = startStep == 0 ? path->next() : path->frame();
-  if (startStep == 0) {
-    PetscCall(monitor(0.0, frame));
-    if (writeFields) PetscCall(fields.write(0.0, frame, fstate.masses()));
-  }
-  auto every = [dt](double interval) { return interval > 0 ? std::max(1L, std::lround(interval / dt)) : 0L; };
-  const long fieldSteps = every(fieldsEvery), checkpointSteps = every(checkpointEvery);
-  wallStart = lastProgress = MPI_Wtime();
-  double lastFlush = wallStart;
+  int frame = r.startStep == 0 ? r.path->next() : r.path->frame();
+  if (r.startStep == 0) PetscCall(r.callMonitors(0, 0.0, frame, r.steps == 0));
+  const long checkpointSteps =
+      r.checkpointEvery > 0 ? std::max(1L, std::lround(r.checkpointEvery / dt)) : 0L;
+  r.wallStart = r.lastProgress = MPI_Wtime();
+  double lastFlush = r.wallStart;
   StepInfo info;
   info.dt = dt;
-  for (long s = startStep; s < steps; ++s) {
+  for (long s = r.startStep; s < r.steps; ++s) {
     info.step = s;
     info.time = s * dt;
     info.frame = frame;
     try {
-      info.nextFrame = path->next();
-      info.jump = path->lastWasJump();
+      info.nextFrame = r.path->next();
+      info.jump = r.path->lastWasJump();
     } catch (const std::out_of_range &) { // a recorded path ends with the run it came from
-      info.nextFrame = (frame + 1) % db->numFrames();
+      info.nextFrame = (frame + 1) % r.db->numFrames();
       info.jump = info.nextFrame != frame + 1;
     }
-    frames.push_back(frame);
-    PetscCall(ops.apply(info, fstate));
-    if (ledgerOn) PetscCall(ledger.check(s + 1, fstate));
+    r.frames.push_back(frame);
+    PetscCall(r.ops.apply(info, r.fstate));
+    if (ledgerOn) PetscCall(r.ledger.check(s + 1, r.fstate));
     frame = info.nextFrame;
     const double t = (s + 1) * dt;
-    if ((s + 1) % monitorEvery == 0 || s + 1 == steps) PetscCall(monitor(t, frame));
-    if (writeFields && fieldSteps && (s + 1) % fieldSteps == 0 && s + 1 < steps)
-      PetscCall(fields.write(t, frame, fstate.masses()));
-    if (checkpointSteps && (s + 1) % checkpointSteps == 0) PetscCall(writeCheckpoint(s + 1));
+    PetscCall(r.callMonitors(s + 1, t, frame, s + 1 == r.steps));
+    if (checkpointSteps && (s + 1) % checkpointSteps == 0) PetscCall(r.writeCheckpoint(s + 1));
     if (MPI_Wtime() - lastFlush > 10.0) { // results so far survive an interruption
-      PetscCall(csv->flush());
+      PetscCall(r.flushMonitors());
       lastFlush = MPI_Wtime();
     }
-    PetscCall(progress(s + 1, t, false));
+    PetscCall(r.progress(s + 1, t, false));
   }
-  if (writeFields) PetscCall(fields.write(steps * dt, frame, fstate.masses()));
-  PetscCall(csv->flush());
-  PetscCall(writePath());
-  if (plotResults) {
-    PetscMPIInt rank;
-    PetscCallMPI(MPI_Comm_rank(comm, &rank));
-    PetscCall(collectively(comm, [&] {
-      if (rank == 0) plotCogCsv(outputDir + "/cog.csv", outputDir + "/cog.png", outputDir);
-    }));
-  }
-  PetscCall(progress(steps, steps * dt, true));
+  PetscCall(r.flushMonitors());
+  PetscCall(r.writePath());
+  // figures: drawn by the CLI (rcfd run), not by the library
+  PetscCall(r.progress(r.steps, r.steps * dt, true));
 
-  PetscCall(ops.viewRequested(PETSC_VIEWER_STDOUT_(comm)));
+  PetscCall(r.ops.viewRequested(PETSC_VIEWER_STDOUT_(r.comm)));
   std::vector<double> finalMass;
-  PetscCall(fstate.totals(&finalMass));
+  PetscCall(r.fstate.totals(&finalMass));
   double worst = 0.0;
   for (size_t i = 0; i < finalMass.size(); ++i)
     if (initialMass[i] > 0) worst = std::max(worst, std::fabs(finalMass[i] / initialMass[i] - 1.0));
   double low;
-  PetscCall(fstate.minimum(&low));
+  PetscCall(r.fstate.minimum(&low));
   struct rusage usage;
   getrusage(RUSAGE_SELF, &usage);
   double peakMb = usage.ru_maxrss / 1024.0; // Linux reports kB
-  PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, &peakMb, 1, MPI_DOUBLE, MPI_MAX, comm));
-  if (!quiet) {
-    const double wall = MPI_Wtime() - wallStart;
-    PetscCall(PetscPrintf(comm,
+  PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, &peakMb, 1, MPI_DOUBLE, MPI_MAX, r.comm));
+  if (!r.quiet) {
+    const double wall = MPI_Wtime() - r.wallStart;
+    const long taken = r.steps - r.startStep;
+    PetscCall(PetscPrintf(r.comm,
                           "Done: %ld steps, %.4g s simulated in %.3g s wall (%.3g wall s per simulated s), peak memory %.0f MB per rank\n"
                           "  largest relative change of a fraction's mass: %.2e (round-off removed by the ledger: %.2e);"
                           " smallest cell mass: %.3g kg\n"
-                          "  results: %s/cog.csv%s%s\n",
-                          steps - startStep, (steps - startStep) * dt, wall,
-                          steps > startStep ? wall / ((steps - startStep) * dt) : 0.0, peakMb, worst,
-                          ledger.largestCorrection(), low,
-                          outputDir.c_str(), plotResults ? ", cog.png" : "",
-                          writeFields ? (", " + outputDir + "/fields.xmf").c_str() : ""));
+                          "  results: %s/cog.csv%s\n",
+                          taken, taken * dt, wall, taken > 0 ? wall / (taken * dt) : 0.0, peakMb, worst,
+                          r.ledger.largestCorrection(), low, r.outputDir.c_str(),
+                          r.writeFields ? (", " + r.outputDir + "/fields.xmf").c_str() : ""));
   }
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
 PetscErrorCode Run::view(PetscViewer viewer) const {
+  const Impl &r = *impl;
   PetscFunctionBeginUser;
-  PetscCall(db->view(viewer));
-  PetscCall(set.view(viewer));
-  PetscCall(ops.view(viewer));
+  PetscCall(r.db->view(viewer));
+  PetscCall(r.set.view(viewer));
+  PetscCall(r.ops.view(viewer));
   PetscCall(PetscViewerASCIIPrintf(viewer, "Run: %.4g s simulated in %ld steps, initial state %s, output in %s\n",
-                                   tEnd, steps, restartFile.empty() ? initKind.c_str() : restartFile.c_str(),
-                                   outputDir.c_str()));
-  PetscCall(PetscViewerASCIIPrintf(viewer, "Path: %s\n", path->describe().c_str()));
+                                   r.tEnd, r.steps, r.restartFile.empty() ? r.initKind.c_str() : r.restartFile.c_str(),
+                                   r.outputDir.c_str()));
+  PetscCall(r.path->view(viewer));
+  std::string list;
+  for (const auto &e : r.monitors)
+    list += (list.empty() ? "" : ", ") + e.name + " (every " + std::to_string(e.every) + " steps)";
+  PetscCall(PetscViewerASCIIPrintf(viewer, "Monitors: %s\n", list.c_str()));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 

@@ -1,4 +1,4 @@
-#include "rcfd/run.hpp"
+#include "run/run_impl.hpp"
 
 #include "base/collective.hpp"
 #include "base/h5.hpp"
@@ -61,7 +61,7 @@ void layeredMasses(const FractionSet &set, double rho, const Mesh &mesh, const V
 
 // Initial masses: "mixed", "layered" (see above) or "file" (/masses of an
 // HDF5 file, natural cell order, e.g. from rcfd build -init_out).
-PetscErrorCode Run::initialState() {
+PetscErrorCode Run::Impl::initialState() {
   const Layout &L = db->layout();
   PetscFunctionBeginUser;
   if (initKind == "file") {
@@ -81,7 +81,7 @@ PetscErrorCode Run::initialState() {
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
-PetscErrorCode Run::loadInitialMasses() {
+PetscErrorCode Run::Impl::loadInitialMasses() {
   const int nf = set.size();
   const Layout &L = db->layout();
   PetscFunctionBeginUser;

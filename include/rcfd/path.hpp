@@ -1,0 +1,158 @@
+// Frame paths: which database frame each time step of a run uses.
+//
+// A path is a sequence of *sequences* of consecutive frames s, s+1, ..., s+L-1.
+// The step that starts a new sequence is a *jump*: the bed's alpha_s changes
+// from (about) frame i+1 to frame s, and the run's carry operator takes the
+// state across.  The first step of a path starts it and is not a jump.
+//
+// Paths have an operator's life cycle: created by name from a PathRegistry
+// (-path_type), setFromOptions (each kind reads its own -path_* options),
+// setUp (once the database is loaded), then next() once per step.  Built-in
+// kinds: replay, random, markov, quarter, recorded (docs/paths.md).
+//
+// A path must be deterministic from its options and the database: every MPI
+// rank builds its own copy and all must produce the same frames without
+// communication.  A run is restarted bit-identically from saveState() /
+// restoreState() (written into checkpoints), so a kind keeps everything that
+// decides its continuation in the words of saveExtra().
+//
+// Adding a path rule:
+//
+//   class EveryOther : public rcfd::FramePath {
+//     std::string kind() const override { return "everyother"; }
+//     std::string describe() const override { return "everyother"; }
+//   protected:
+//     int advance(bool &jump) override {
+//       const int f = frame() < 0 ? 0 : frame() + 2;   // frame() = previous frame
+//       jump = frame() >= 0;                           // a step that is not +1 is a jump
+//       return f % numFrames();
+//     }
+//     std::uint64_t fingerprint() const override { return 42; }
+//     void saveExtra(std::vector<std::uint64_t> &) const override {}
+//     void restoreExtra(const std::uint64_t *, std::size_t) override {}
+//   };
+//   paths.add("everyother", [] { return std::make_unique<EveryOther>(); }, "frames 0, 2, 4, ...");
+//   rcfd::Run run(comm, operators, paths);    // then -path_type everyother
+#pragma once
+
+#include "rcfd/database.hpp"
+
+#include <cstddef>
+#include <cstdint>
+#include <functional>
+#include <map>
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace rcfd {
+
+/// What a path may read while it is set up.
+struct PathContext {
+  const Database &db;
+  bool quiet; ///< no messages on stdout
+};
+
+class FramePath {
+public:
+  virtual ~FramePath();
+  FramePath(const FramePath &) = delete;
+  FramePath &operator=(const FramePath &) = delete;
+
+  /// Options of this path are read as -<prefix><name>; the default prefix is "path_".
+  void setOptionsPrefix(const std::string &p) { prefix_ = p; }
+  const std::string &optionsPrefix() const { return prefix_; }
+  /// Reads the kind's own options (collective).  The base reads none.
+  virtual PetscErrorCode setFromOptions(MPI_Comm comm);
+  /// Prepares the path for the loaded database (collective).  The base
+  /// records the number of frames (at least 2); a kind that overrides it
+  /// calls FramePath::setUp first.
+  virtual PetscErrorCode setUp(const PathContext &ctx);
+  /// Prints describe() (collective on the viewer).
+  virtual PetscErrorCode view(PetscViewer viewer) const;
+
+  /// Stochastic kinds draw from a seeded generator: an ensemble gives its
+  /// members seeds s, s+1, ...  setSeed() applies before setUp().
+  virtual bool hasSeed() const { return false; }
+  virtual std::uint64_t seed() const { return 0; }
+  virtual void setSeed(std::uint64_t) {}
+
+  /// Advances one step and returns its frame, in [0, numFrames()).
+  int next();
+  /// Frame of the last step, -1 before the first.
+  int frame() const { return frame_; }
+  /// True when the last step started a new sequence (not for the first step).
+  bool lastWasJump() const { return jump_; }
+  /// Number of steps taken.
+  std::uint64_t steps() const { return steps_; }
+  int numFrames() const { return K_; }
+
+  /// The registered name of the kind.
+  virtual std::string kind() const = 0;
+  /// One line: the kind and its resolved parameters (for logs and file headers).
+  virtual std::string describe() const = 0;
+
+  /// Hash of the kind, parameters, seed and jump table.  Ranks that built the
+  /// same path agree on it: compare it across ranks (MPI_MIN and MPI_MAX) to
+  /// catch a recurrence matrix that differs in its last bits between ranks.
+  std::uint64_t configurationHash() const { return fingerprint(); }
+
+  /// Everything needed to continue bit-identically: position, sequence
+  /// bookkeeping, PRNG state, plus a fingerprint of the parameters.
+  /// restoreState() throws std::invalid_argument when the state is malformed
+  /// or was saved by a path with other parameters or another database.
+  std::vector<std::uint64_t> saveState() const;
+  void restoreState(const std::vector<std::uint64_t> &state);
+
+protected:
+  /// The number of frames is set by setUp().
+  FramePath() = default;
+  explicit FramePath(int numFrames);
+  /// Throws std::invalid_argument for fewer than 2 frames.
+  void setNumFrames(int numFrames);
+
+  /// The next frame; sets `jump` when it starts a new sequence.  frame() is
+  /// still the previous frame (-1 on the first call).
+  virtual int advance(bool &jump) = 0;
+  /// Hash of everything that determines the continuation of a saved state.
+  virtual std::uint64_t fingerprint() const = 0;
+  /// Appends the kind's own state words; restoreExtra() reads them back and
+  /// throws std::invalid_argument on a wrong size or value.
+  virtual void saveExtra(std::vector<std::uint64_t> &out) const = 0;
+  virtual void restoreExtra(const std::uint64_t *data, std::size_t n) = 0;
+
+private:
+  std::string prefix_ = "path_";
+  int K_ = 0;
+  int frame_ = -1;
+  bool jump_ = false;
+  std::uint64_t steps_ = 0;
+};
+
+using PathFactory = std::function<std::unique_ptr<FramePath>()>;
+
+/// Name -> factory of path kinds, like OperatorRegistry.  One per program
+/// (no global state); users add their own kinds and select them with -path_type.
+class PathRegistry {
+public:
+  /// replay, random, markov, quarter and recorded.
+  static PathRegistry withBuiltins();
+  void add(const std::string &name, PathFactory factory, const std::string &help);
+  bool has(const std::string &name) const { return entries.count(name) > 0; }
+  /// Throws std::invalid_argument listing the known names if `name` is unknown.
+  std::unique_ptr<FramePath> create(const std::string &name) const;
+  /// "name: help" lines.
+  std::string listing() const;
+  /// Reads -path_type (default replay), creates that kind and lets it read
+  /// its own options.  Collective.
+  PetscErrorCode createFromOptions(MPI_Comm comm, std::unique_ptr<FramePath> *path) const;
+
+private:
+  struct Entry {
+    PathFactory factory;
+    std::string help;
+  };
+  std::map<std::string, Entry> entries;
+};
+
+} // namespace rcfd

@@ -1,0 +1,191 @@
+#include "analysis/calibration.hpp"
+
+#include "base/collective.hpp"
+#include "rcfd/run.hpp"
+#include "rcfd/swaps.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace rcfd {
+
+DriftCalibration::DriftCalibration(MPI_Comm comm, const OperatorRegistry &registry)
+    : comm(comm), registry(registry) {}
+DriftCalibration::~DriftCalibration() = default;
+
+PetscErrorCode DriftCalibration::setFromOptions() {
+  char ref[PETSC_MAX_PATH_LEN] = "", objective[16] = "rms";
+  char *names[4] = {};
+  PetscInt nmodels = 4, nrange = 2, nwindow = 2;
+  PetscReal range[2] = {kdLo, kdHi}, window[2] = {windowBegin, windowEnd};
+  PetscBool setRef = PETSC_FALSE, setModels = PETSC_FALSE, setRange = PETSC_FALSE,
+            setWindow = PETSC_FALSE, help = PETSC_FALSE;
+  PetscFunctionBeginUser;
+  PetscOptionsBegin(comm, nullptr, "rcfd calibrate: fit the drift coefficient to a reference", "rcfd");
+  PetscCall(PetscOptionsString("-reference", "Reference cog.csv (rcfd reference)", "", "", ref,
+                               sizeof ref, &setRef));
+  PetscCall(PetscOptionsStringArray("-calibrate_models", "Drift models to fit: A, B or A,B", "",
+                                    names, &nmodels, &setModels));
+  PetscCall(PetscOptionsString("-calibrate_objective",
+                               "rms: RMS of Delta z(t) - reference / reference peak; seg: |Eq. 7 error| in the window",
+                               "", objective, objective, sizeof objective, nullptr));
+  PetscCall(PetscOptionsRealArray("-calibrate_kd_range", "Search interval of k_d [1/(m s)]", "",
+                                  range, &nrange, &setRange));
+  PetscCall(PetscOptionsReal("-calibrate_tolerance", "Width of the final interval in log10 k_d",
+                             "", tolerance, &tolerance, nullptr));
+  PetscCall(PetscOptionsInt("-calibrate_scan", "Points of the coarse scan that brackets the minimum",
+                            "", scanPoints, &scanPoints, nullptr));
+  PetscCall(PetscOptionsReal("-rcfd_time_offset",
+                             "Physical time of the database's frame 0 [s], added to the runs' times",
+                             "", offset, &offset, nullptr));
+  PetscCall(PetscOptionsRealArray("-score_window", "Window t0,t1 [s] of the Eq. 7 means", "",
+                                  window, &nwindow, &setWindow));
+  PetscOptionsEnd();
+  std::vector<std::string> given;
+  for (PetscInt i = 0; i < (setModels ? nmodels : 0); ++i) {
+    given.emplace_back(names[i]);
+    PetscCall(PetscFree(names[i]));
+  }
+  PetscCall(PetscOptionsHasName(nullptr, nullptr, "-help", &help));
+  if (help) PetscFunctionReturn(PETSC_SUCCESS);
+  PetscCheck(setRef, comm, PETSC_ERR_USER_INPUT,
+             "No reference given: pass -reference REF/cog.csv (made by rcfd reference)");
+  for (const auto &m : given)
+    PetscCheck(m == "A" || m == "B", comm, PETSC_ERR_USER_INPUT,
+               "-calibrate_models: model '%s' is not known; use A, B or A,B", m.c_str());
+  objectiveName = objective;
+  PetscCheck(objectiveName == "rms" || objectiveName == "seg", comm, PETSC_ERR_USER_INPUT,
+             "-calibrate_objective %s is not known; use rms or seg", objective);
+  PetscCheck((!setRange || nrange == 2) && range[0] > 0 && range[0] < range[1], comm, PETSC_ERR_USER_INPUT,
+             "-calibrate_kd_range takes two values lo,hi with 0 < lo < hi");
+  PetscCheck(tolerance > 0, comm, PETSC_ERR_USER_INPUT, "-calibrate_tolerance must be positive");
+  PetscCheck(scanPoints >= 3, comm, PETSC_ERR_USER_INPUT, "-calibrate_scan must be at least 3");
+  PetscCheck((!setWindow || nwindow == 2) && window[0] < window[1], comm, PETSC_ERR_USER_INPUT,
+             "-score_window takes two times t0,t1 [s] with t0 < t1");
+  referenceFile = ref;
+  if (!given.empty()) models = given;
+  kdLo = range[0];
+  kdHi = range[1];
+  windowBegin = window[0];
+  windowEnd = window[1];
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode DriftCalibration::setUp() {
+  PetscFunctionBeginUser;
+  PetscCall(collectively(comm, [&] { reference = readDeltaZCsv(referenceFile); }, PETSC_ERR_USER_INPUT));
+  Run first(comm, registry);
+  first.setDefaultOutputDirectory("rcfd-calibrate");
+  PetscCall(first.setFromOptions());
+  first.setQuiet(true);
+  first.setWriteFields(false);
+  PetscCall(first.setUp());
+  db = first.sharedDatabase();
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/// Runs the case with the given model and k_d and scores it.
+PetscErrorCode DriftCalibration::evaluate(const std::string &model, double log10kd, DeltaZScore *score) {
+  PetscFunctionBeginUser;
+  Run run(comm, registry);
+  run.setDefaultOutputDirectory("rcfd-calibrate");
+  run.useDatabase(db);
+  PetscCall(run.setFromOptions());
+  run.setQuiet(true);
+  run.setWriteFields(false);
+  DriftOperator *drift = nullptr;
+  for (const auto &op : run.pipeline().operators())
+    if (auto *d = dynamic_cast<DriftOperator *>(op.get())) drift = d;
+  PetscCheck(drift, comm, PETSC_ERR_USER_INPUT,
+             "rcfd calibrate fits the drift operator, but -pipeline has none (add drift)");
+  drift->setModel(model == "A" ? DriftOperator::Model::A : DriftOperator::Model::B);
+  drift->setKd(std::pow(10.0, log10kd));
+  PetscCall(run.setUp());
+  PetscCall(run.solve());
+  DeltaZSeries s;
+  for (const BedSample &b : run.history()) {
+    s.time.push_back(b.time + offset);
+    s.deltaZ.push_back(b.deltaZ);
+  }
+  PetscCall(collectively(
+      comm, [&] { *score = scoreDeltaZ(reference, s, windowBegin, windowEnd); }, PETSC_ERR_USER_INPUT));
+  ++count;
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+double DriftCalibration::objective(const DeltaZScore &s) const {
+  return objectiveName == "rms" ? s.rmsRelative : std::fabs(s.segregationError);
+}
+
+// Coarse scan, then golden section in the bracket around the best point.
+PetscErrorCode DriftCalibration::search(const std::string &model, Result *result) {
+  const double lo = std::log10(kdLo), hi = std::log10(kdHi);
+  PetscFunctionBeginUser;
+  PetscCall(PetscPrintf(comm, "model %s:\n  %12s %14s %12s %10s\n", model.c_str(), "k_d",
+                        "mean dz [mm]", "Delta_seg [%]", "RMS/peak"));
+  // Evaluates at log10 k_d = x, prints the row and returns the objective.
+  auto at = [&](double x, double *f) -> PetscErrorCode {
+    DeltaZScore s;
+    PetscFunctionBeginUser;
+    PetscCall(evaluate(model, x, &s));
+    *f = objective(s);
+    PetscCall(PetscPrintf(comm, "  %12.5g %14.4f %12.1f %10.4f\n", std::pow(10.0, x),
+                          1e3 * s.meanModel, s.segregationError, s.rmsRelative));
+    PetscFunctionReturn(PETSC_SUCCESS);
+  };
+  const int n = static_cast<int>(scanPoints);
+  std::vector<double> xs(n), fs(n);
+  for (int i = 0; i < n; ++i) {
+    xs[i] = lo + (hi - lo) * i / (n - 1);
+    PetscCall(at(xs[i], &fs[i]));
+  }
+  const int bestScan = static_cast<int>(std::min_element(fs.begin(), fs.end()) - fs.begin());
+  double a = xs[std::max(0, bestScan - 1)], b = xs[std::min(n - 1, bestScan + 1)];
+  const double g = (std::sqrt(5.0) - 1.0) / 2.0;
+  double c = b - g * (b - a), d = a + g * (b - a), fc = 0.0, fd = 0.0;
+  PetscCall(at(c, &fc));
+  PetscCall(at(d, &fd));
+  while (b - a > tolerance) {
+    if (fc < fd) {
+      b = d, d = c, fd = fc;
+      c = b - g * (b - a);
+      PetscCall(at(c, &fc));
+    } else {
+      a = c, c = d, fc = fd;
+      d = a + g * (b - a);
+      PetscCall(at(d, &fd));
+    }
+  }
+  double xBest = fc < fd ? c : d;
+  if (fs[bestScan] < std::min(fc, fd)) xBest = xs[bestScan];
+  result->model = model;
+  result->kd = std::pow(10.0, xBest);
+  PetscCall(evaluate(model, xBest, &result->score));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode DriftCalibration::solve() {
+  PetscFunctionBeginUser;
+  PetscCall(PetscPrintf(comm,
+                        "Calibrating k_d in [%g, %g] 1/(m s) against %s, objective %s (%s), "
+                        "Eq. 7 window [%g, %g] s\n",
+                        kdLo, kdHi, referenceFile.c_str(), objectiveName.c_str(),
+                        objectiveName == "rms" ? "RMS of the Delta z(t) difference / reference peak"
+                                               : "|Delta_seg|",
+                        windowBegin, windowEnd));
+  best.clear();
+  for (const std::string &model : models) {
+    Result r;
+    PetscCall(search(model, &r));
+    best.push_back(r);
+    PetscCall(PetscPrintf(comm,
+                          "model %s: best k_d = %.4g 1/(m s): Delta_seg %.1f %%, RMS/peak %.3f, "
+                          "mean dz %.4g mm (reference %.4g mm)\n",
+                          model.c_str(), r.kd, r.score.segregationError, r.score.rmsRelative,
+                          1e3 * r.score.meanModel, 1e3 * r.score.meanRef));
+  }
+  PetscCall(PetscPrintf(comm, "%d replay runs\n", count));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+} // namespace rcfd

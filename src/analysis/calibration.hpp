@@ -1,0 +1,66 @@
+// Calibration of the drift coefficient: the k_d that best reproduces a
+// reference's segregation curve Delta z(t).  For each drift model, replay
+// runs on the database (in-process, one Run per evaluation, sharing the
+// loaded database; the drift operator of the run's -pipeline set through its
+// typed setters) are scored against the reference with scoreDeltaZ(); a
+// coarse scan of log10 k_d brackets the minimum and a golden-section search
+// refines it.
+#pragma once
+
+#include "analysis/segregation_score.hpp"
+#include "rcfd/operator.hpp"
+
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace rcfd {
+
+class Database;
+
+class DriftCalibration {
+public:
+  struct Result {
+    std::string model;
+    double kd;         ///< best k_d [1/(m s)]
+    DeltaZScore score; ///< of the run at that k_d
+  };
+
+  /// The registry supplies the run's operators; it must outlive the calibration.
+  DriftCalibration(MPI_Comm comm, const OperatorRegistry &registry);
+  ~DriftCalibration();
+
+  /// Reads -reference, -calibrate_models, -calibrate_objective,
+  /// -calibrate_kd_range, -calibrate_tolerance, -calibrate_scan,
+  /// -rcfd_time_offset and -score_window.  Collective.
+  PetscErrorCode setFromOptions();
+  /// Reads the reference and loads the database through a first run, which
+  /// reads the run's options (so that unknown options can be refused after
+  /// this).  The runs are silent, write no fields and put their cog.csv in
+  /// -output_dir (default rcfd-calibrate), overwritten by each evaluation.
+  PetscErrorCode setUp();
+  /// Searches every model and prints a table of the evaluations.  Collective.
+  PetscErrorCode solve();
+
+  const std::vector<Result> &results() const { return best; }
+  int evaluations() const { return count; }
+
+private:
+  PetscErrorCode evaluate(const std::string &model, double log10kd, DeltaZScore *score);
+  double objective(const DeltaZScore &s) const;
+  PetscErrorCode search(const std::string &model, Result *result);
+
+  MPI_Comm comm;
+  const OperatorRegistry &registry;
+  std::string referenceFile, objectiveName = "rms"; // rms: RMS/peak of the curve; seg: |Delta_seg|
+  std::vector<std::string> models{"B"};
+  double offset = 0.0, windowBegin = 0.5, windowEnd = 1.5;
+  double kdLo = 1e2, kdHi = 1e6, tolerance = 0.01; // tolerance in log10 k_d
+  PetscInt scanPoints = 9;
+  DeltaZSeries reference;
+  std::shared_ptr<Database> db;
+  std::vector<Result> best;
+  int count = 0;
+};
+
+} // namespace rcfd

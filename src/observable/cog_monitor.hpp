@@ -1,0 +1,49 @@
+// The run's built-in monitor: centres of gravity, masses per fraction and the
+// bulk mismatch over time, kept in memory (Run::history(), checkpoints) and
+// written to OUTPUT_DIR/cog.csv.
+#pragma once
+
+#include "rcfd/observables.hpp"
+
+#include <memory>
+
+namespace rcfd {
+
+class CogMonitor : public Monitor {
+public:
+  /// Reads -monitor_every (steps between rows) and -monitor_digits.
+  PetscErrorCode setFromOptions(MPI_Comm comm);
+  long every() const { return static_cast<long>(monitorEvery); }
+  PetscErrorCode setUp(const RunContext &run, const FractionState &state,
+                       const std::string &outputDirectory) override;
+  PetscErrorCode sample(const MonitorContext &ctx) override;
+  PetscErrorCode flush() override { return csv->flush(); }
+
+  const std::vector<BedSample> &samples() const { return history; }
+  /// The samples of a checkpoint, before the run continues (after setUp).
+  void restore(std::vector<BedSample> saved);
+
+private:
+  std::string header(const FractionSet &fractions) const;
+  CentreOfGravity cog;
+  std::unique_ptr<CsvSeries> csv;
+  std::vector<BedSample> history;
+  PetscInt monitorEvery = 1, csvDigits = 10;
+};
+
+/// Fields for ParaView (FieldWriter) as a monitor.
+class FieldMonitor : public Monitor {
+public:
+  PetscErrorCode setUp(const RunContext &run, const FractionState &state,
+                       const std::string &outputDirectory) override {
+    return writer.setUp(run.db, run.fractions, run.solidDensity, outputDirectory, state.masses());
+  }
+  PetscErrorCode sample(const MonitorContext &ctx) override {
+    return writer.write(ctx.time, ctx.frame, ctx.state.masses());
+  }
+
+private:
+  FieldWriter writer;
+};
+
+} // namespace rcfd

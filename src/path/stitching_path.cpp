@@ -1,0 +1,394 @@
+// The stitching paths (random, markov, quarter): sequences of consecutive
+// frames joined by jumps to a frame whose alpha_s matches, by the database's
+// recurrence matrix, the one where the sequence ended (docs/paths.md).
+#include "path/builtin_paths.hpp"
+
+#include "base/collective.hpp"
+#include "path/database_recurrence.hpp"
+#include "path/hasher.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+#include <stdexcept>
+
+namespace rcfd {
+namespace {
+
+/// How a stitching path decides where a sequence ends.
+enum class Ending {
+  UniformLength, ///< random: L uniform in [minLength, maxLength], drawn at the start
+  QuarterLength, ///< quarter: L = minLength + floor(U (maxLength - minLength))
+  Markov         ///< after minLength frames, end with probability p at each step
+};
+
+struct StitchingConfig {
+  std::string kind;
+  Ending ending = Ending::UniformLength;
+  std::uint64_t seed = 1;
+  int start = 0;
+  int minLength = 1, maxLength = 1, band = 0;
+  double meanInterval = 0.0;
+  int candidates = 1;
+};
+
+/// For every frame i, the `width` best allowed targets j (smallest R[i][j],
+/// ties to the smaller j), and how many there are.
+template <class Allowed>
+void buildJumpTable(int K, const std::vector<double> &R, int width, Allowed allowed,
+                    const std::string &kind, const std::string &hint, std::vector<int> &table,
+                    std::vector<int> &count) {
+  table.assign(static_cast<std::size_t>(K) * width, -1);
+  count.assign(K, 0);
+  std::vector<int> cand;
+  cand.reserve(K);
+  for (int i = 0; i < K; ++i) {
+    const double *row = R.data() + static_cast<std::size_t>(i) * K;
+    cand.clear();
+    for (int j = 0; j <= K - 2; ++j) // j + 1 must be a frame
+      if (allowed(i, j)) cand.push_back(j);
+    if (cand.empty())
+      throw std::invalid_argument(pathParameterError(kind, "frame " + std::to_string(i) + " of " +
+                                                       std::to_string(K) +
+                                                       " has no allowed jump target; " + hint));
+    const auto better = [row](int a, int b) { return row[a] < row[b] || (row[a] == row[b] && a < b); };
+    const int n = std::min<int>(width, static_cast<int>(cand.size()));
+    std::partial_sort(cand.begin(), cand.begin() + n, cand.end(), better);
+    std::copy(cand.begin(), cand.begin() + n, table.begin() + static_cast<std::size_t>(i) * width);
+    count[i] = n;
+  }
+}
+
+void checkRecurrence(int K, const std::vector<double> &R, const std::string &kind) {
+  const std::size_t need = static_cast<std::size_t>(K) * static_cast<std::size_t>(K);
+  if (R.size() != need)
+    throw std::invalid_argument(pathParameterError(
+        kind, "the recurrence matrix holds " + std::to_string(R.size()) + " values but " +
+                  std::to_string(K) + " frames need K * K = " + std::to_string(need)));
+  for (std::size_t e = 0; e < need; ++e)
+    if (!std::isfinite(R[e]))
+      throw std::invalid_argument(pathParameterError(
+          kind, "recurrence matrix entry (" + std::to_string(e / K) + ", " +
+                    std::to_string(e % K) + ") is not finite"));
+}
+
+void refuseUnused(const std::string &kind, bool set, const char *name) {
+  if (set)
+    throw std::invalid_argument(pathParameterError(kind, std::string("the parameter ") + name +
+                                                             " does not apply to this kind"));
+}
+
+/// The resolved configuration and jump table of a stitching kind for K frames.
+void configureStitching(const std::string &kind, int K, const std::vector<double> &R,
+                        const PathParams &p, StitchingConfig &c, std::vector<int> &table,
+                        std::vector<int> &count) {
+  const bool markov = kind == "markov", quarter = kind == "quarter";
+  checkRecurrence(K, R, kind);
+  c.kind = kind;
+  c.seed = p.seed;
+  c.start = p.startFrame;
+  c.candidates = p.candidates;
+  if (p.candidates < 1)
+    throw std::invalid_argument(pathParameterError(kind, "candidates must be at least 1, not " +
+                                                     std::to_string(p.candidates)));
+  if (markov) {
+    refuseUnused(kind, p.maxLength.has_value(), "maxLength");
+    c.ending = Ending::Markov;
+    c.minLength = p.minLength.value_or(std::max(1, K / 20));
+    c.maxLength = K;
+    c.meanInterval = p.meanIntervalSteps.value_or(K / 10);
+    if (!std::isfinite(c.meanInterval) || c.meanInterval < 0.0)
+      throw std::invalid_argument(
+          pathParameterError(kind, "meanIntervalSteps must be a finite number >= 0"));
+  } else {
+    refuseUnused(kind, p.meanIntervalSteps.has_value(), "meanIntervalSteps");
+    c.ending = quarter ? Ending::QuarterLength : Ending::UniformLength;
+    c.minLength = p.minLength.value_or(std::max(1, quarter ? K / 25 : K / 20));
+    c.maxLength = p.maxLength.value_or(std::max(c.minLength, quarter ? K / 4 : K / 5));
+  }
+  if (c.minLength < 1)
+    throw std::invalid_argument(pathParameterError(kind, "minLength must be at least 1, not " +
+                                                     std::to_string(c.minLength)));
+  if (c.minLength > K)
+    throw std::invalid_argument(pathParameterError(kind, "minLength " + std::to_string(c.minLength) +
+                                                     " exceeds the " + std::to_string(K) +
+                                                     " frames of the database"));
+  if (c.minLength > c.maxLength)
+    throw std::invalid_argument(pathParameterError(kind, "minLength " + std::to_string(c.minLength) +
+                                                     " is larger than maxLength " +
+                                                     std::to_string(c.maxLength)));
+
+  if (quarter) {
+    refuseUnused(kind, p.band.has_value(), "band");
+    // Quarter q holds the frames i with floor(4 i / K) = q; targets come from
+    // quarter (q + 2) mod 4.
+    const auto q = [K](int i) { return static_cast<int>(4LL * i / K); };
+    buildJumpTable(
+        K, R, c.candidates, [&](int i, int j) { return q(j) == (q(i) + 2) % 4; }, kind,
+        "quarter jumps need at least 8 frames, so that the last quarter holds a frame with a "
+        "successor",
+        table, count);
+  } else {
+    c.band = p.band.value_or(std::max(1, K / 10));
+    if (c.band < 1)
+      throw std::invalid_argument(pathParameterError(kind, "band must be at least 1, not " +
+                                                       std::to_string(c.band)));
+    // Targets j <= K-2 with |i - j| >= band exist for every i iff
+    // band <= (K - 1) / 2 (the middle frame is the hardest).
+    const int widest = (K - 1) / 2;
+    if (c.band > widest)
+      throw std::invalid_argument(pathParameterError(
+          kind, "band " + std::to_string(c.band) + " is too wide for " + std::to_string(K) +
+                    " frames: some frame would have no jump target (the widest band is " +
+                    std::to_string(widest) + ")"));
+    const int band = c.band;
+    buildJumpTable(
+        K, R, c.candidates, [band](int i, int j) { return std::abs(i - j) >= band; }, kind,
+        "lower the band", table, count);
+  }
+}
+
+/// Sequences of consecutive frames; at the end of a sequence at frame i the
+/// next one starts at J + 1, J drawn from the precomputed best matches of i.
+/// Only the jump table is kept, not the K x K matrix.
+class StitchingPath final : public FramePath {
+public:
+  /// Waits for setFromOptions() and setUp().  In runs a jump draws among
+  /// the 4 best matches by default (PathParams: 1).
+  explicit StitchingPath(std::string kind) {
+    cfg_.kind = std::move(kind);
+    params_.candidates = 4;
+  }
+  StitchingPath(std::string kind, int K, const std::vector<double> &R, const PathParams &p)
+      : params_(p) {
+    cfg_.kind = std::move(kind);
+    build(K, R);
+  }
+
+  bool hasSeed() const override { return true; }
+  std::uint64_t seed() const override { return params_.seed; }
+  void setSeed(std::uint64_t s) override { params_.seed = s; }
+
+  PetscErrorCode setFromOptions(MPI_Comm comm) override;
+  PetscErrorCode setUp(const PathContext &ctx) override;
+  PetscErrorCode view(PetscViewer viewer) const override {
+    PetscFunctionBeginUser;
+    PetscCall(FramePath::view(viewer));
+    PetscCall(PetscViewerASCIIPrintf(viewer, "  %s recurrence matrix, %s\n",
+                                     recurrenceNormName(norm_),
+                                     stored_ ? "stored in the database" : "computed by this run"));
+    PetscFunctionReturn(PETSC_SUCCESS);
+  }
+
+  std::string kind() const override { return cfg_.kind; }
+  std::string describe() const override {
+    std::ostringstream os;
+    os << cfg_.kind << ": K=" << numFrames() << " seed=" << cfg_.seed << " start=" << cfg_.start
+       << " minLength=" << cfg_.minLength;
+    if (cfg_.ending == Ending::Markov)
+      os << " meanIntervalSteps=" << cfg_.meanInterval << " band=" << cfg_.band;
+    else
+      os << " maxLength=" << cfg_.maxLength;
+    if (cfg_.ending == Ending::UniformLength) os << " band=" << cfg_.band;
+    os << " candidates=" << cfg_.candidates;
+    return os.str();
+  }
+
+protected:
+  int advance(bool &jump) override {
+    if (frame() < 0) {
+      beginSequence(cfg_.start);
+      return cfg_.start;
+    }
+    const int i = frame();
+    if (sequenceEnds(i)) {
+      const int n = count_[i];
+      const int pick = n > 1 ? static_cast<int>(rng_.below(static_cast<std::uint64_t>(n))) : 0;
+      const int s = table_[static_cast<std::size_t>(i) * cfg_.candidates + pick] + 1;
+      beginSequence(s);
+      jump = true;
+      return s;
+    }
+    // Within a sequence; sequenceEnds() guarantees i + 1 <= K - 1.
+    ++used_;
+    return i + 1;
+  }
+
+  std::uint64_t fingerprint() const override {
+    Hasher h;
+    h.add(cfg_.kind);
+    h.add(static_cast<std::uint64_t>(cfg_.ending));
+    h.add(cfg_.seed);
+    for (int v : {cfg_.start, cfg_.minLength, cfg_.maxLength, cfg_.band, cfg_.candidates})
+      h.add(static_cast<std::uint64_t>(v));
+    h.add(cfg_.meanInterval);
+    for (int v : table_) h.add(static_cast<std::uint64_t>(v));
+    return h.value();
+  }
+  void saveExtra(std::vector<std::uint64_t> &out) const override {
+    out.push_back(static_cast<std::uint64_t>(length_));
+    out.push_back(static_cast<std::uint64_t>(used_));
+    for (std::uint64_t w : rng_.state()) out.push_back(w);
+  }
+  void restoreExtra(const std::uint64_t *d, std::size_t n) override {
+    const auto K = static_cast<std::uint64_t>(numFrames());
+    if (n != 6 || d[0] > K || d[1] > K)
+      throw std::invalid_argument("restoreState: wrong size or values for a " + cfg_.kind +
+                                  " path state");
+    rng_.setState({d[2], d[3], d[4], d[5]});
+    length_ = static_cast<int>(d[0]);
+    used_ = static_cast<int>(d[1]);
+  }
+
+private:
+  /// Resolves the parameters for K frames and builds the jump table from the
+  /// normalised recurrence matrix R (K x K); throws std::invalid_argument.
+  void build(int K, const std::vector<double> &R) {
+    checkPathStart(cfg_.kind, K, params_);
+    setNumFrames(K);
+    std::string kind = cfg_.kind;
+    configureStitching(kind, K, R, params_, cfg_, table_, count_);
+    rng_ = Xoshiro256(cfg_.seed);
+    jumpProbability_ = 1.0 / (1.0 + cfg_.meanInterval);
+  }
+
+  void beginSequence(int s) {
+    const int K = numFrames();
+    used_ = 1;
+    switch (cfg_.ending) {
+    case Ending::UniformLength:
+      length_ = cfg_.minLength +
+                static_cast<int>(rng_.below(static_cast<std::uint64_t>(cfg_.maxLength -
+                                                                       cfg_.minLength + 1)));
+      break;
+    case Ending::QuarterLength:
+      length_ = cfg_.minLength +
+                static_cast<int>(std::floor(rng_.uniform() * (cfg_.maxLength - cfg_.minLength)));
+      break;
+    case Ending::Markov: length_ = 0; return; // decided step by step
+    }
+    // A sequence must not run past the last frame: shorten it.
+    length_ = std::min(length_, K - s);
+  }
+
+  /// Whether the sequence that used frame i as its used_-th frame ends here.
+  bool sequenceEnds(int i) {
+    if (i == numFrames() - 1) return true; // no frame after the last one
+    if (cfg_.ending != Ending::Markov) return used_ >= length_;
+    if (used_ < cfg_.minLength) return false;
+    return rng_.uniform() < jumpProbability_;
+  }
+
+  PathParams params_;
+  RecurrenceNorm norm_ = RecurrenceNorm::SqrDiff;
+  bool stored_ = false; // the matrix came from the database file
+  StitchingConfig cfg_;
+  std::vector<int> table_; // K x candidates best matches, best first
+  std::vector<int> count_; // valid entries per row of table_
+  Xoshiro256 rng_;
+  double jumpProbability_ = 0.0;
+  int length_ = 0; // planned length of the current sequence (not for markov)
+  int used_ = 0;   // frames of the current sequence used so far
+};
+
+
+PetscErrorCode StitchingPath::setFromOptions(MPI_Comm comm) {
+  const std::string &kind = cfg_.kind;
+  const bool markov = kind == "markov", quarter = kind == "quarter";
+  PetscInt seed = static_cast<PetscInt>(params_.seed), start = params_.startFrame;
+  PetscInt minLength = params_.minLength.value_or(-1), maxLength = params_.maxLength.value_or(-1);
+  PetscInt band = params_.band.value_or(-1), candidates = params_.candidates;
+  PetscReal meanInterval = params_.meanIntervalSteps.value_or(-1.0);
+  char norm[32];
+  PetscFunctionBeginUser;
+  PetscCall(PetscStrncpy(norm, recurrenceNormName(norm_), sizeof norm));
+  const std::string title = "Frame path " + kind + ": stitched sequences of frames";
+  if (optionsPrefix() == "path_") { // the option's name before paths read their own options
+    PetscOptionsBegin(comm, nullptr, "Frame path: renamed options", "rcfd");
+    PetscCall(PetscOptionsDeprecated("-recurrence_norm", "-path_recurrence_norm", "0.2", nullptr));
+    PetscOptionsEnd();
+  }
+  PetscOptionsBegin(comm, optionsPrefix().c_str(), title.c_str(), "rcfd");
+  PetscCall(PetscOptionsInt("-seed", "Seed of the stitching path", "", seed, &seed, nullptr));
+  PetscCall(PetscOptionsInt("-start", "Frame of the first step", "", start, &start, nullptr));
+  PetscCall(PetscOptionsInt("-min_length", "Shortest sequence [frames] (default: by kind)", "",
+                            minLength, &minLength, nullptr));
+  if (!markov)
+    PetscCall(PetscOptionsInt("-max_length", "Longest sequence [frames] (default: by kind)", "",
+                              maxLength, &maxLength, nullptr));
+  if (!quarter)
+    PetscCall(PetscOptionsInt("-band", "Jumps only to frames at least this far away (default: K/10)",
+                              "", band, &band, nullptr));
+  if (markov)
+    PetscCall(PetscOptionsReal("-mean_interval", "Mean extra steps before a jump (default: K/10)",
+                               "", meanInterval, &meanInterval, nullptr));
+  PetscCall(PetscOptionsInt("-candidates", "Jump to one of this many best matches, at random", "",
+                            candidates, &candidates, nullptr));
+  PetscCall(PetscOptionsString("-recurrence_norm", "Distance between frames: sqrDiff, euclidean, absDiff or max",
+                               "", norm, norm, sizeof norm, nullptr));
+  PetscOptionsEnd();
+  PetscCall(collectively(
+      comm,
+      [&] {
+        try {
+          norm_ = parseRecurrenceNorm(norm);
+        } catch (const std::invalid_argument &e) {
+          throw std::invalid_argument("-" + optionsPrefix() + "recurrence_norm: " + e.what());
+        }
+      },
+      PETSC_ERR_USER_INPUT));
+  // Values <= 0 (< 0 for the mean interval) keep the kind's default.
+  params_.seed = static_cast<std::uint64_t>(seed);
+  params_.startFrame = static_cast<int>(start);
+  if (minLength > 0) params_.minLength = static_cast<int>(minLength);
+  if (maxLength > 0) params_.maxLength = static_cast<int>(maxLength);
+  if (band > 0) params_.band = static_cast<int>(band);
+  if (meanInterval >= 0) params_.meanIntervalSteps = meanInterval;
+  params_.candidates = static_cast<int>(candidates);
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+// The path is built identically on every rank: from the stored recurrence
+// matrix (or one computed and broadcast from rank 0), its parameters and seed.
+PetscErrorCode StitchingPath::setUp(const PathContext &ctx) {
+  const MPI_Comm comm = ctx.db.layout().comm();
+  const int K = ctx.db.numFrames();
+  std::vector<double> R;
+  PetscFunctionBeginUser;
+  PetscCall(FramePath::setUp(ctx));
+  PetscCall(loadOrComputeRecurrence(ctx.db, norm_, &R, &stored_));
+  if (!ctx.quiet && stored_)
+    PetscCall(PetscPrintf(comm, "Using the %s recurrence matrix stored in %s\n",
+                          recurrenceNormName(norm_), ctx.db.path().c_str()));
+  if (!ctx.quiet && !stored_)
+    PetscCall(PetscPrintf(comm, "Computed the %s recurrence matrix of %d frames (store it with "
+                                "'rcfd recurrence %s' to reuse it)\n",
+                          recurrenceNormName(norm_), K, ctx.db.path().c_str()));
+  PetscCall(collectively(comm, [&] { build(K, R); }, PETSC_ERR_USER_INPUT));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+} // namespace
+
+void checkPathStart(const std::string &kind, int K, const PathParams &p) {
+  if (K < 2)
+    throw std::invalid_argument(pathParameterError(kind, "a frame path needs at least 2 frames; the "
+                                                 "database has " +
+                                                     std::to_string(K)));
+  if (p.startFrame < 0 || p.startFrame >= K)
+    throw std::invalid_argument(pathParameterError(kind, "startFrame " + std::to_string(p.startFrame) +
+                                                     " is outside [0, " + std::to_string(K - 1) +
+                                                     "]"));
+}
+
+std::unique_ptr<FramePath> newStitchingPath(const std::string &kind) {
+  return std::make_unique<StitchingPath>(kind);
+}
+
+std::unique_ptr<FramePath> newStitchingPath(const std::string &kind, int K,
+                                            const std::vector<double> &recurrence,
+                                            const PathParams &params) {
+  return std::make_unique<StitchingPath>(kind, K, recurrence, params);
+}
+
+} // namespace rcfd

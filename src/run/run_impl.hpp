@@ -1,0 +1,65 @@
+// The state of a Run, private to the library.
+#pragma once
+
+#include "rcfd/mass_ledger.hpp"
+#include "rcfd/run.hpp"
+
+#include "observable/cog_monitor.hpp"
+
+namespace rcfd {
+
+struct Run::Impl {
+  Impl(MPI_Comm comm, const OperatorRegistry &registry, const PathRegistry &paths)
+      : comm(comm), registry(registry), paths(paths) {}
+  Impl(MPI_Comm comm, const OperatorRegistry &registry)
+      : comm(comm), registry(registry), builtinPaths(PathRegistry::withBuiltins()),
+        paths(builtinPaths) {}
+
+  /// One entry of the monitor list.
+  struct Entry {
+    std::unique_ptr<Monitor> monitor;
+    long every;
+    std::string name;
+  };
+
+  PetscErrorCode initialState();      // src/state/initial_state.cpp
+  PetscErrorCode loadInitialMasses(); // src/state/initial_state.cpp
+  PetscErrorCode callMonitors(long step, double time, int frame, bool last);
+  PetscErrorCode flushMonitors();
+  PetscErrorCode progress(long step, double time, bool last);
+  PetscErrorCode writeCheckpoint(long step) const; // src/run/checkpoint.cpp
+  PetscErrorCode readCheckpoint();                 // src/run/checkpoint.cpp
+  PetscErrorCode writePath() const;                // src/run/checkpoint.cpp
+  RunContext context() const { return RunContext{*db, set, solidDensity}; }
+
+  MPI_Comm comm;
+  const OperatorRegistry &registry;
+  PathRegistry builtinPaths; // used when the run was given no registry
+  const PathRegistry &paths;
+  std::shared_ptr<Database> db;
+  FractionSet set;
+  FractionState fstate;
+  Pipeline ops;
+  MassLedger ledger;
+  std::unique_ptr<FramePath> path;
+  CogMonitor *cog = nullptr; // the first entry of `monitors`
+  std::vector<Entry> monitors;
+  std::vector<int> frames;
+  long startStep = 0;
+  bool isSetUp = false, solved = false;
+
+  // Options.
+  std::string dbPath, outputDir = "rcfd-output", initKind = "mixed", initFile;
+  std::string pipelineSpec = "shift,drift,carry";
+  std::string checkpointFile, restartFile;
+  double tEnd = -1.0, fieldsEvery = 0.0, progressInterval = 2.0, solidDensity = -1.0;
+  double checkpointEvery = 0.0;
+  long steps = 0;
+  PetscBool quiet = PETSC_FALSE, writeFields = PETSC_TRUE;
+  OwnedViewer viewer; // -run_view
+  PetscViewerFormat viewFormat = PETSC_VIEWER_DEFAULT;
+  DatabaseLoadOptions loadOptions;
+  double wallStart = 0.0, lastProgress = 0.0;
+};
+
+} // namespace rcfd
