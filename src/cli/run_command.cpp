@@ -1,6 +1,7 @@
 #include "cli/commands.hpp"
 
-#include "observable/cog_plot.hpp"
+#include "analysis/ensemble.hpp"
+#include "cli/figures.hpp"
 #include "rcfd/run.hpp"
 #include "base/collective.hpp"
 
@@ -18,7 +19,7 @@ PetscErrorCode setOption(const std::string &name, const std::string &value) {
 // sharing one loaded database; each member writes OUTPUT/member_k/cog.csv,
 // and OUTPUT/ensemble.csv and ensemble.png give mean and spread.
 PetscErrorCode runEnsemble(MPI_Comm comm, const OperatorRegistry &registry, PetscInt members,
-                           const std::string &outputDir, PetscInt seed) {
+                           const std::string &outputDir, PetscInt seed, PetscBool plot) {
   PetscMPIInt rank;
   PetscFunctionBeginUser;
   PetscCallMPI(MPI_Comm_rank(comm, &rank));
@@ -29,7 +30,7 @@ PetscErrorCode runEnsemble(MPI_Comm comm, const OperatorRegistry &registry, Pets
     PetscCall(setOption("-path_seed", std::to_string(seed + k)));
     PetscCall(setOption("-output_dir", dir));
     PetscCall(setOption("-fields", "0"));
-    PetscCall(setOption("-plot", "0"));
+    PetscCall(setOption("-plot", "0")); // members draw no figures
     Run member(comm, registry);
     if (db) member.useDatabase(db);
     PetscCall(member.setFromOptions());
@@ -41,18 +42,18 @@ PetscErrorCode runEnsemble(MPI_Comm comm, const OperatorRegistry &registry, Pets
     csvs.push_back(dir + "/cog.csv");
   }
   PetscCall(collectively(comm, [&] {
-    if (rank == 0)
-      summariseEnsemble(csvs, outputDir + "/ensemble.csv", outputDir + "/ensemble.png", outputDir);
+    if (rank == 0) writeEnsembleSummary(csvs, outputDir + "/ensemble.csv");
   }));
-  PetscCall(PetscPrintf(comm, "Ensemble of %d paths: %s/ensemble.csv, ensemble.png\n", (int)members,
-                        outputDir.c_str()));
+  if (plot) PetscCall(drawCogFigures(comm, outputDir + "/ensemble.csv", outputDir + "/ensemble.png", outputDir));
+  PetscCall(PetscPrintf(comm, "Ensemble of %d paths: %s/ensemble.csv%s\n", (int)members, outputDir.c_str(),
+                        plot ? ", ensemble.png" : ""));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
 } // namespace
 
 PetscErrorCode runCommand(MPI_Comm comm) {
-  PetscBool view = PETSC_FALSE;
+  PetscBool view = PETSC_FALSE, plot = PETSC_TRUE;
   PetscInt members = 1, seed = 1;
   char dir[PETSC_MAX_PATH_LEN] = "rcfd-output";
   PetscFunctionBeginUser;
@@ -64,18 +65,20 @@ PetscErrorCode runCommand(MPI_Comm comm) {
                             "", members, &members, nullptr));
   PetscOptionsEnd();
   PetscCall(PetscOptionsGetBool(nullptr, nullptr, "-run_view", &view, nullptr));
+  PetscCall(PetscOptionsGetBool(nullptr, nullptr, "-plot", &plot, nullptr)); // Run reads and documents it
   PetscCall(PetscOptionsGetInt(nullptr, nullptr, "-path_seed", &seed, nullptr));
   PetscCall(PetscOptionsGetString(nullptr, nullptr, "-output_dir", dir, sizeof dir, nullptr));
   if (helpRequested()) PetscFunctionReturn(PETSC_SUCCESS);
   PetscCall(rejectUnusedOptions(comm, "run"));
   PetscCheck(members >= 1, comm, PETSC_ERR_USER_INPUT, "-ensemble must be at least 1");
   if (members > 1) {
-    PetscCall(runEnsemble(comm, registry, members, dir, seed)); // `run` only read the options
+    PetscCall(runEnsemble(comm, registry, members, dir, seed, plot)); // `run` only read the options
     PetscFunctionReturn(PETSC_SUCCESS);
   }
   PetscCall(run.setUp());
   if (view) PetscCall(run.view(PETSC_VIEWER_STDOUT_(comm)));
   PetscCall(run.solve());
+  if (plot) PetscCall(drawCogFigures(comm, std::string(dir) + "/cog.csv", std::string(dir) + "/cog.png", dir));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 

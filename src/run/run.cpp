@@ -1,7 +1,6 @@
 #include "rcfd/run.hpp"
 
 #include "path/database_recurrence.hpp"
-#include "observable/cog_plot.hpp"
 #include "path/frame_path.hpp"
 
 #include "base/collective.hpp"
@@ -278,13 +277,6 @@ PetscErrorCode Run::solve() {
   if (writeFields) PetscCall(fields.write(steps * dt, frame, fstate.masses()));
   PetscCall(csv->flush());
   PetscCall(writePath());
-  if (plotResults) {
-    PetscMPIInt rank;
-    PetscCallMPI(MPI_Comm_rank(comm, &rank));
-    PetscCall(collectively(comm, [&] {
-      if (rank == 0) plotCogCsv(outputDir + "/cog.csv", outputDir + "/cog.png", outputDir);
-    }));
-  }
   PetscCall(progress(steps, steps * dt, true));
 
   PetscCall(ops.viewRequested(PETSC_VIEWER_STDOUT_(comm)));
