@@ -2,10 +2,12 @@
 
 #include "base/collective.hpp"
 
+#include <cerrno>
 #include <cstdio>
-#include <fcntl.h>
 #include <cstdlib>
 #include <filesystem>
+
+#include <fcntl.h>
 #include <spawn.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -59,7 +61,10 @@ int runProgram(const std::vector<std::string> &argv, bool quiet) {
   posix_spawn_file_actions_destroy(&actions);
   if (started != 0) return -1;
   int status = 0;
-  if (waitpid(pid, &status, 0) < 0 || !WIFEXITED(status)) return -1;
+  pid_t waited;
+  while ((waited = waitpid(pid, &status, 0)) < 0 && errno == EINTR) {
+  }
+  if (waited < 0 || !WIFEXITED(status)) return -1;
   return WEXITSTATUS(status);
 }
 

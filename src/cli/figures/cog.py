@@ -15,15 +15,17 @@ def main():
     fig, ax = rf.plt.subplots(figsize=(7.5, 4.2))
     for column in rf.cog_columns(table):
         values, spread = rf.series(table, column)
-        style = {"color": "black", "lw": 1.0, "ls": "--"} if column == "z_cog_bed_m" else {}
+        bed = {"color": "black", "lw": 1.0, "ls": "--", "band_alpha": 0.1}  # the bed in the background
+        style = bed if column == "z_cog_bed_m" else {}
         rf.plot_band(ax, table["time_s"], values, spread, rf.fraction_label(column), **style)
     ax.set_xlabel("time $t$ [s]")
     ax.set_ylabel("centre of gravity $z_\\mathrm{CoG}$ [mm]")
     ax.set_xlim(table["time_s"][0], table["time_s"][-1])
     title = args.title
     if rf.is_ensemble(table):
-        title += " (mean $\\pm$ 1 sd of the ensemble)"
-    ax.set_title(title.strip())
+        note = "mean $\\pm$ 1 sd of the ensemble"
+        title = f"{title} ({note})" if title else note
+    ax.set_title(title)
     rf.legend_outside(ax)
     rf.save(fig, args.output)
 

@@ -78,12 +78,12 @@ def fraction_label(column):
     return core
 
 
-def plot_band(ax, time, values, spread, label, scale=1e3, **style):
+def plot_band(ax, time, values, spread, label, scale=1e3, band_alpha=0.2, **style):
     """A curve (in mm by default) and, for an ensemble, its mean +- 1 sd band."""
     (line,) = ax.plot(time, scale * values, label=label, **{"lw": 1.4, **style})
     if spread is not None:
         ax.fill_between(time, scale * (values - spread), scale * (values + spread),
-                        color=line.get_color(), alpha=0.2, lw=0)
+                        color=line.get_color(), alpha=band_alpha, lw=0)
     return line
 
 
