@@ -5,8 +5,8 @@
 #include "cli/commands.hpp"
 
 #include "analysis/segregation_score.hpp"
-#include "plot/png_plot.hpp"
 #include "base/collective.hpp"
+#include "cli/figures.hpp"
 
 #include <cmath>
 #include <cstdio>
@@ -49,8 +49,8 @@ PetscErrorCode readCompareOptions(MPI_Comm comm, CompareOptions *o) {
                                   &nwindow, &setWindow));
   PetscCall(PetscOptionsString("-o", "Write the curves at the reference's times to this CSV", "", "",
                                out, sizeof out, &setOut));
-  PetscCall(PetscOptionsString("-png", "Draw the Delta z(t) curves into this PNG file", "", "", png,
-                               sizeof png, &setPng));
+  PetscCall(PetscOptionsString("-png", "Draw the Delta z(t) curves into this PNG file (from the -o CSV, "
+                               "by default the PNG's name with .csv)", "", "", png, sizeof png, &setPng));
   PetscCall(PetscOptionsString("-title", "Title of the PNG figure", "", title, title, sizeof title,
                                nullptr));
   PetscOptionsEnd();
@@ -72,8 +72,9 @@ PetscErrorCode readCompareOptions(MPI_Comm comm, CompareOptions *o) {
   PetscCheck(!setWindow || (nwindow == 2 && window[0] < window[1]), comm, PETSC_ERR_USER_INPUT,
              "-score_window takes two times t0,t1 [s] with t0 < t1");
   o->reference = ref;
-  if (setOut) o->output = out;
   if (setPng) o->png = png;
+  if (setOut) o->output = out;
+  else if (setPng) o->output = std::filesystem::path(o->png).replace_extension(".csv").string(); // the figure's numbers
   o->title = title;
   o->windowBegin = window[0];
   o->windowEnd = window[1];
@@ -104,31 +105,21 @@ void writeCurves(const std::string &path, const DeltaZSeries &ref,
   if (!f) throw std::runtime_error("writing '" + path + "' failed.");
 }
 
-/// Delta z(t) in mm of the reference and every run, each run's label
-/// carrying its scores.
-void plotCurves(const CompareOptions &o, const DeltaZSeries &ref,
-                const std::vector<DeltaZSeries> &runs, const std::vector<DeltaZScore> &scores) {
-  plot::Figure fig;
-  fig.title = o.title.empty() ? "Segregation: Delta z = z_CoG(small) - z_CoG(large)" : o.title;
-  fig.xLabel = "time [s]";
-  fig.yLabel = "Delta z [mm]";
-  auto curve = [](const std::string &label, const DeltaZSeries &s) {
-    plot::Series c;
-    c.label = label;
-    c.x = s.time;
-    for (double dz : s.deltaZ) c.y.push_back(1e3 * dz);
-    return c;
-  };
-  fig.series.push_back(curve("reference (CFD-DEM)", ref));
-  for (std::size_t i = 0; i < runs.size(); ++i) {
-    char text[160];
-    std::snprintf(text, sizeof text, "%s: Delta_seg %.0f %%, RMS/peak %.2f", o.labels[i].c_str(),
-                  scores[i].segregationError, scores[i].rmsRelative);
-    fig.series.push_back(curve(text, runs[i]));
+/// Delta z(t) of the reference and every run from the curves CSV, each
+/// run's legend carrying its scores.
+PetscErrorCode drawCurves(MPI_Comm comm, const CompareOptions &o, const std::vector<DeltaZScore> &scores) {
+  PetscFunctionBeginUser;
+  std::vector<std::string> args{o.output, "-o", o.png, "--title", o.title, "--window",
+                                std::to_string(o.windowBegin) + "," + std::to_string(o.windowEnd)};
+  for (std::size_t i = 0; i < o.labels.size(); ++i) {
+    char text[200] = "";
+    if (i < scores.size()) // Eq. 7 error and RMS of the whole curve over the reference's peak
+      std::snprintf(text, sizeof text, "%s: $\\Delta_\\mathrm{seg}$ = %.0f %%, RMS/peak = %.2f", o.labels[i].c_str(),
+                    scores[i].segregationError, scores[i].rmsRelative);
+    args.insert(args.end(), {"--legend", text});
   }
-  if (std::filesystem::path(o.png).has_parent_path())
-    std::filesystem::create_directories(std::filesystem::path(o.png).parent_path());
-  plot::writePng(o.png, fig);
+  PetscCall(drawFigure(comm, "compare.py", args));
+  PetscFunctionReturn(PETSC_SUCCESS);
 }
 
 } // namespace
@@ -141,11 +132,11 @@ PetscErrorCode compareCommand(MPI_Comm comm) {
   PetscCall(readCompareOptions(comm, &o));
   if (helpRequested()) PetscFunctionReturn(PETSC_SUCCESS);
   PetscCall(rejectUnusedOptions(comm, "compare"));
+  std::vector<DeltaZScore> scores; // rank 0's
   PetscCall(collectively(comm, [&] {
     if (rank != 0) return;
     const DeltaZSeries ref = readDeltaZCsv(o.reference);
     std::vector<DeltaZSeries> runs;
-    std::vector<DeltaZScore> scores;
     for (const auto &path : o.runs) {
       runs.push_back(readDeltaZCsv(path, o.offset));
       scores.push_back(scoreDeltaZ(ref, runs.back(), o.windowBegin, o.windowEnd));
@@ -167,11 +158,8 @@ PetscErrorCode compareCommand(MPI_Comm comm) {
       writeCurves(o.output, ref, runs, o.labels);
       std::printf("Wrote %s\n", o.output.c_str());
     }
-    if (!o.png.empty()) {
-      plotCurves(o, ref, runs, scores);
-      std::printf("Wrote %s\n", o.png.c_str());
-    }
   }));
+  if (!o.png.empty()) PetscCall(drawCurves(comm, o, scores));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 

@@ -1,16 +1,35 @@
 #include "cli/commands.hpp"
 
+#include "cli/figures.hpp"
 #include "path/database_recurrence.hpp"
-#include "plot/png_plot.hpp"
 #include "base/collective.hpp"
 #include "base/h5.hpp"
 
 #include <algorithm>
+#include <cstdio>
+#include <fstream>
 
 namespace rcfd::cli {
+namespace {
+
+/// The K x K matrix as CSV (row i, column j: frames i and j), for the heat
+/// map's script and for anyone's own analysis; written atomically.
+void writeMatrixCsv(const std::string &path, const std::vector<double> &R, int K, const std::string &note) {
+  const std::string tmp = path + ".tmp";
+  std::ofstream out(tmp);
+  out.precision(6);
+  out << "# " << note << "; row i, column j: frames i and j\n";
+  for (int i = 0; i < K; ++i)
+    for (int j = 0; j < K; ++j) out << R[static_cast<size_t>(i) * K + j] << (j + 1 < K ? ',' : '\n');
+  out.close();
+  if (!out || std::rename(tmp.c_str(), path.c_str()) != 0) throw std::runtime_error("cannot write '" + path + "'");
+}
+
+} // namespace
 
 // rcfd recurrence DB.h5: compute the recurrence matrix of every frame pair
-// (collectively), store it in the database under /extra, and draw it.
+// (collectively), store it in the database under /extra, write it as CSV
+// next to the database and draw it.
 PetscErrorCode recurrenceCommand(MPI_Comm comm, const char *positional) {
   char text[PETSC_MAX_PATH_LEN] = "";
   char normName[32] = "sqrDiff";
@@ -42,8 +61,11 @@ PetscErrorCode recurrenceCommand(MPI_Comm comm, const char *positional) {
   PetscCall(computeRecurrence(*db, norm, &R));
   const double seconds = MPI_Wtime() - start;
   const int K = db->numFrames();
+  const double frameDt = db->metadata().dtRec;
   db.reset(); // close before writing into the file
-  const std::string png = file.substr(0, file.rfind('.')) + "-recurrence.png";
+  const std::string stem = file.substr(0, file.rfind('.')) + "-recurrence";
+  const std::string note = std::string("recurrence matrix, norm ") + recurrenceNormName(norm) +
+                           ", divided by its largest entry";
   PetscCall(collectively(comm, [&] {
     if (rank != 0) return;
     if (store) {
@@ -52,12 +74,14 @@ PetscErrorCode recurrenceCommand(MPI_Comm comm, const char *positional) {
       const std::string name = "/extra/" + recurrenceDatasetName(norm);
       if (f.exists(name)) H5Ldelete(f.id(), name.c_str(), H5P_DEFAULT);
       f.write(name, R, static_cast<hsize_t>(K));
-      f.writeAttr(name, "note", std::string("recurrence matrix, norm ") + recurrenceNormName(norm) +
-                                    ", divided by its largest entry");
+      f.writeAttr(name, "note", note);
     }
-    plot::writeHeatmapPng(png, R, K, K,
-                          std::string("recurrence matrix (") + recurrenceNormName(norm) + ") of " + file);
+    writeMatrixCsv(stem + ".csv", R, K, note + "; database " + file);
   }));
+  const std::string png = stem + ".png";
+  PetscCall(drawFigure(comm, "recurrence.py",
+                       {stem + ".csv", "-o", png, "--norm", recurrenceNormName(norm), "--frame_dt",
+                        std::to_string(frameDt), "--title", "recurrence matrix of " + file}));
   if (!quiet) {
     double offDiagonalMin = 1.0;
     for (int i = 0; i < K; ++i)
@@ -65,9 +89,9 @@ PetscErrorCode recurrenceCommand(MPI_Comm comm, const char *positional) {
         if (std::abs(i - j) >= std::max(1, K / 10)) offDiagonalMin = std::min(offDiagonalMin, R[i * K + j]);
     PetscCall(PetscPrintf(comm,
                           "Recurrence matrix (%s) of %d frames in %.2f s; closest pair at least K/10 apart: %.3f\n"
-                          "%s%s\n",
+                          "%s%s.csv, heat map %s\n",
                           recurrenceNormName(norm), K, seconds, offDiagonalMin,
-                          store ? ("stored in " + file + ", ").c_str() : "", ("heat map " + png).c_str()));
+                          store ? ("stored in " + file + " and ").c_str() : "", stem.c_str(), png.c_str()));
   }
   PetscFunctionReturn(PETSC_SUCCESS);
 }

@@ -1,8 +1,9 @@
 #include "cli/commands.hpp"
+#include "cli/figures.hpp"
 
-#include "observable/cog_plot.hpp"
-#include "rcfd/run.hpp"
+#include "analysis/ensemble.hpp"
 #include "base/collective.hpp"
+#include "rcfd/run.hpp"
 
 #include <string>
 #include <vector>
@@ -38,13 +39,11 @@ PetscErrorCode runEnsemble(MPI_Comm comm, const OperatorRegistry &registry, Pets
     csvs.push_back(dir + "/cog.csv");
   }
   PetscCall(collectively(comm, [&] {
-    if (rank == 0)
-      summariseEnsemble(csvs, outputDir + "/ensemble.csv", outputDir + "/ensemble.png", outputDir);
+    if (rank == 0) writeEnsembleSummary(csvs, outputDir + "/ensemble.csv");
   }));
-  // figures: drawn by the CLI here (the ensemble's mean and spread) when `plot`
-  (void)plot;
-  PetscCall(PetscPrintf(comm, "Ensemble of %d paths: %s/ensemble.csv, ensemble.png\n", (int)members,
-                        outputDir.c_str()));
+  if (plot) PetscCall(drawCogFigures(comm, outputDir + "/ensemble.csv", outputDir + "/ensemble.png", outputDir));
+  PetscCall(PetscPrintf(comm, "Ensemble of %d paths: %s/ensemble.csv%s\n", (int)members, outputDir.c_str(),
+                        plot ? ", ensemble.png" : ""));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
@@ -74,7 +73,8 @@ PetscErrorCode runCommand(MPI_Comm comm) {
   }
   PetscCall(run.setUp());
   PetscCall(run.solve());
-  // figures: drawn by the CLI (cog.png, cog-delta.png from cog.csv) when -plot
+  const std::string dir = run.outputDirectory();
+  if (plot) PetscCall(drawCogFigures(comm, dir + "/cog.csv", dir + "/cog.png", dir));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
