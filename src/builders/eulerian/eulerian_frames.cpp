@@ -1,5 +1,6 @@
 #include "builders/eulerian/eulerian_frames.hpp"
 
+#include "base/atomic_file.hpp"
 #include "base/random.hpp"
 
 #include <algorithm>
@@ -646,10 +647,7 @@ void writeEulerianFrame(const std::string &path, const Mesh &mesh, const Euleria
     put(frame.solidVelocity[c][1], ' ');
     put(frame.solidVelocity[c][2], '\n');
   }
-  std::ofstream file(path, std::ios::binary | std::ios::trunc);
-  file.write(out.data(), static_cast<std::streamsize>(out.size()));
-  file.close();
-  if (!file) throw std::runtime_error("could not write Eulerian frame '" + path + "'.");
+  writeTextAtomically(path, out);
 }
 
 std::vector<Vec3> impliedSolidVelocity(const Mesh &mesh, const CsrMatrix &T, double dtRec) {

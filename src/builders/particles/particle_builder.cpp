@@ -1,5 +1,7 @@
 #include "builders/particles/particle_builder.hpp"
 
+#include "base/constants.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -9,7 +11,6 @@
 namespace rcfd {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 
 /// y = T x for a row-compressed T.
 void multiply(const CsrMatrix &T, const std::vector<double> &x, std::vector<double> &y) {
