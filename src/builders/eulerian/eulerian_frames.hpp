@@ -28,7 +28,7 @@
 // then iterative proportional scaling (scale rows to the target
 // V alpha_{k+1}, renormalise columns to 1) makes T_k (V alpha_k) =
 // V alpha_{k+1}: plain sweeps first, Newton steps on the row log-factors when
-// sweeps stall (see scaleToTarget); rows that still miss their target by
+// sweeps stall (scaleToTarget, src/database/csr.hpp); rows that still miss their target by
 // more than 5 % get seeds from 2, then 3 cells away and scaling resumes.
 #pragma once
 
