@@ -4,6 +4,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <exception>
 #include <string>
 
 namespace rcfd::test {
@@ -22,6 +23,19 @@ inline void fail(const char *file, int line, const std::string &what) {
 inline bool close(double a, double b, double tol) {
   const double scale = std::fmax(1.0, std::fmax(std::fabs(a), std::fabs(b)));
   return std::fabs(a - b) <= tol * scale;
+}
+
+/// Whether f() throws an exception whose message contains `text`; prints
+/// the message when it does not.
+template <typename F> bool throwsWith(F &&f, const std::string &text) {
+  try {
+    f();
+  } catch (const std::exception &e) {
+    if (std::string(e.what()).find(text) != std::string::npos) return true;
+    std::fprintf(stderr, "unexpected message: %s\n", e.what());
+    return false;
+  }
+  return false;
 }
 
 } // namespace rcfd::test

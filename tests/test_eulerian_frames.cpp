@@ -5,6 +5,7 @@
 // shift implies, and proportional scaling to a feasible target.
 #include "check.hpp"
 #include "builders/eulerian/eulerian_frames.hpp"
+#include "database/csr.hpp"
 
 #include <algorithm>
 #include <cmath>

@@ -15,19 +15,9 @@
 #include <vector>
 
 using namespace rcfd;
+using rcfd::test::throwsWith;
 
 namespace {
-
-template <typename F> bool throwsWith(F &&f, const std::string &text) {
-  try {
-    f();
-  } catch (const std::exception &e) {
-    if (std::string(e.what()).find(text) != std::string::npos) return true;
-    std::fprintf(stderr, "unexpected message: %s\n", e.what());
-    return false;
-  }
-  return false;
-}
 
 void touch(const std::string &path, const std::string &text = "") { std::ofstream(path) << text; }
 
@@ -137,7 +127,7 @@ void scores(const std::string &dir) {
   const auto c = readDeltaZCsv(dir + "/classes.csv");
   RCFD_CHECK_CLOSE(c.deltaZ[0], 0.03, 1e-15);
   touch(dir + "/bad.csv", "time_s,delta_z_m\n0,1\n0.1,x\n");
-  RCFD_CHECK(throwsWith([&] { readDeltaZCsv(dir + "/bad.csv"); }, "line 3: expected a number"));
+  RCFD_CHECK(throwsWith([&] { readDeltaZCsv(dir + "/bad.csv"); }, "line 3, column 'delta_z_m': expected a number, found 'x'"));
   touch(dir + "/none.csv", "t,z\n0,1\n");
   RCFD_CHECK(throwsWith([&] { readDeltaZCsv(dir + "/none.csv"); }, "is not a centre-of-gravity file"));
 }

@@ -1,5 +1,7 @@
 #include "analysis/particle_reference.hpp"
 
+#include "base/constants.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -10,7 +12,6 @@
 namespace rcfd {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 
 using FilePtr = std::unique_ptr<std::FILE, int (*)(std::FILE *)>;
 

@@ -1,34 +1,13 @@
 #include "analysis/segregation_score.hpp"
 
+#include "base/csv.hpp"
+
 #include <algorithm>
-#include <cerrno>
 #include <cmath>
-#include <cstdlib>
-#include <fstream>
-#include <sstream>
 #include <stdexcept>
 
 namespace rcfd {
 namespace {
-
-std::vector<std::string> splitComma(const std::string &line) {
-  std::vector<std::string> out;
-  std::stringstream ss(line);
-  std::string item;
-  while (std::getline(ss, item, ',')) {
-    const auto b = item.find_first_not_of(" \t\r");
-    const auto e = item.find_last_not_of(" \t\r");
-    out.push_back(b == std::string::npos ? std::string() : item.substr(b, e - b + 1));
-  }
-  return out;
-}
-
-int findColumn(const std::vector<std::string> &names, std::initializer_list<const char *> choices) {
-  for (const char *c : choices)
-    for (std::size_t i = 0; i < names.size(); ++i)
-      if (names[i] == c) return static_cast<int>(i);
-  return -1;
-}
 
 /// Diameter [mm] of a column named z_cog_d<D>mm or z_cog_d<D>mm_m; negative otherwise.
 double classDiameter(const std::string &name) {
@@ -37,28 +16,17 @@ double classDiameter(const std::string &name) {
   const std::string rest = name.substr(prefix.size());
   const auto mm = rest.find("mm");
   if (mm == std::string::npos || (rest.substr(mm) != "mm" && rest.substr(mm) != "mm_m")) return -1.0;
-  char *end = nullptr;
-  const std::string number = rest.substr(0, mm);
-  const double d = std::strtod(number.c_str(), &end);
-  return end && *end == '\0' && d > 0 ? d : -1.0;
+  double d = 0.0;
+  return csv::parseNumber(std::string_view(rest).substr(0, mm), d) && d > 0 ? d : -1.0;
 }
 
 } // namespace
 
 DeltaZSeries readDeltaZCsv(const std::string &path, double timeOffset) {
-  std::ifstream in(path);
-  if (!in) throw std::runtime_error("cannot open the centre-of-gravity file '" + path + "'.");
-  std::string line;
-  long lineNo = 0;
-  std::vector<std::string> names;
-  while (std::getline(in, line)) {
-    ++lineNo;
-    if (line.empty() || line[0] == '#') continue;
-    names = splitComma(line);
-    break;
-  }
-  const int tCol = findColumn(names, {"time_s", "time"});
-  int dzCol = findColumn(names, {"delta_z_m", "delta_z"});
+  const csv::Table table = csv::Table::read(path, "centre-of-gravity file");
+  const auto &names = table.columns();
+  const int tCol = table.find({"time_s", "time"});
+  const int dzCol = table.find({"delta_z_m", "delta_z"});
   int small = -1, large = -1;
   if (dzCol < 0) {
     double dMin = 0.0, dMax = 0.0;
@@ -74,30 +42,11 @@ DeltaZSeries readDeltaZCsv(const std::string &path, double timeOffset) {
                              "' is not a centre-of-gravity file: its header needs a time_s column "
                              "and delta_z_m (or two z_cog_d<D>mm columns).");
   DeltaZSeries s;
-  const std::size_t need = static_cast<std::size_t>(std::max({tCol, dzCol, small, large})) + 1;
-  while (std::getline(in, line)) {
-    ++lineNo;
-    if (line.empty() || line[0] == '#' || line == "\r") continue;
-    const auto v = splitComma(line);
-    auto number = [&](int c) {
-      if (v.size() < need)
-        throw std::runtime_error("'" + path + "', line " + std::to_string(lineNo) + ": expected " +
-                                 std::to_string(names.size()) + " values, found " +
-                                 std::to_string(v.size()) + ".");
-      char *end = nullptr;
-      errno = 0;
-      const double x = std::strtod(v[c].c_str(), &end);
-      if (v[c].empty() || *end != '\0' || errno == ERANGE)
-        throw std::runtime_error("'" + path + "', line " + std::to_string(lineNo) +
-                                 ": expected a number in column '" + names[c] + "', found '" +
-                                 v[c] + "'.");
-      return x;
-    };
-    const double t = number(tCol) + timeOffset;
-    const double dz = dzCol >= 0 ? number(dzCol) : number(small) - number(large);
+  for (std::size_t r = 0; r < table.numRows(); ++r) {
+    const double t = table.number(r, tCol) + timeOffset;
+    const double dz = dzCol >= 0 ? table.number(r, dzCol) : table.number(r, small) - table.number(r, large);
     if (!s.time.empty() && !(t > s.time.back()))
-      throw std::runtime_error("'" + path + "', line " + std::to_string(lineNo) +
-                               ": the times do not increase.");
+      throw std::runtime_error(table.where(r) + ": the times do not increase.");
     s.time.push_back(t);
     s.deltaZ.push_back(dz);
   }

@@ -129,6 +129,11 @@ File File::openReadWrite(const std::string &path) {
   return f;
 }
 
+void File::close() {
+  if (file.valid() && file.close() < 0)
+    throw Error("could not finish writing HDF5 file '" + name + "' (closing it failed; disk full?)");
+}
+
 bool File::exists(const std::string &object) const {
   // Walk the path so that a missing parent group is not an HDF5 error.
   size_t pos = 0;

@@ -34,9 +34,12 @@ public:
     return *this;
   }
   ~Id() { reset(); }
-  void reset() {
-    if (id >= 0 && closer) closer(id);
+  void reset() { close(); }
+  /// Close now; the status of the close function (negative: failed).
+  herr_t close() {
+    const herr_t status = id >= 0 && closer ? closer(id) : 0;
     id = -1;
+    return status;
   }
   operator hid_t() const { return id; } // NOLINT
   bool valid() const { return id >= 0; }
@@ -57,6 +60,11 @@ public:
   static File createParallel(const std::string &path, MPI_Comm comm);
   /// Open an existing file for read-write by one process.
   static File openReadWrite(const std::string &path);
+
+  /// Close the file, flushing it, and throw naming it if HDF5 could not
+  /// finish it (a file being written must be closed this way before it is
+  /// committed; the destructor cannot report a failure).
+  void close();
 
   hid_t id() const { return file; }
   const std::string &path() const { return name; }

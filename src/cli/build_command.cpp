@@ -6,7 +6,9 @@
 #include "cli/particle_input.hpp"
 #include "analysis/particle_reference.hpp"
 #include "rcfd/database.hpp"
+#include "base/atomic_file.hpp"
 #include "base/collective.hpp"
+#include "base/constants.hpp"
 #include "base/h5.hpp"
 
 #include <chrono>
@@ -20,7 +22,7 @@ namespace {
 
 struct BuildOutputs {
   std::string database = "particles.h5", initOut;
-  double gravity = 9.81;
+  double gravity = kGravity;
   PetscBool quiet = PETSC_FALSE;
 };
 
@@ -67,17 +69,14 @@ std::string join(const std::vector<double> &v, double scale, const char *format)
 void writeInitialMasses(const std::string &path, const std::vector<double> &masses,
                         const SizeClasses &classes, const std::vector<double> &shares,
                         const std::string &note) {
-  const std::string tmp = path + ".tmp";
-  {
-    h5::File f = h5::File::create(tmp);
-    f.write("/masses", masses, static_cast<hsize_t>(classes.diameter.size()));
-    f.writeAttr("/masses", "diameters", classes.diameter);
-    f.writeAttr("/masses", "mass_shares", shares);
-    f.writeAttr("/masses", "note", note);
-  }
-  std::error_code ec;
-  std::filesystem::rename(tmp, path, ec);
-  if (ec) throw std::runtime_error("could not rename '" + tmp + "' to '" + path + "'.");
+  AtomicFile target(path);
+  h5::File f = h5::File::create(target.temporaryPath());
+  f.write("/masses", masses, static_cast<hsize_t>(classes.diameter.size()));
+  f.writeAttr("/masses", "diameters", classes.diameter);
+  f.writeAttr("/masses", "mass_shares", shares);
+  f.writeAttr("/masses", "note", note);
+  f.close();
+  target.commit();
 }
 
 } // namespace

@@ -7,6 +7,7 @@
 #include "builders/particles/snapshot_series.hpp"
 #include "rcfd/database.hpp"
 #include "base/collective.hpp"
+#include "base/constants.hpp"
 
 #include <chrono>
 #include <cstdio>
@@ -21,7 +22,7 @@ struct EulerianInput {
   std::string pattern, database = "eulerian.h5";
   EulerianMeshRequest mesh;
   EulerianBuildOptions build;
-  double solidDensity = 1440.0, gravity = 9.81;
+  double solidDensity = kDefaultSolidDensity, gravity = kGravity;
   PetscBool quiet = PETSC_FALSE;
 };
 

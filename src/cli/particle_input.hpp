@@ -5,6 +5,7 @@
 #include "builders/particles/particle_builder.hpp"
 #include "builders/particles/snapshot_series.hpp"
 #include "rcfd/handle.hpp"
+#include "base/constants.hpp"
 
 #include <limits>
 #include <string>
@@ -20,7 +21,7 @@ struct ParticleInput {
   MeshRequest mesh;
   int stride = 1;
   std::size_t first = 0, last = std::numeric_limits<std::size_t>::max();
-  double solidDensity = 1440.0;
+  double solidDensity = kDefaultSolidDensity;
   double classTolerance = 0.01;
 
   // Filled by resolve() (rank 0 only): all files in time order, one time each.

@@ -1,5 +1,6 @@
 #include "rcfd/database.hpp"
 
+#include "base/atomic_file.hpp"
 #include "base/collective.hpp"
 #include "base/h5.hpp"
 
@@ -211,21 +212,19 @@ LocalFrame readLocalFrame(const h5::File &f, int k, const Layout &layout, bool w
 // ---------------------------------------------------------------- writer
 
 struct DatabaseWriter::Impl {
-  std::string finalPath, tmpPath;
+  explicit Impl(const std::string &path) : out(path) {}
+  AtomicFile out; // declared first: the file is closed before an unfinished temporary is removed
   h5::File file;
   int cells = 0;
-  bool finished = false;
 };
 
 DatabaseWriter::DatabaseWriter(const std::string &path, const Mesh &mesh,
                                const DatabaseMetadata &meta)
-    : impl(std::make_unique<Impl>()) {
+    : impl(std::make_unique<Impl>(path)) {
   if (!(meta.dtRec > 0)) throw std::invalid_argument("dt_rec must be positive");
   if (!(meta.solidDensity > 0)) throw std::invalid_argument("the solid density must be positive");
-  impl->finalPath = path;
-  impl->tmpPath = path + ".tmp";
   impl->cells = mesh.numCells();
-  impl->file = h5::File::create(impl->tmpPath);
+  impl->file = h5::File::create(impl->out.temporaryPath());
   const h5::File &f = impl->file;
   f.writeAttr("/", "format", std::string(kFormatName));
   f.writeAttr("/", "format_version", kDatabaseFormatVersion);
@@ -240,12 +239,7 @@ DatabaseWriter::DatabaseWriter(const std::string &path, const Mesh &mesh,
   f.createGroup("/frames");
 }
 
-DatabaseWriter::~DatabaseWriter() {
-  if (impl && !impl->finished) {
-    impl->file = h5::File();
-    std::remove(impl->tmpPath.c_str());
-  }
-}
+DatabaseWriter::~DatabaseWriter() = default; // an unfinished database leaves no file behind
 
 void DatabaseWriter::append(const FrameRecord &frame) {
   const int n = impl->cells;
@@ -280,10 +274,8 @@ void DatabaseWriter::setNote(const std::string &key, const std::string &text) {
 void DatabaseWriter::finish() {
   if (frames < 1) throw std::invalid_argument("a database needs at least one frame");
   impl->file.writeAttr("/frames", "num_frames", static_cast<long long>(frames));
-  impl->file = h5::File(); // close before renaming
-  if (std::rename(impl->tmpPath.c_str(), impl->finalPath.c_str()) != 0)
-    throw std::runtime_error("could not rename '" + impl->tmpPath + "' to '" + impl->finalPath + "'");
-  impl->finished = true;
+  impl->file.close();
+  impl->out.commit();
 }
 
 // ---------------------------------------------------------------- loader

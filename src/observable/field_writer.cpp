@@ -1,5 +1,6 @@
 #include "rcfd/observables.hpp"
 
+#include "base/atomic_file.hpp"
 #include "base/collective.hpp"
 #include "base/h5.hpp"
 
@@ -74,15 +75,14 @@ PetscErrorCode FieldWriter::write(double time, int frame, Vec masses) {
       fields[0][c] = total / solid;
       fields[1][c] = surface > 0 ? total / surface : NAN; // no solid: no diameter (ParaView greys it)
     }
-    {
-      const h5::File out = h5::File::create(file + ".tmp");
-      out.write("/alpha_s", fields[0]);
-      out.write("/d32", fields[1]);
-      for (int i = 0; i < nf; ++i) out.write("/alpha_" + fractions->label(i), fields[2 + i]);
-      out.write("/alpha_s_database", std::vector<double>(a, a + n));
-    } // closed here, before the rename
-    if (std::rename((file + ".tmp").c_str(), file.c_str()) != 0)
-      throw std::runtime_error("cannot rename '" + file + ".tmp' to '" + file + "'");
+    AtomicFile target(file); // declared first: on failure the file is closed, then removed
+    h5::File out = h5::File::create(target.temporaryPath());
+    out.write("/alpha_s", fields[0]);
+    out.write("/d32", fields[1]);
+    for (int i = 0; i < nf; ++i) out.write("/alpha_" + fractions->label(i), fields[2 + i]);
+    out.write("/alpha_s_database", std::vector<double>(a, a + n));
+    out.close();
+    target.commit();
   }, PETSC_ERR_FILE_WRITE));
   PetscCall(VecRestoreArrayRead(zeroAlpha, &a));
   PetscCall(VecRestoreArrayRead(zeroMasses, &m));

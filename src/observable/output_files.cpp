@@ -1,5 +1,8 @@
 #include "rcfd/observables.hpp"
 
+#include "base/atomic_file.hpp"
+#include "base/collective.hpp"
+
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
@@ -9,16 +12,7 @@ namespace rcfd {
 
 PetscErrorCode writeFileAtomically(const std::string &path, const std::string &text) {
   PetscFunctionBeginUser;
-  const std::string tmp = path + ".tmp";
-  FILE *f = std::fopen(tmp.c_str(), "w");
-  PetscCheck(f, PETSC_COMM_SELF, PETSC_ERR_FILE_OPEN, "Cannot write '%s': %s", tmp.c_str(),
-             std::strerror(errno));
-  const size_t written = std::fwrite(text.data(), 1, text.size(), f);
-  const bool closed = std::fclose(f) == 0;
-  PetscCheck(written == text.size() && closed, PETSC_COMM_SELF, PETSC_ERR_FILE_WRITE,
-             "Could not write all of '%s' (disk full?)", tmp.c_str());
-  PetscCheck(std::rename(tmp.c_str(), path.c_str()) == 0, PETSC_COMM_SELF, PETSC_ERR_FILE_WRITE,
-             "Cannot rename '%s' to '%s': %s", tmp.c_str(), path.c_str(), std::strerror(errno));
+  PetscCall(collectively(PETSC_COMM_SELF, [&] { writeTextAtomically(path, text); }, PETSC_ERR_FILE_WRITE));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 

@@ -10,21 +10,26 @@
 //   root attributes    format = "rcfd-checkpoint", step, num_fractions, num_cells, database
 #include "path/frame_path.hpp"
 #include "run/run_impl.hpp"
+#include "base/atomic_file.hpp"
 #include "base/collective.hpp"
 #include "base/h5.hpp"
 
 #include <petscviewerhdf5.h>
 
 #include <cstdio>
+#include <memory>
 
 namespace rcfd {
 
 PetscErrorCode Run::Impl::writeCheckpoint(long step) const {
-  const std::string tmp = checkpointFile + ".tmp";
+  // All ranks write the masses to the temporary; rank 0 adds the rest and commits.
+  const std::string tmp = AtomicFile::temporaryPathOf(checkpointFile);
   const int nf = set.size();
   PetscMPIInt rank;
   PetscFunctionBeginUser;
   PetscCallMPI(MPI_Comm_rank(comm, &rank));
+  std::unique_ptr<AtomicFile> out; // removes the temporary if anything below fails
+  if (rank == 0) PetscCallCXX(out = std::make_unique<AtomicFile>(checkpointFile));
   OwnedVec natural;
   OwnedScatter scatter;
   PetscCall(db->layout().naturalScatter(nf, fstate.masses(), natural.put(), scatter.put()));
@@ -32,9 +37,11 @@ PetscErrorCode Run::Impl::writeCheckpoint(long step) const {
   PetscCall(VecScatterEnd(scatter, fstate.masses(), natural, INSERT_VALUES, SCATTER_FORWARD));
   PetscCall(PetscObjectSetName((PetscObject)natural.get(), "masses"));
   {
-    OwnedViewer v;
-    PetscCall(PetscViewerHDF5Open(comm, tmp.c_str(), FILE_MODE_WRITE, v.put()));
-    PetscCall(VecView(natural, v));
+    PetscViewer v;
+    PetscCall(PetscViewerHDF5Open(comm, tmp.c_str(), FILE_MODE_WRITE, &v));
+    const PetscErrorCode viewed = VecView(natural, v);
+    PetscCall(PetscViewerDestroy(&v)); // closes the file, with its status checked
+    PetscCall(viewed);
   }
   PetscCall(collectively(comm, [&] {
     if (rank != 0) return;
@@ -55,9 +62,9 @@ PetscErrorCode Run::Impl::writeCheckpoint(long step) const {
       }
       f.write("/samples", flat, static_cast<hsize_t>(BedSample::flatSize(nf)));
       f.write("/ledger_reference", ledger.reference());
+      f.close();
     }
-    if (std::rename(tmp.c_str(), checkpointFile.c_str()) != 0)
-      throw std::runtime_error("cannot rename '" + tmp + "' to '" + checkpointFile + "'");
+    out->commit();
   }));
   PetscFunctionReturn(PETSC_SUCCESS);
 }

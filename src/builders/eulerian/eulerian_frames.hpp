@@ -28,7 +28,7 @@
 // then iterative proportional scaling (scale rows to the target
 // V alpha_{k+1}, renormalise columns to 1) makes T_k (V alpha_k) =
 // V alpha_{k+1}: plain sweeps first, Newton steps on the row log-factors when
-// sweeps stall (see scaleToTarget); rows that still miss their target by
+// sweeps stall (scaleToTarget, src/database/csr.hpp); rows that still miss their target by
 // more than 5 % get seeds from 2, then 3 cells away and scaling resumes.
 #pragma once
 
@@ -139,24 +139,6 @@ struct EulerianFrameStats {
 CsrMatrix traceShift(const EulerianFrame &now, const std::vector<double> &alphaNext,
                      const EulerianBuildOptions &options, std::uint64_t frameIndex,
                      EulerianFrameStats *stats);
-
-/// Iterative proportional scaling of a column-stochastic T (in place) in
-/// the form T = diag(r) T0 diag(c): each iteration scales rows and
-/// renormalises columns to 1, so that T m approaches `target` (rescaled, per
-/// group of rows that share source columns, to the total T keeps there).
-/// Iterations are Sinkhorn sweeps (row factor target_j / (T m)_j) until a
-/// sweep removes less than a tenth of the mismatch, then Newton steps on the
-/// row log-factors (the long-range corrections that sweeps need thousands
-/// of iterations for).  Stops when ||T m - target'||_1 / ||m||_1 <=
-/// tolerance, after `maxIterations`, or when two Newton steps in a row remove
-/// less than a tenth (the support cannot carry the target).  Returns the
-/// number of iterations.  Columns of cells with m = 0 keep their sum of 1.
-int scaleToTarget(CsrMatrix &T, const std::vector<double> &m, const std::vector<double> &target,
-                  int maxIterations, double tolerance);
-
-/// ||T m - target||_1 / ||m||_1.
-double relativeMismatch(const CsrMatrix &T, const std::vector<double> &m,
-                        const std::vector<double> &target);
 
 struct EulerianBuildReport {
   std::size_t files = 0, frames = 0;

@@ -1,5 +1,8 @@
 #include "builders/particles/particle_builder.hpp"
 
+#include "base/constants.hpp"
+#include "database/csr.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -8,18 +11,6 @@
 
 namespace rcfd {
 namespace {
-
-constexpr double kPi = 3.14159265358979323846;
-
-/// y = T x for a row-compressed T.
-void multiply(const CsrMatrix &T, const std::vector<double> &x, std::vector<double> &y) {
-  y.assign(T.n, 0.0);
-  for (int r = 0; r < T.n; ++r) {
-    double s = 0.0;
-    for (int64_t e = T.rowPtr[r]; e < T.rowPtr[r + 1]; ++e) s += T.val[e] * x[T.col[e]];
-    y[r] = s;
-  }
-}
 
 double maxAbsDiff(const std::vector<double> &a, const std::vector<double> &b) {
   double m = 0.0;

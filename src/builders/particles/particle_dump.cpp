@@ -1,5 +1,8 @@
 #include "builders/particles/particle_dump.hpp"
 
+#include "base/csv.hpp"
+#include "base/constants.hpp"
+
 #include <zlib.h>
 
 #include <algorithm>
@@ -14,7 +17,6 @@
 namespace rcfd {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 
 // ---------------------------------------------------------------- errors
 
@@ -140,30 +142,14 @@ void splitWhitespace(std::string_view s, std::vector<std::string_view> &out) {
   }
 }
 
-void splitComma(std::string_view s, std::vector<std::string_view> &out) {
-  out.clear();
-  std::size_t b = 0;
-  for (;;) {
-    const std::size_t e = s.find(',', b);
-    out.push_back(trim(s.substr(b, e == std::string_view::npos ? std::string_view::npos : e - b)));
-    if (e == std::string_view::npos) break;
-    b = e + 1;
-  }
-}
-
 bool startsWith(std::string_view s, std::string_view prefix) {
   return s.substr(0, prefix.size()) == prefix;
 }
 
 // ---------------------------------------------------------------- numbers
 
-// std::from_chars: locale-independent and much faster than streams.
-bool parseDouble(std::string_view t, double &v) {
-  if (!t.empty() && t.front() == '+') t.remove_prefix(1);
-  const auto r = std::from_chars(t.data(), t.data() + t.size(), v);
-  return r.ec == std::errc() && r.ptr == t.data() + t.size() && std::isfinite(v);
-}
-
+// Reals go through csv::parseNumber; both use std::from_chars, which is
+// locale-independent and much faster than streams.
 bool parseInt(std::string_view t, int64_t &v) {
   if (!t.empty() && t.front() == '+') t.remove_prefix(1);
   const auto r = std::from_chars(t.data(), t.data() + t.size(), v);
@@ -290,7 +276,7 @@ private:
   double number(const std::vector<std::string_view> &tok, int c, const char *name,
                 long line) const {
     double v = 0.0;
-    if (!parseDouble(tok[c], v))
+    if (!csv::parseNumber(tok[c], v))
       failAt(file, line,
              std::string("expected a finite number in column '") + name + "', found " +
                  quoted(tok[c]));
@@ -358,8 +344,8 @@ public:
       const std::string_view line = valueLine("a box-bounds line");
       splitWhitespace(line, tok);
       double lo = 0.0, hi = 0.0, tilt = 0.0;
-      if (tok.size() != want || !parseDouble(tok[0], lo) || !parseDouble(tok[1], hi) ||
-          (want == 3 && !parseDouble(tok[2], tilt)))
+      if (tok.size() != want || !csv::parseNumber(tok[0], lo) || !csv::parseNumber(tok[1], hi) ||
+          (want == 3 && !csv::parseNumber(tok[2], tilt)))
         failAt(in.path(), in.lineNo(),
                "expected " + std::to_string(want) + " numbers (box bounds), found " + quoted(line));
       snap.boxLo[a] = lo;
@@ -485,7 +471,7 @@ ParticleSnapshot readCsv(LineReader &in, const SnapshotReadOptions &opt) {
     failAt(in.path(), in.lineNo() + 1,
            "expected a header line naming the columns, found the end of the file");
   std::vector<std::string_view> tok;
-  splitComma(line, tok);
+  csv::splitLine(line, tok);
   // Header names: case-insensitive, optional quotes.
   std::vector<std::string> names;
   for (std::string_view t : tok) {
@@ -499,7 +485,7 @@ ParticleSnapshot readCsv(LineReader &in, const SnapshotReadOptions &opt) {
   const ColumnLayout layout = resolveColumns(nameViews, in.path(), in.lineNo(), {"d", "diameter"});
   const ParticleLineParser parser(layout, in.path(), opt.defaultDensity);
   while (nextData()) {
-    splitComma(line, tok);
+    csv::splitLine(line, tok);
     parser.parse(tok, in.lineNo(), snap);
   }
   return snap;
@@ -564,7 +550,7 @@ std::vector<double> readSnapshotTimes(const std::string &path) {
     if (line.empty() || line.front() == '#') continue;
     splitWhitespace(line, tok);
     double t = 0.0;
-    if (tok.empty() || tok.size() > 2 || !parseDouble(tok.back(), t))
+    if (tok.empty() || tok.size() > 2 || !csv::parseNumber(tok.back(), t))
       failAt(path, in.lineNo(),
              "expected 'index time' (the time a number in s), found " + quoted(line));
     times.push_back(t);

@@ -8,6 +8,7 @@
 
 #include "rcfd/frames.hpp"
 #include "rcfd/mesh.hpp"
+#include "base/constants.hpp"
 
 #include <cstdint>
 
@@ -43,7 +44,7 @@ struct SyntheticBedOptions {
   double dipoleCutoff = 2.0;      ///< the flow around a bubble is ignored beyond this many radii
   double eruptionRoof = 0.25;     ///< a bubble erupts when its roof is thinner than this many radii
   double ejectionSpeed = 1.2;     ///< roof parcels leave at this multiple of U
-  double gravity = 9.81;
+  double gravity = kGravity;
 };
 
 /// What a generation produced.  Counts and means cover the recorded frames

@@ -1,0 +1,55 @@
+#!/usr/bin/env bash
+# The library as an outside project sees it: install this build into a
+# temporary prefix, configure docs/examples/user-operator against the
+# INSTALLED package (find_package(rcfd), rcfd::rcfd), build it, run its user
+# operator "decay" (-pipeline shift,decay -decay_rate k) on a small synthetic
+# bed, and check that every fraction's mass in cog.csv is exactly exp(-k t)
+# of its initial value -- a number only the user's option determines.
+# usage: test_user_operator_example.sh RCFD BUILD_DIR SOURCE_DIR CMAKE CXX_COMPILER
+set -eu
+export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 OMPI_MCA_rmaps_base_oversubscribe=1
+rcfd=$1 build=$2 src=$3 cmake=$4 cxx=$5
+work=$build/test-data/user-operator
+rm -rf "$work"
+mkdir -p "$work"
+source "$src/tests/script_helpers.sh"
+
+# The library and program must be built (no-op when they are) before they are installed.
+"$cmake" --build "$build" --target rcfd_lib rcfd >"$work/build.log" 2>&1 ||
+  { cat "$work/build.log"; exit 1; }
+"$cmake" --install "$build" --prefix "$work/prefix" >"$work/install.log"
+for f in include/rcfd/operator.hpp include/rcfd/run.hpp bin/rcfd lib/cmake/rcfd/rcfdConfig.cmake \
+  lib/cmake/rcfd/rcfdConfigVersion.cmake lib/cmake/rcfd/rcfdTargets.cmake; do
+  [ -e "$work/prefix/$f" ] && ok || fail "cmake --install did not install $f"
+done
+
+# Configured against the installed package only: the source tree is not on
+# any path the example sees.
+"$cmake" -S "$src/docs/examples/user-operator" -B "$work/example" -DCMAKE_BUILD_TYPE=Release \
+  -DCMAKE_CXX_COMPILER="$cxx" -DCMAKE_PREFIX_PATH="$work/prefix" >"$work/configure.log" 2>&1 ||
+  { cat "$work/configure.log"; exit 1; }
+grep -q "$work/prefix/lib/cmake/rcfd" "$work/example/CMakeCache.txt" ||
+  fail "the example did not find rcfd in the installed prefix"
+"$cmake" --build "$work/example" >"$work/example.log" 2>&1 || { cat "$work/example.log"; exit 1; }
+
+"$work/prefix/bin/rcfd" synth -o "$work/bed.h5" -synth_cells 6,2,12 -synth_frames 20 -quiet
+rate=0.5
+run "decay at 2 ranks" mpiexec -n 2 "$work/example/user_operator" -db "$work/bed.h5" -t_end 1 \
+  -pipeline shift,decay -decay_rate $rate -monitor_digits 17 -fields 0 -plot 0 -quiet \
+  -output_dir "$work/out" -decay_view
+grep -q "decay: rate 0.5 1/s" "$work/out.txt" || fail "-decay_view did not print the operator"
+
+# Every row t and every mass column: m(t) / m(0) = exp(-rate t).
+csv=$work/out/cog.csv
+ratios=$(awk -F, 'NR == 1 { for (c = 1; c <= NF; ++c) if ($c ~ /^mass_/) cols[++n] = c; next }
+  NR == 2 { for (k = 1; k <= n; ++k) m0[k] = $cols[k] }
+  { for (k = 1; k <= n; ++k) printf "%.17g\n", $cols[k] / m0[k] }' "$csv")
+expected=$(awk -F, -v k=$rate 'NR == 1 { for (c = 1; c <= NF; ++c) if ($c ~ /^mass_/) ++n; next }
+  { for (i = 1; i <= n; ++i) printf "%.17g\n", exp(-k * $1) }' "$csv")
+[ "$(grep -c . <<<"$ratios")" -ge 20 ] || fail "cog.csv holds too few samples: $(cat "$csv")"
+same "mass / initial mass = exp(-$rate t)" "$ratios" "$expected" 1e-12
+last=$(tail -n 1 <<<"$ratios")
+same "mass left after 1 s" "$last" 0.60653065971263342 1e-12
+
+echo "$passed passed, $failures failed"
+[ "$failures" -eq 0 ]
