@@ -5,6 +5,7 @@
 // scoreDeltaZ; a coarse scan of log10 k_d brackets the minimum and a
 // golden-section search refines it.
 #include "cli/commands.hpp"
+#include "base/petsc_compat.hpp"
 
 #include "analysis/segregation_score.hpp"
 #include "rcfd/run.hpp"

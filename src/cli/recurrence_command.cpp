@@ -1,4 +1,5 @@
 #include "cli/commands.hpp"
+#include "base/petsc_compat.hpp"
 
 #include "path/database_recurrence.hpp"
 #include "plot/png_plot.hpp"

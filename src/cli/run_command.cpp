@@ -1,4 +1,5 @@
 #include "cli/commands.hpp"
+#include "base/petsc_compat.hpp"
 
 #include "observable/cog_plot.hpp"
 #include "rcfd/run.hpp"

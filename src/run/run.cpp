@@ -1,4 +1,5 @@
 #include "rcfd/run.hpp"
+#include "base/petsc_compat.hpp"
 
 #include "path/database_recurrence.hpp"
 #include "observable/cog_plot.hpp"
@@ -287,7 +288,7 @@ PetscErrorCode Run::solve() {
   }
   PetscCall(progress(steps, steps * dt, true));
 
-  PetscCall(ops.viewRequested(PETSC_VIEWER_STDOUT_(comm)));
+  PetscCall(ops.viewRequested());
   std::vector<double> finalMass;
   PetscCall(fstate.totals(&finalMass));
   double worst = 0.0;

@@ -1,4 +1,5 @@
 #include "rcfd/run.hpp"
+#include "base/petsc_compat.hpp"
 
 #include "base/collective.hpp"
 #include "base/h5.hpp"

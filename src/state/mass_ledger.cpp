@@ -1,4 +1,5 @@
 #include "rcfd/mass_ledger.hpp"
+#include "base/petsc_compat.hpp"
 
 #include <algorithm>
 #include <cmath>
