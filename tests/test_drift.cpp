@@ -333,12 +333,8 @@ void leftOutWhenNotNeeded() {
 
 int main(int argc, char **argv) {
   PetscCall(PetscInitialize(&argc, &argv, nullptr, nullptr));
-  int size, rank;
-  MPI_Comm_size(PETSC_COMM_WORLD, &size);
-  MPI_Comm_rank(PETSC_COMM_WORLD, &rank);
-  dir = (argc > 1 ? argv[1] : std::string(".")) + "/drift_np" + std::to_string(size);
-  if (rank == 0 && std::system(("mkdir -p '" + dir + "'").c_str()) != 0) return 1;
-  MPI_Barrier(PETSC_COMM_WORLD);
+  dir = rcfd::test::rankCountDirectory(argc, argv, "drift");
+  if (dir.empty()) return 1;
   completeSeparation();
   driftAgainstDispersion();
   otherAxis();
