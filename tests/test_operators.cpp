@@ -5,6 +5,8 @@
 //    and an unknown kind is refused with the known names;
 //  - -drift_view ascii:FILE and -shift_view ascii:FILE write each view to its
 //    file, with the drift velocities of the model;
+//  - a face-swap operator written from the public headers (SwapOperator,
+//    FaceExchange) conserves and mixes, through ghost cells at 2 ranks;
 //  - the mass ledger stops a run whose pipeline holds a ShellOperator that
 //    loses mass, with its sentence, while a conservative one runs through.
 // Runs at 1 and 2 ranks.  PETSc calls that must succeed use PetscCallAbort.
@@ -327,6 +329,73 @@ void viewsToFiles() {
   RCFD_CHECK(!contains(shift, "drift:"));
 }
 
+// A face-swap operator written from the public headers alone (SwapOperator,
+// FaceExchange): across every face both sides send the same bulk mass of
+// their own mixture, which mixes composition and moves no bulk.  Through the
+// exchange's ghost cells it must conserve every fraction and every cell's
+// bulk at 2 ranks as at 1, and bring a layered bed to one composition.
+class Mixing : public SwapOperator {
+public:
+  std::string type() const override { return "mixing"; }
+  PetscErrorCode apply(const StepInfo &, FractionState &state) override {
+    FaceExchange &x = exchange();
+    const double share = 0.5 / x.maxFacesPerCell();
+    countStep(1);
+    return x.sweep(state.masses(), [&] {
+      for (const SwapFace &f : x.faces()) {
+        const PetscScalar *mL = x.massAt(f.lower), *mU = x.massAt(f.upper);
+        double ML = 0.0, MU = 0.0;
+        for (int i = 0; i < nf; ++i) ML += mL[i], MU += mU[i];
+        if (!(ML > 0.0 && MU > 0.0)) continue;
+        const double X = share * std::min(ML, MU);
+        PetscScalar *dL = x.changeAt(f.lower), *dU = x.changeAt(f.upper);
+        for (int i = 0; i < nf; ++i) {
+          const double net = X * (mL[i] / ML - mU[i] / MU);
+          dL[i] -= net;
+          dU[i] += net;
+        }
+      }
+    });
+  }
+};
+
+void userSwapOperator() {
+  auto db = risingBubbleDb("swap_user");
+  const Mesh &mesh = db->mesh();
+  const FractionSet set({1e-3, 1.5e-3, 3e-3}, {0.3, 0.3, 0.4});
+  OperatorRegistry registry = OperatorRegistry::withBuiltins();
+  registry.add("mixing", [] { return std::make_unique<Mixing>(); }, "mixes composition across faces");
+  auto op = registry.create("mixing");
+  PetscCallAbort(PETSC_COMM_WORLD, op->setUp(RunContext{*db, set, kRho}));
+  FractionState st;
+  PetscCallAbort(PETSC_COMM_WORLD, st.create(db->layout(), 3));
+  const auto alpha = bedWithBubble(mesh, 4);
+  const auto start = layeredMasses(mesh, alpha);
+  setNatural(*db, st, start);
+  StepInfo step;
+  for (step.step = 0; step.step < 1500; ++step.step) PetscCallAbort(PETSC_COMM_WORLD, op->apply(step, st));
+  const auto m = gatherNatural(*db, st.masses(), 3);
+  const auto before = fractionTotals(start, 3), after = fractionTotals(m, 3);
+  double worstTotal = 0.0, worstBulk = 0.0, lo = 1.0, hi = 0.0, lo0 = 1.0, hi0 = 0.0;
+  for (int i = 0; i < 3; ++i) worstTotal = std::fmax(worstTotal, std::fabs(after[i] / before[i] - 1.0));
+  for (int c = 0; c < mesh.numCells(); ++c) {
+    const double M0 = start[3 * c] + start[3 * c + 1] + start[3 * c + 2], M = m[3 * c] + m[3 * c + 1] + m[3 * c + 2];
+    if (M0 == 0.0) continue;
+    worstBulk = std::fmax(worstBulk, std::fabs(M / M0 - 1.0));
+    lo = std::fmin(lo, m[3 * c + 2] / M), hi = std::fmax(hi, m[3 * c + 2] / M);
+    lo0 = std::fmin(lo0, start[3 * c + 2] / M0), hi0 = std::fmax(hi0, start[3 * c + 2] / M0);
+  }
+  PetscPrintf(PETSC_COMM_WORLD,
+              "user swap operator: coarse share spread %.3f -> %.2e, bulk change %.1e, fraction totals %.1e\n",
+              hi0 - lo0, hi - lo, worstBulk, worstTotal);
+  RCFD_CHECK(op->type() == "mixing" && op->optionsPrefix() == "mixing_");
+  RCFD_CHECK(static_cast<Mixing &>(*op).stepsTaken() == 1500);
+  RCFD_CHECK(worstTotal < 1e-13);
+  RCFD_CHECK(worstBulk < 1e-12);
+  RCFD_CHECK(hi0 - lo0 > 0.4);
+  RCFD_CHECK(hi - lo < 1e-3 * (hi0 - lo0));
+}
+
 // A run whose pipeline loses 1e-6 of fraction 0 per step stops at the
 // ledger's first check (step 10) with its sentence; the same run with a
 // shell operator that only moves mass between cells goes through.
@@ -382,6 +451,7 @@ int main(int argc, char **argv) {
   carryLevel();
   userCarryKind();
   viewsToFiles();
+  userSwapOperator();
   ledgerRefusesLeak();
   const int total = rcfd::test::globalFailures();
   PetscCall(PetscFinalize());

@@ -2,7 +2,7 @@
 # Operators through the program, on a small synthetic bed: plain -drift_view
 # prints to stdout, -drift_view ascii:FILE writes FILE instead, -carry_type
 # level is chosen from the command line (and -carry_view reports its sweeps),
-# and an unknown carry kind is refused with the known ones.
+# and a binary viewer or an unknown carry kind is refused with one sentence.
 # usage: test_operators_cli.sh RCFD CSV_COMPARE DATA_DIR SOURCE_DIR
 set -u
 rcfd=$1
@@ -34,6 +34,8 @@ if run "-carry_type level" "$rcfd" "${common[@]}" -path_type random -carry_type 
   if [[ "$line" == "carry: 7 levelling sweeps per jump, 0 per step;"* ]] && [ "${applications:-0}" -gt 0 ] &&
     [ "$sweeps" -eq $((7 * applications)) ]; then ok; else fail "-carry_view: $line"; fi
 fi
+expect_error "-drift_view prints text: give it no value (stdout) or ascii:FILE" \
+  "${common[@]}" -drift_view "binary:$work/drift.bin"
 expect_error "-carry_type bogus is not a known carry kind; known kinds: level, remap" \
   "${common[@]}" -carry_type bogus
 

@@ -42,6 +42,11 @@ PetscErrorCode Pipeline::setFromOptions(MPI_Comm comm) {
     PetscCall(ops[k]->setFromOptions(comm));
     PetscCall(PetscOptionsGetViewer(comm, nullptr, ops[k]->optionsPrefix().c_str(), "-view",
                                     views[k].viewer.put(), &views[k].format, nullptr));
+    PetscBool ascii = PETSC_TRUE;
+    if (views[k].viewer)
+      PetscCall(PetscObjectTypeCompare((PetscObject)views[k].viewer.get(), PETSCVIEWERASCII, &ascii));
+    PetscCheck(ascii, comm, PETSC_ERR_USER_INPUT,
+               "-%sview prints text: give it no value (stdout) or ascii:FILE", ops[k]->optionsPrefix().c_str());
   }
   PetscFunctionReturn(PETSC_SUCCESS);
 }
