@@ -2,6 +2,9 @@
 // operator has PETSc's life cycle: create (by name, from a registry) ->
 // setFromOptions -> setUp -> apply ... -> view.  Researchers add their own by
 // registering a factory under a new name; `-pipeline shift,mine` then uses it.
+// What an operator sees is in rcfd/operator_context.hpp; an operator that
+// moves mass between neighbouring cells derives from SwapOperator
+// (rcfd/swap_operator.hpp) and uses the FaceExchange (rcfd/face_exchange.hpp).
 #pragma once
 
 #include "rcfd/carry_kind.hpp"
@@ -62,7 +65,8 @@ public:
   /// std::invalid_argument listing the known names if `name` is unknown.
   std::unique_ptr<Operator> create(const std::string &name) const;
   std::string listing() const { return makers.listing(); }
-  /// The kinds a `carry` operator made by this registry knows (-carry_type).
+  /// The kinds a `carry` operator made by this registry knows (-carry_type);
+  /// an operator copies them when it is created, so add kinds before.
   CarryKindRegistry &carryKinds() { return carry; }
   const CarryKindRegistry &carryKinds() const { return carry; }
 
@@ -77,16 +81,21 @@ private:
 class ShellOperator : public Operator {
 public:
   using Callback = std::function<PetscErrorCode(const StepInfo &, FractionState &)>;
-  ShellOperator(std::string name, Callback apply) : name(std::move(name)), callback(std::move(apply)) {}
+  /// `conservative`: false for a callback that adds or removes mass on
+  /// purpose (the run's mass ledger would refuse it otherwise).
+  ShellOperator(std::string name, Callback apply, bool conservative = true)
+      : name(std::move(name)), callback(std::move(apply)), conservative(conservative) {}
   std::string type() const override { return name; }
   PetscErrorCode setUp(const RunContext &) override;
   PetscErrorCode apply(const StepInfo &step, FractionState &state) override {
     return callback(step, state);
   }
+  bool conservesMass() const override { return conservative; }
 
 private:
   std::string name;
   Callback callback;
+  bool conservative;
 };
 
 /// Applies a list of operators in order.  Operators are added before setUp;
