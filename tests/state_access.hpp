@@ -7,6 +7,7 @@
 #include "check.hpp"
 #include "rcfd/fractions.hpp"
 
+#include <cstdlib>
 #include <string>
 #include <vector>
 
@@ -46,6 +47,19 @@ inline void writeIdentityDatabase(const std::string &path, const Mesh &mesh,
     w.finish();
   }
   MPI_Barrier(PETSC_COMM_WORLD);
+}
+
+/// The directory for a test's files at this number of ranks,
+/// ARG/<name>_np<ranks> (ARG: argv[1], default "."), made by rank 0 before
+/// any rank returns.  Collective; empty if it could not be made.
+inline std::string rankCountDirectory(int argc, char **argv, const std::string &name) {
+  int size, rank;
+  MPI_Comm_size(PETSC_COMM_WORLD, &size);
+  MPI_Comm_rank(PETSC_COMM_WORLD, &rank);
+  const std::string dir = (argc > 1 ? argv[1] : std::string(".")) + "/" + name + "_np" + std::to_string(size);
+  int made = rank != 0 || std::system(("mkdir -p '" + dir + "'").c_str()) == 0;
+  MPI_Bcast(&made, 1, MPI_INT, 0, PETSC_COMM_WORLD);
+  return made ? dir : std::string();
 }
 
 /// Sum of failures over all ranks, for main()'s exit status.

@@ -2,6 +2,7 @@
 // and the local dispersion rate, their solid-weighted mean and maximum, by
 // hand, on 1 and 2 ranks.
 #include "check.hpp"
+#include "base/petsc_compat.hpp"
 #include "state_access.hpp"
 
 #include "rcfd/agitation.hpp"

@@ -2,6 +2,7 @@
 // centre of gravity is known per frame gives Delta z_CoG by hand, on 1 and 2
 // ranks.
 #include "check.hpp"
+#include "base/petsc_compat.hpp"
 
 #include "analysis/bed_dynamics.hpp"
 #include "rcfd/database.hpp"

@@ -6,7 +6,9 @@
 // and bulk/fraction conservation and positivity under stress (2, 5 and 20
 // fractions, k_d 100x the paper's, near-empty and near-packed cells, and no
 // alpha_s floor next to empty cells).
-// Runs at 1 and 2 ranks.
+// Runs at 1 and 2 ranks.  Every PETSc call is checked with PetscCallAbort:
+// an error (a database that does not load, a set-up or step that fails)
+// stops the test with PETSc's message and a non-zero exit, never a silent pass.
 #include "check.hpp"
 #include "rcfd/swaps.hpp"
 #include "state_access.hpp"
@@ -40,7 +42,7 @@ std::unique_ptr<Database> identityDb(const BoxSpec &spec, const std::vector<doub
   const Mesh mesh = Mesh::box(spec);
   rcfd::test::writeIdentityDatabase(path, mesh, alpha, meta);
   std::unique_ptr<Database> db;
-  if (Database::load(PETSC_COMM_WORLD, path, DatabaseLoadOptions{}, &db)) return nullptr;
+  PetscCallAbort(PETSC_COMM_WORLD, Database::load(PETSC_COMM_WORLD, path, DatabaseLoadOptions{}, &db));
   return db;
 }
 
@@ -53,9 +55,9 @@ template <typename Op> std::unique_ptr<Op> makeOperator(const std::string &optio
     if (options[p] == '-' && (p == 0 || options[p - 1] == ' ')) withPrefix += "-" + prefix, ++p;
     else withPrefix += options[p++];
   }
-  PetscOptionsInsertString(nullptr, withPrefix.c_str());
+  PetscCallAbort(PETSC_COMM_WORLD, PetscOptionsInsertString(nullptr, withPrefix.c_str()));
   op->setOptionsPrefix(prefix);
-  op->setFromOptions(PETSC_COMM_WORLD);
+  PetscCallAbort(PETSC_COMM_WORLD, op->setFromOptions(PETSC_COMM_WORLD));
   return op;
 }
 
@@ -72,22 +74,20 @@ void step(std::vector<Operator *> ops, FractionState &st, double dt, long n) {
   StepInfo info;
   info.dt = dt;
   for (long s = 0; s < n; ++s)
-    for (Operator *op : ops) op->apply(info, st);
+    for (Operator *op : ops) PetscCallAbort(PETSC_COMM_WORLD, op->apply(info, st));
 }
 
 void completeSeparation() {
   const BoxSpec spec = column(2, 20, 0.2);
   const std::vector<double> alpha(20, 0.5);
   auto db = identityDb(spec, alpha, {0, 0, -9.81});
-  RCFD_CHECK(db != nullptr);
-  if (!db) return;
   FractionSet set({1e-3, 3e-3}, {0.5, 0.5});
   RunContext ctx{*db, set, 1440.0};
   auto drift = makeOperator<DriftOperator>("-model constant -velocities 0.02,-0.02");
   RCFD_CHECK(drift->needed(ctx));
-  drift->setUp(ctx);
+  PetscCallAbort(PETSC_COMM_WORLD, drift->setUp(ctx));
   FractionState st;
-  st.create(db->layout(), 2);
+  PetscCallAbort(PETSC_COMM_WORLD, st.create(db->layout(), 2));
   const auto start = uniformState(db->mesh(), alpha, set);
   setNatural(*db, st, start);
   step({drift.get()}, st, 5e-3, 8000);
@@ -112,17 +112,15 @@ void completeSeparation() {
 void driftEvery() {
   const std::vector<double> alpha(20, 0.5);
   auto db = identityDb(column(2, 20, 0.2), alpha, {0, 0, -9.81});
-  RCFD_CHECK(db != nullptr);
-  if (!db) return;
   FractionSet set({1e-3, 3e-3}, {0.5, 0.5});
   RunContext ctx{*db, set, 1440.0};
   auto every4 = makeOperator<DriftOperator>("-model constant -velocities 0.02,-0.02 -every 4");
   auto each = makeOperator<DriftOperator>("-model constant -velocities 0.02,-0.02");
-  every4->setUp(ctx);
-  each->setUp(ctx);
+  PetscCallAbort(PETSC_COMM_WORLD, every4->setUp(ctx));
+  PetscCallAbort(PETSC_COMM_WORLD, each->setUp(ctx));
   FractionState a, b;
-  a.create(db->layout(), 2);
-  b.create(db->layout(), 2);
+  PetscCallAbort(PETSC_COMM_WORLD, a.create(db->layout(), 2));
+  PetscCallAbort(PETSC_COMM_WORLD, b.create(db->layout(), 2));
   const auto start = uniformState(db->mesh(), alpha, set);
   setNatural(*db, a, start);
   setNatural(*db, b, start);
@@ -130,13 +128,13 @@ void driftEvery() {
   info.dt = 5e-3;
   for (long s = 0; s < 12; ++s) {
     info.step = s;
-    every4->apply(info, a);
+    PetscCallAbort(PETSC_COMM_WORLD, every4->apply(info, a));
     if (s == 2) RCFD_CHECK(gatherNatural(*db, a.masses(), 2) == start);
   }
   info.dt = 2e-2;
   for (long s = 0; s < 3; ++s) {
     info.step = s;
-    each->apply(info, b);
+    PetscCallAbort(PETSC_COMM_WORLD, each->apply(info, b));
   }
   const auto ma = gatherNatural(*db, a.masses(), 2), mb = gatherNatural(*db, b.masses(), 2);
   RCFD_CHECK(ma == mb);
@@ -170,17 +168,16 @@ void driftAgainstDispersion() {
   const BoxSpec spec = column(2, n, n * dz);
   const std::vector<double> alpha(n, 0.5);
   auto db = identityDb(spec, alpha, {0, 0, -9.81});
-  if (!db) return;
   FractionSet set({1e-3, 2e-3}, {share, 1 - share});
   RunContext ctx{*db, set, 1440.0};
   const auto exact = steadyProfile(n, u, D, dz, share);
   auto runTo = [&](double tEnd, double dt) {
     auto drift = makeOperator<DriftOperator>("-model constant -velocities 0.05,0");
     auto disp = makeOperator<DispersionOperator>("-coefficient 4e-3");
-    drift->setUp(ctx);
-    disp->setUp(ctx);
+    PetscCallAbort(PETSC_COMM_WORLD, drift->setUp(ctx));
+    PetscCallAbort(PETSC_COMM_WORLD, disp->setUp(ctx));
     FractionState st;
-    st.create(db->layout(), 2);
+    PetscCallAbort(PETSC_COMM_WORLD, st.create(db->layout(), 2));
     setNatural(*db, st, uniformState(db->mesh(), alpha, set));
     step({drift.get(), disp.get()}, st, dt, std::lround(tEnd / dt));
     const auto m = gatherNatural(*db, st.masses(), 2);
@@ -227,14 +224,13 @@ void otherAxis() {
     Vec3 g{0, 0, 0};
     g[axis] = -9.81;
     auto db = identityDb(column(axis, n, 0.16), alpha, g);
-    if (!db) return;
     RunContext ctx{*db, set, 1440.0};
     auto drift = makeOperator<DriftOperator>("-model B -kd 5e4 -local_d32 -hindered");
     auto disp = makeOperator<DispersionOperator>("-coefficient 1e-4");
-    drift->setUp(ctx);
-    disp->setUp(ctx);
+    PetscCallAbort(PETSC_COMM_WORLD, drift->setUp(ctx));
+    PetscCallAbort(PETSC_COMM_WORLD, disp->setUp(ctx));
     FractionState st;
-    st.create(db->layout(), 3);
+    PetscCallAbort(PETSC_COMM_WORLD, st.create(db->layout(), 3));
     setNatural(*db, st, uniformState(db->mesh(), alpha, set));
     step({drift.get(), disp.get()}, st, 5e-3, 400);
     result.push_back(gatherNatural(*db, st.masses(), 3));
@@ -268,15 +264,14 @@ void stress(int nf, const std::string &options, bool expectSubsteps) {
     alpha[c] = r < 0.1 ? 0.0 : r < 0.2 ? 1e-4 * U(rng) : r < 0.3 ? 0.64 : 0.6 * U(rng);
   }
   auto db = identityDb(spec, alpha, {0, 0, -9.81});
-  if (!db) return;
   std::vector<double> d(nf), w(nf, 1.0 / nf);
   for (int i = 0; i < nf; ++i) d[i] = nf == 1 ? 2e-3 : 0.5e-3 + 5.5e-3 * i / (nf - 1);
   FractionSet set(d, w);
   RunContext ctx{*db, set, 1440.0};
   auto drift = makeOperator<DriftOperator>(options);
-  drift->setUp(ctx);
+  PetscCallAbort(PETSC_COMM_WORLD, drift->setUp(ctx));
   FractionState st;
-  st.create(db->layout(), nf);
+  PetscCallAbort(PETSC_COMM_WORLD, st.create(db->layout(), nf));
   std::vector<double> m0;
   for (int c = 0; c < N; ++c) {
     std::vector<double> y(nf);
@@ -286,9 +281,9 @@ void stress(int nf, const std::string &options, bool expectSubsteps) {
   }
   setNatural(*db, st, m0);
   std::vector<double> before, after;
-  st.totals(&before);
+  PetscCallAbort(PETSC_COMM_WORLD, st.totals(&before));
   step({drift.get()}, st, 5e-3, 200);
-  st.totals(&after);
+  PetscCallAbort(PETSC_COMM_WORLD, st.totals(&after));
   const auto m = gatherNatural(*db, st.masses(), nf);
   double worstBulk = 0.0, worstTotal = 0.0, lowest = 0.0, cellMax = 0.0;
   bool finite = true;
@@ -321,7 +316,6 @@ void stress(int nf, const std::string &options, bool expectSubsteps) {
 
 void leftOutWhenNotNeeded() {
   auto db = identityDb(column(2, 4, 0.04), std::vector<double>(4, 0.5), {0, 0, -9.81});
-  if (!db) return;
   FractionSet one({2e-3}, {1.0}), two({1e-3, 2e-3}, {0.5, 0.5});
   RCFD_CHECK(!makeOperator<DriftOperator>("-model B")->needed(RunContext{*db, one, 1440.0}));
   RCFD_CHECK(!makeOperator<DriftOperator>("-model B -kd 0")->needed(RunContext{*db, two, 1440.0}));
@@ -330,8 +324,8 @@ void leftOutWhenNotNeeded() {
   RCFD_CHECK(makeOperator<DriftOperator>("-model A -kd 500")->needed(RunContext{*db, two, 1440.0}));
   RCFD_CHECK(!makeOperator<DispersionOperator>("")->needed(RunContext{*db, two, 1440.0}));
   Pipeline p;
-  p.add(makeOperator<DriftOperator>("-model B"));
-  p.setUp(RunContext{*db, one, 1440.0});
+  PetscCallAbort(PETSC_COMM_WORLD, p.add(makeOperator<DriftOperator>("-model B")));
+  PetscCallAbort(PETSC_COMM_WORLD, p.setUp(RunContext{*db, one, 1440.0}));
   RCFD_CHECK(p.operators().empty() && p.skipped().size() == 1 && p.skipped()[0] == "drift");
 }
 
@@ -339,12 +333,8 @@ void leftOutWhenNotNeeded() {
 
 int main(int argc, char **argv) {
   PetscCall(PetscInitialize(&argc, &argv, nullptr, nullptr));
-  int size, rank;
-  MPI_Comm_size(PETSC_COMM_WORLD, &size);
-  MPI_Comm_rank(PETSC_COMM_WORLD, &rank);
-  dir = (argc > 1 ? argv[1] : std::string(".")) + "/drift_np" + std::to_string(size);
-  if (rank == 0 && std::system(("mkdir -p '" + dir + "'").c_str()) != 0) return 1;
-  MPI_Barrier(PETSC_COMM_WORLD);
+  dir = rcfd::test::rankCountDirectory(argc, argv, "drift");
+  if (dir.empty()) return 1;
   completeSeparation();
   driftAgainstDispersion();
   otherAxis();

@@ -2,6 +2,7 @@
 // layer's Sauter diameter, the mass-median layer and the halves' size
 // distributions against hand-computed numbers, on 1 and 2 ranks.
 #include "check.hpp"
+#include "base/petsc_compat.hpp"
 #include "state_access.hpp"
 
 #include "observable/layer_masses.hpp"

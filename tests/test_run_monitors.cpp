@@ -6,6 +6,7 @@
 // Runs at 1 and 2 ranks.
 // usage: test_run_monitors OUTPUT_DIR -db SMALL.h5 [run options]
 #include "check.hpp"
+#include "base/petsc_compat.hpp"
 #include "rcfd/run.hpp"
 
 #include <cmath>

@@ -4,6 +4,7 @@
 // them, and its state survives saveState()/restoreState().  Runs at 1 and 2 ranks.
 // usage: test_user_path OUTPUT_DIR -db SMALL.h5 -path_type stride -path_stride 3 [run options]
 #include "check.hpp"
+#include "base/petsc_compat.hpp"
 #include "rcfd/run.hpp"
 
 #include <fstream>

@@ -3,6 +3,7 @@
 // along another axis moves "bottom" with it, and bad zones are refused with a
 // sentence naming them.  Runs at 1 and 2 ranks.
 #include "check.hpp"
+#include "base/petsc_compat.hpp"
 #include "rcfd/zone.hpp"
 
 #include <string>

@@ -9,10 +9,6 @@
 
 #include <utility>
 
-#if PETSC_VERSION_LT(3, 19, 0)
-#define PETSC_SUCCESS 0 // named in PETSc 3.19; Debian 12 ships 3.18
-#endif
-
 namespace rcfd {
 
 template <typename H, PetscErrorCode (*Destroy)(H *)> class Owned {

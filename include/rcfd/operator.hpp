@@ -2,35 +2,21 @@
 // operator has PETSc's life cycle: create (by name, from a registry) ->
 // setFromOptions -> setUp -> apply ... -> view.  Researchers add their own by
 // registering a factory under a new name; `-pipeline shift,mine` then uses it.
+// What an operator sees is in rcfd/operator_context.hpp; an operator that
+// moves mass between neighbouring cells derives from SwapOperator
+// (rcfd/swap_operator.hpp) and uses the FaceExchange (rcfd/face_exchange.hpp).
 #pragma once
 
-#include "rcfd/database.hpp"
-#include "rcfd/fractions.hpp"
+#include "rcfd/carry_kind.hpp"
+#include "rcfd/operator_context.hpp"
+#include "rcfd/registry.hpp"
 
 #include <functional>
-#include <map>
 #include <memory>
 #include <string>
 #include <vector>
 
 namespace rcfd {
-
-/// What an operator may read while it is set up.
-struct RunContext {
-  const Database &db;
-  const FractionSet &fractions;
-  double solidDensity; // [kg/m^3]
-};
-
-/// The step being taken: frame k moves the state from t_k to t_k + dt_rec.
-struct StepInfo {
-  long step = 0;      // 0-based step counter
-  double time = 0.0;  // simulated time at the start of the step [s]
-  double dt = 0.0;    // dt_rec [s]
-  int frame = 0;      // database frame used by this step
-  int nextFrame = 0;  // frame of the following step
-  bool jump = false;  // true when nextFrame != frame + 1 (wrap or stitching jump)
-};
 
 class Operator {
 public:
@@ -41,7 +27,8 @@ public:
   /// prefix is "<type>_".
   void setOptionsPrefix(const std::string &p) { prefix = p; }
   const std::string &optionsPrefix() const { return prefix; }
-  virtual PetscErrorCode setFromOptions(MPI_Comm) { return PETSC_SUCCESS; }
+  /// Collective.  Reads the operator's options (none by default).
+  virtual PetscErrorCode setFromOptions(MPI_Comm comm);
   /// Whether this operator changes anything for the case; the pipeline
   /// leaves out operators that do not (no drift for one fraction, ...).
   virtual bool needed(const RunContext &) const { return true; }
@@ -61,40 +48,54 @@ protected:
 
 using OperatorFactory = std::function<std::unique_ptr<Operator>()>;
 
-/// Name -> factory.  One registry per program (no global state); the run
-/// owns one with the built-in operators, and users add theirs to it.
+/// Name -> factory of operators, and the carry kinds the `carry` operator
+/// chooses from.  One registry per program (no global state): the program
+/// makes one with the built-in operators and users add theirs to it, e.g.
+///   registry.add("mydrift", [] { return std::make_unique<MyDrift>(); }, "my drift law");
+///   registry.carryKinds().add("mycarry", [] { return std::make_unique<MyCarry>(); }, "...");
+/// then -pipeline shift,mydrift,carry -carry_type mycarry uses both.
 class OperatorRegistry {
 public:
-  /// A registry holding rcfd's built-in operators.
+  /// A registry holding rcfd's built-in operators and carry kinds.
   static OperatorRegistry withBuiltins();
+  /// Adds or replaces an operator; throws std::invalid_argument unless `name` is one word.
   void add(const std::string &name, OperatorFactory factory, const std::string &help);
-  bool has(const std::string &name) const { return entries.count(name) > 0; }
-  /// Throws std::invalid_argument listing the known names if `name` is unknown.
+  bool has(const std::string &name) const { return makers.has(name); }
+  /// A new operator with options prefix "<name>_".  Throws
+  /// std::invalid_argument listing the known names if `name` is unknown.
   std::unique_ptr<Operator> create(const std::string &name) const;
-  std::string listing() const;
+  std::string listing() const { return makers.listing(); }
+  /// The kinds a `carry` operator made by this registry knows (-carry_type);
+  /// an operator copies them when it is created, so add kinds before.
+  CarryKindRegistry &carryKinds() { return carry; }
+  const CarryKindRegistry &carryKinds() const { return carry; }
 
 private:
-  struct Entry {
-    OperatorFactory factory;
-    std::string help;
-  };
-  std::map<std::string, Entry> entries;
+  // Built-in operators may depend on the registry (carry takes its kinds).
+  using Maker = std::function<std::unique_ptr<Operator>(const OperatorRegistry &)>;
+  NamedFactories<Maker> makers;
+  CarryKindRegistry carry = CarryKindRegistry::withBuiltins();
 };
 
 /// An operator given as a callback, for quick experiments from user code.
 class ShellOperator : public Operator {
 public:
   using Callback = std::function<PetscErrorCode(const StepInfo &, FractionState &)>;
-  ShellOperator(std::string name, Callback apply) : name(std::move(name)), callback(std::move(apply)) {}
+  /// `conservative`: false for a callback that adds or removes mass on
+  /// purpose (the run's mass ledger would refuse it otherwise).
+  ShellOperator(std::string name, Callback apply, bool conservative = true)
+      : name(std::move(name)), callback(std::move(apply)), conservative(conservative) {}
   std::string type() const override { return name; }
-  PetscErrorCode setUp(const RunContext &) override { return PETSC_SUCCESS; }
+  PetscErrorCode setUp(const RunContext &) override;
   PetscErrorCode apply(const StepInfo &step, FractionState &state) override {
     return callback(step, state);
   }
+  bool conservesMass() const override { return conservative; }
 
 private:
   std::string name;
   Callback callback;
+  bool conservative;
 };
 
 /// Applies a list of operators in order.  Operators are added before setUp;
@@ -103,6 +104,8 @@ class Pipeline : public Operator {
 public:
   std::string type() const override { return "pipeline"; }
   PetscErrorCode add(std::unique_ptr<Operator> op);
+  /// Collective.  Every operator reads its options, and -<prefix>view
+  /// (e.g. -drift_view, -drift_view ascii:drift.txt) through PetscOptionsGetViewer.
   PetscErrorCode setFromOptions(MPI_Comm comm) override;
   PetscErrorCode setUp(const RunContext &ctx) override;
   PetscErrorCode apply(const StepInfo &step, FractionState &state) override;
@@ -110,13 +113,18 @@ public:
   bool conservesMass() const override;
   const std::vector<std::unique_ptr<Operator>> &operators() const { return ops; }
   const std::vector<std::string> &skipped() const { return left; }
-  /// Print the view of every operator given -<prefix>view (e.g. -drift_view).
-  PetscErrorCode viewRequested(PetscViewer viewer) const;
+  /// Collective.  Views every operator given -<prefix>view in the viewer
+  /// that option names (plain -drift_view: stdout), and flushes it.
+  PetscErrorCode viewRequested() const;
 
 private:
+  struct RequestedView {
+    OwnedViewer viewer; // from -<prefix>view; empty when not given
+    PetscViewerFormat format = PETSC_VIEWER_DEFAULT;
+  };
   std::vector<std::unique_ptr<Operator>> ops;
+  std::vector<RequestedView> views; // one per operator once setFromOptions ran
   std::vector<std::string> left;
-  std::vector<bool> wantView;
   bool isSetUp = false;
 };
 

@@ -1,4 +1,5 @@
 #include "analysis/bed_dynamics.hpp"
+#include "base/petsc_compat.hpp"
 
 #include "rcfd/zone.hpp"
 

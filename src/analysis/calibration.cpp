@@ -1,4 +1,5 @@
 #include "analysis/calibration.hpp"
+#include "base/petsc_compat.hpp"
 
 #include "base/collective.hpp"
 #include "rcfd/run.hpp"

@@ -1,4 +1,5 @@
 #include "base/collective.hpp"
+#include "base/petsc_compat.hpp"
 
 #include "rcfd/handle.hpp"
 

@@ -2,6 +2,7 @@
 // initial composition of a run (-init_out) from the first snapshot used.
 // With -eulerian it builds from Eulerian frames instead (build_eulerian_command.cpp).
 #include "cli/commands.hpp"
+#include "base/petsc_compat.hpp"
 
 #include "cli/particle_input.hpp"
 #include "analysis/particle_reference.hpp"

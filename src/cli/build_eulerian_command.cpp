@@ -2,6 +2,7 @@
 // frames (x y z alpha Ux Uy Uz Usx Usy Usz per cell), shifts by tracing the
 // solid velocity and proportional scaling (src/database/eulerian_frames.hpp).
 #include "cli/commands.hpp"
+#include "base/petsc_compat.hpp"
 
 #include "builders/eulerian/eulerian_frames.hpp"
 #include "builders/particles/snapshot_series.hpp"

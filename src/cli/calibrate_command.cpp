@@ -1,6 +1,7 @@
 // rcfd calibrate: the drift coefficient k_d that best reproduces a
 // reference's segregation curve (src/analysis/calibration.hpp).
 #include "cli/commands.hpp"
+#include "base/petsc_compat.hpp"
 
 #include "analysis/calibration.hpp"
 #include "rcfd/run.hpp"

@@ -3,6 +3,7 @@
 // window and the RMS difference of the whole curve relative to the
 // reference's peak.
 #include "cli/commands.hpp"
+#include "base/petsc_compat.hpp"
 
 #include "analysis/segregation_score.hpp"
 #include "base/collective.hpp"

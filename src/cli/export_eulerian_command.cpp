@@ -6,6 +6,7 @@
 // the cell-resolution solid velocity of the database.  Rank 0 reads the
 // database (a window of frames at a time, PETSC_COMM_SELF) and writes.
 #include "cli/commands.hpp"
+#include "base/petsc_compat.hpp"
 
 #include "builders/eulerian/eulerian_frames.hpp"
 #include "rcfd/database.hpp"

@@ -1,4 +1,5 @@
 #include "cli/figures.hpp"
+#include "base/petsc_compat.hpp"
 
 #include "base/collective.hpp"
 

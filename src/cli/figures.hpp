@@ -5,6 +5,7 @@
 #pragma once
 
 #include "rcfd/handle.hpp" // PetscErrorCode, PETSC_SUCCESS on PETSc 3.18
+#include "base/petsc_compat.hpp"
 
 #include <string>
 #include <vector>

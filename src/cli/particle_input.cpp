@@ -1,4 +1,5 @@
 #include "cli/particle_input.hpp"
+#include "base/petsc_compat.hpp"
 
 #include "cli/commands.hpp"
 

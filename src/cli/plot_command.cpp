@@ -1,4 +1,5 @@
 #include "cli/commands.hpp"
+#include "base/petsc_compat.hpp"
 
 #include "cli/figures.hpp"
 

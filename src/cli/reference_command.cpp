@@ -3,6 +3,7 @@
 // (cog.csv, the same columns as rcfd run writes), and the vertical profiles
 // and bottom/top size distributions over an averaging window.
 #include "cli/commands.hpp"
+#include "base/petsc_compat.hpp"
 
 #include "cli/particle_input.hpp"
 #include "analysis/particle_reference.hpp"

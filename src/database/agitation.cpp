@@ -1,4 +1,5 @@
 #include "rcfd/agitation.hpp"
+#include "base/petsc_compat.hpp"
 
 #include <algorithm>
 #include <stdexcept>

@@ -1,4 +1,5 @@
 #include "rcfd/database.hpp"
+#include "base/petsc_compat.hpp"
 
 #include "base/atomic_file.hpp"
 #include "base/collective.hpp"

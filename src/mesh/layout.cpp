@@ -1,4 +1,5 @@
 #include "rcfd/layout.hpp"
+#include "base/petsc_compat.hpp"
 
 #include "mesh/partition.hpp"
 

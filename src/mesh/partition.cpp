@@ -1,4 +1,5 @@
 #include "mesh/partition.hpp"
+#include "base/petsc_compat.hpp"
 
 
 #include <algorithm>

@@ -1,4 +1,5 @@
 #include "rcfd/zone.hpp"
+#include "base/petsc_compat.hpp"
 
 #include <algorithm>
 #include <cmath>

@@ -1,4 +1,5 @@
 #include "rcfd/observables.hpp"
+#include "base/petsc_compat.hpp"
 
 #include <cmath>
 

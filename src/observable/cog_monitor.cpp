@@ -1,4 +1,5 @@
 #include "observable/cog_monitor.hpp"
+#include "base/petsc_compat.hpp"
 
 #include <sstream>
 

@@ -1,4 +1,5 @@
 #include "observable/layer_masses.hpp"
+#include "base/petsc_compat.hpp"
 
 #include "rcfd/zone.hpp"
 

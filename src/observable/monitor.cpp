@@ -1,5 +1,6 @@
 // The defaults of the Monitor base (include/rcfd/observables.hpp).
 #include "rcfd/observables.hpp"
+#include "base/petsc_compat.hpp"
 
 namespace rcfd {
 

@@ -11,8 +11,9 @@ OperatorRegistry OperatorRegistry::withBuiltins() {
         "fractional drift along gravity by face swaps (paper Eq. 4-6)");
   r.add("dispersion", [] { return std::make_unique<DispersionOperator>(); },
         "symmetric mixing of composition across all faces");
-  r.add("carry", [] { return std::make_unique<CarryOperator>(); },
-        "levels the bulk mismatch after a jump between frames");
+  r.makers.add("carry",
+               [](const OperatorRegistry &self) { return std::make_unique<CarryOperator>(self.carryKinds()); },
+               "carries the state across a jump between frames (-carry_type)");
   return r;
 }
 

@@ -1,4 +1,5 @@
 #include "operator/moving_rows.hpp"
+#include "base/petsc_compat.hpp"
 
 #include <algorithm>
 

@@ -1,6 +1,5 @@
 #include "rcfd/operator.hpp"
-
-#include <stdexcept>
+#include "base/petsc_compat.hpp"
 
 namespace rcfd {
 
@@ -10,27 +9,20 @@ PetscErrorCode Operator::view(PetscViewer viewer) const {
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
+PetscErrorCode Operator::setFromOptions(MPI_Comm) { return PETSC_SUCCESS; }
+
+PetscErrorCode ShellOperator::setUp(const RunContext &) { return PETSC_SUCCESS; }
+
 void OperatorRegistry::add(const std::string &name, OperatorFactory factory,
                            const std::string &help) {
-  if (name.empty() || name.find_first_of(", \t") != std::string::npos)
-    throw std::invalid_argument("operator name '" + name + "' must be one word");
-  entries[name] = {std::move(factory), help};
+  makers.add(name, [factory = std::move(factory)](const OperatorRegistry &) { return factory(); },
+             help);
 }
 
 std::unique_ptr<Operator> OperatorRegistry::create(const std::string &name) const {
-  const auto it = entries.find(name);
-  if (it == entries.end())
-    throw std::invalid_argument("-pipeline: unknown operator '" + name + "'; known operators: " +
-                                listing());
-  auto op = it->second.factory();
+  auto op = makers.find(name, "-pipeline", "operator")(*this);
   op->setOptionsPrefix(name + "_");
   return op;
-}
-
-std::string OperatorRegistry::listing() const {
-  std::string out;
-  for (const auto &[name, e] : entries) out += (out.empty() ? "" : ", ") + name;
-  return out;
 }
 
 PetscErrorCode Pipeline::add(std::unique_ptr<Operator> op) {
@@ -44,12 +36,17 @@ PetscErrorCode Pipeline::add(std::unique_ptr<Operator> op) {
 
 PetscErrorCode Pipeline::setFromOptions(MPI_Comm comm) {
   PetscFunctionBeginUser;
-  wantView.clear();
-  for (auto &op : ops) {
-    PetscBool flag = PETSC_FALSE;
-    PetscCall(op->setFromOptions(comm));
-    PetscCall(PetscOptionsGetBool(nullptr, op->optionsPrefix().c_str(), "-view", &flag, nullptr));
-    wantView.push_back(flag);
+  views.clear();
+  views.resize(ops.size());
+  for (size_t k = 0; k < ops.size(); ++k) {
+    PetscCall(ops[k]->setFromOptions(comm));
+    PetscCall(PetscOptionsGetViewer(comm, nullptr, ops[k]->optionsPrefix().c_str(), "-view",
+                                    views[k].viewer.put(), &views[k].format, nullptr));
+    PetscBool ascii = PETSC_TRUE;
+    if (views[k].viewer)
+      PetscCall(PetscObjectTypeCompare((PetscObject)views[k].viewer.get(), PETSCVIEWERASCII, &ascii));
+    PetscCheck(ascii, comm, PETSC_ERR_USER_INPUT,
+               "-%sview prints text: give it no value (stdout) or ascii:FILE", ops[k]->optionsPrefix().c_str());
   }
   PetscFunctionReturn(PETSC_SUCCESS);
 }
@@ -57,8 +54,9 @@ PetscErrorCode Pipeline::setFromOptions(MPI_Comm comm) {
 PetscErrorCode Pipeline::setUp(const RunContext &ctx) {
   PetscFunctionBeginUser;
   PetscCheck(!isSetUp, PETSC_COMM_SELF, PETSC_ERR_ARG_WRONGSTATE, "The pipeline is already set up");
+  views.resize(ops.size()); // setFromOptions may not have run
   std::vector<std::unique_ptr<Operator>> kept;
-  std::vector<bool> keptView;
+  std::vector<RequestedView> keptViews;
   for (size_t k = 0; k < ops.size(); ++k) {
     if (!ops[k]->needed(ctx)) {
       left.push_back(ops[k]->type());
@@ -66,10 +64,10 @@ PetscErrorCode Pipeline::setUp(const RunContext &ctx) {
     }
     PetscCall(ops[k]->setUp(ctx));
     kept.push_back(std::move(ops[k]));
-    keptView.push_back(k < wantView.size() && wantView[k]);
+    keptViews.push_back(std::move(views[k]));
   }
   ops = std::move(kept);
-  wantView = std::move(keptView);
+  views = std::move(keptViews);
   isSetUp = true;
   PetscFunctionReturn(PETSC_SUCCESS);
 }
@@ -80,10 +78,16 @@ PetscErrorCode Pipeline::apply(const StepInfo &step, FractionState &state) {
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
-PetscErrorCode Pipeline::viewRequested(PetscViewer viewer) const {
+PetscErrorCode Pipeline::viewRequested() const {
   PetscFunctionBeginUser;
-  for (size_t k = 0; k < ops.size(); ++k)
-    if (k < wantView.size() && wantView[k]) PetscCall(ops[k]->view(viewer));
+  for (size_t k = 0; k < ops.size() && k < views.size(); ++k) {
+    const RequestedView &v = views[k];
+    if (!v.viewer) continue;
+    PetscCall(PetscViewerPushFormat(v.viewer, v.format));
+    PetscCall(ops[k]->view(v.viewer));
+    PetscCall(PetscViewerPopFormat(v.viewer));
+    PetscCall(PetscViewerFlush(v.viewer)); // a file is complete when the run ends
+  }
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 

@@ -1,4 +1,5 @@
 #include "rcfd/operator.hpp"
+#include "base/petsc_compat.hpp"
 
 #include "operator/moving_rows.hpp"
 

@@ -1,4 +1,5 @@
 #include "path/database_recurrence.hpp"
+#include "base/petsc_compat.hpp"
 
 #include "base/collective.hpp"
 

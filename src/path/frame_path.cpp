@@ -1,4 +1,5 @@
 #include "path/frame_path.hpp"
+#include "base/petsc_compat.hpp"
 
 #include "path/builtin_paths.hpp"
 

@@ -1,4 +1,5 @@
 #include "rcfd/path.hpp"
+#include "base/petsc_compat.hpp"
 
 #include "base/collective.hpp"
 #include "path/frame_path.hpp"

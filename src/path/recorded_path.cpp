@@ -1,6 +1,7 @@
 // The recorded path: an explicit list of frames, e.g. the path.txt of an
 // earlier run (-path_type recorded -path_file FILE).
 #include "path/builtin_paths.hpp"
+#include "base/petsc_compat.hpp"
 
 #include "base/collective.hpp"
 #include "path/hasher.hpp"

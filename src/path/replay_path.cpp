@@ -1,6 +1,7 @@
 // The replay path: the database's frames in their recorded order, from
 // -path_start, wrapping from the last frame to frame 0 (a jump).
 #include "path/builtin_paths.hpp"
+#include "base/petsc_compat.hpp"
 
 #include "base/collective.hpp"
 #include "path/hasher.hpp"

@@ -2,6 +2,7 @@
 // frames joined by jumps to a frame whose alpha_s matches, by the database's
 // recurrence matrix, the one where the sequence ended (docs/paths.md).
 #include "path/builtin_paths.hpp"
+#include "base/petsc_compat.hpp"
 
 #include "base/collective.hpp"
 #include "path/database_recurrence.hpp"

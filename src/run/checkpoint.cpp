@@ -9,6 +9,7 @@
 //   /ledger_reference  the mass ledger's reference totals
 //   root attributes    format = "rcfd-checkpoint", step, num_fractions, num_cells, database
 #include "path/frame_path.hpp"
+#include "base/petsc_compat.hpp"
 #include "run/run_impl.hpp"
 #include "base/atomic_file.hpp"
 #include "base/collective.hpp"

@@ -1,4 +1,5 @@
 #include "run/run_impl.hpp"
+#include "base/petsc_compat.hpp"
 
 #include "base/collective.hpp"
 
@@ -279,7 +280,7 @@ PetscErrorCode Run::solve() {
   // figures: drawn by the CLI (rcfd run), not by the library
   PetscCall(r.progress(r.steps, r.steps * dt, true));
 
-  PetscCall(r.ops.viewRequested(PETSC_VIEWER_STDOUT_(r.comm)));
+  PetscCall(r.ops.viewRequested());
   std::vector<double> finalMass;
   PetscCall(r.fstate.totals(&finalMass));
   double worst = 0.0;

@@ -1,4 +1,5 @@
 #include "rcfd/fractions.hpp"
+#include "base/petsc_compat.hpp"
 
 #include "base/collective.hpp"
 

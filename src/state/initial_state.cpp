@@ -1,4 +1,5 @@
 #include "run/run_impl.hpp"
+#include "base/petsc_compat.hpp"
 
 #include "base/collective.hpp"
 #include "base/h5.hpp"

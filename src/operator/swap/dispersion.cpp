@@ -1,6 +1,5 @@
-#include "rcfd/swaps.hpp"
-
-#include "operator/swap/face_exchange.hpp"
+#include "rcfd/dispersion.hpp"
+#include "base/petsc_compat.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -10,9 +9,8 @@ namespace rcfd {
 DispersionOperator::DispersionOperator() = default;
 DispersionOperator::~DispersionOperator() = default;
 
-PetscErrorCode DispersionOperator::setFromOptions(MPI_Comm c) {
+PetscErrorCode DispersionOperator::setFromOptions(MPI_Comm comm) {
   PetscFunctionBeginUser;
-  comm = c;
   PetscOptionsBegin(comm, prefix.c_str(), "Dispersion (symmetric face swaps)", "rcfd");
   PetscCall(PetscOptionsReal("-coefficient", "Dispersion coefficient D [m^2/s]", "", coefficient,
                              &coefficient, nullptr));
@@ -29,56 +27,44 @@ bool DispersionOperator::needed(const RunContext &ctx) const {
   return ctx.fractions.size() > 1 && coefficient > 0.0;
 }
 
-PetscErrorCode DispersionOperator::setUp(const RunContext &ctx) {
-  PetscFunctionBeginUser;
-  comm = ctx.db.layout().comm();
-  nf = ctx.fractions.size();
-  rho = ctx.solidDensity;
-  exchange = std::make_unique<FaceExchange>();
-  PetscCall(exchange->setUp(ctx.db, nf, {0.0, 0.0, 0.0}, 0.0));
-  PetscFunctionReturn(PETSC_SUCCESS);
-}
-
 // Each side of a face sends X = rho alpha_face D A dt / delta of its own
 // mixture, alpha_face = min(alpha_lower, alpha_upper), so the net flux of a
 // fraction is X (y_lower - y_upper): Fickian diffusion of composition with no
 // bulk flux.  Sub-steps keep every cell's total outgoing share below 1/2.
 PetscErrorCode DispersionOperator::apply(const StepInfo &step, FractionState &state) {
   PetscFunctionBeginUser;
+  FaceExchange &x = exchange();
   double worst = 0.0;
-  for (const SwapFace &f : exchange->faces())
+  for (const SwapFace &f : x.faces())
     worst = std::max(worst, coefficient * f.area / (f.distance * std::min(f.volumeLower, f.volumeUpper)));
   PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, &worst, 1, MPI_DOUBLE, MPI_MAX, comm));
-  const int n = std::max(1, static_cast<int>(std::ceil(worst * exchange->maxFacesPerCell() * step.dt / 0.5)));
+  const int n = std::max(1, static_cast<int>(std::ceil(worst * x.maxFacesPerCell() * step.dt / 0.5)));
   const double dt = step.dt / n;
-  for (int s = 0; s < n; ++s) {
-    PetscCall(exchange->gather(state.masses()));
-    for (const SwapFace &f : exchange->faces()) {
-      const PetscScalar *mL = exchange->massAt(f.lower), *mU = exchange->massAt(f.upper);
-      double ML = 0.0, MU = 0.0;
-      for (int i = 0; i < nf; ++i) ML += mL[i], MU += mU[i];
-      const double aL = ML / (rho * f.volumeLower), aU = MU / (rho * f.volumeUpper);
-      if (!(aL >= alphaMin && aU >= alphaMin)) continue;
-      const double X = rho * std::min(aL, aU) * coefficient * f.area * dt / f.distance;
-      PetscScalar *dL = exchange->changeAt(f.lower), *dU = exchange->changeAt(f.upper);
-      for (int i = 0; i < nf; ++i) {
-        const double net = X * (mL[i] / ML - mU[i] / MU);
-        dL[i] -= net;
-        dU[i] += net;
+  for (int s = 0; s < n; ++s)
+    PetscCall(x.sweep(state.masses(), [&] {
+      for (const SwapFace &f : x.faces()) {
+        const PetscScalar *mL = x.massAt(f.lower), *mU = x.massAt(f.upper);
+        double ML = 0.0, MU = 0.0;
+        for (int i = 0; i < nf; ++i) ML += mL[i], MU += mU[i];
+        const double aL = ML / (rho * f.volumeLower), aU = MU / (rho * f.volumeUpper);
+        if (!(aL >= alphaMin && aU >= alphaMin)) continue;
+        const double X = rho * std::min(aL, aU) * coefficient * f.area * dt / f.distance;
+        PetscScalar *dL = x.changeAt(f.lower), *dU = x.changeAt(f.upper);
+        for (int i = 0; i < nf; ++i) {
+          const double net = X * (mL[i] / ML - mU[i] / MU);
+          dL[i] -= net;
+          dU[i] += net;
+        }
       }
-    }
-    PetscCall(exchange->endKernel());
-    PetscCall(exchange->scatterAdd(state.masses()));
-  }
-  ++steps;
-  substeps += n;
+    }));
+  countStep(n);
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
 PetscErrorCode DispersionOperator::view(PetscViewer viewer) const {
   PetscFunctionBeginUser;
   PetscCall(PetscViewerASCIIPrintf(viewer, "dispersion: D = %g m^2/s; %ld sub-steps over %ld steps\n",
-                                   coefficient, substeps, steps));
+                                   coefficient, substepsTaken(), stepsTaken()));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 

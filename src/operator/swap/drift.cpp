@@ -1,7 +1,5 @@
-#include "rcfd/swaps.hpp"
-
-#include "operator/swap/face_exchange.hpp"
-#include "base/collective.hpp"
+#include "rcfd/drift.hpp"
+#include "base/petsc_compat.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -12,14 +10,13 @@ namespace rcfd {
 DriftOperator::DriftOperator() = default;
 DriftOperator::~DriftOperator() = default;
 
-PetscErrorCode DriftOperator::setFromOptions(MPI_Comm c) {
+PetscErrorCode DriftOperator::setFromOptions(MPI_Comm comm) {
   const char *models[] = {"A", "B", "constant", "none"};
   PetscInt which = static_cast<PetscInt>(model);
   PetscReal velocities[256];
   PetscInt nv = 256;
   PetscBool setV = PETSC_FALSE;
   PetscFunctionBeginUser;
-  comm = c;
   PetscOptionsBegin(comm, prefix.c_str(), "Fractional drift (face swaps along gravity)", "rcfd");
   PetscCall(PetscOptionsEList("-model", "Drift model: A (d^2), B (d|d|), constant or none", "",
                               models, 4, models[which], &which, nullptr));
@@ -80,11 +77,14 @@ double DriftOperator::velocity(int i, double sauter) const {
   return 0.0;
 }
 
-PetscErrorCode DriftOperator::setUp(const RunContext &ctx) {
+// Faces whose normal is within 1e-9 of horizontal carry no drift.
+SwapOperator::FaceChoice DriftOperator::swapFaces(const RunContext &ctx) const {
+  const Vec3 g = ctx.db.metadata().gravity;
+  return {{-g[0], -g[1], -g[2]}, 1e-9};
+}
+
+PetscErrorCode DriftOperator::setUpSwap(const RunContext &ctx) {
   PetscFunctionBeginUser;
-  comm = ctx.db.layout().comm();
-  nf = ctx.fractions.size();
-  rho = ctx.solidDensity;
   PetscCheck(model != Model::Constant || (int)constantVelocity.size() == nf, comm,
              PETSC_ERR_USER_INPUT, "-%svelocities has %zu values but there are %d fractions",
              prefix.c_str(), constantVelocity.size(), nf);
@@ -93,10 +93,6 @@ PetscErrorCode DriftOperator::setUp(const RunContext &ctx) {
   d32 = d32Override > 0 ? d32Override : ctx.fractions.inventorySauterDiameter();
   velocityCache.resize(nf);
   for (int i = 0; i < nf; ++i) velocityCache[i] = velocity(i, d32);
-  const Vec3 g = ctx.db.metadata().gravity;
-  exchange = std::make_unique<FaceExchange>();
-  // Faces whose normal is within 1e-9 of horizontal carry no drift.
-  PetscCall(exchange->setUp(ctx.db, nf, {-g[0], -g[1], -g[2]}, 1e-9));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
@@ -104,7 +100,7 @@ PetscErrorCode DriftOperator::setUp(const RunContext &ctx) {
 // the number of sub-steps: with the inventory's d32 the velocities are
 // fixed, with local d32 each cell's d32 lies between the smallest and the
 // largest diameter, which bounds |u_i|.  The hindrance factor is <= 1.
-PetscErrorCode DriftOperator::substepsFor(double dt, FractionState &, int *n) {
+PetscErrorCode DriftOperator::substepsFor(double dt, int *n) const {
   PetscFunctionBeginUser;
   double umax = 0.0;
   if (!localD32) {
@@ -115,7 +111,7 @@ PetscErrorCode DriftOperator::substepsFor(double dt, FractionState &, int *n) {
     for (int i = 0; i < nf; ++i)
       umax = std::max({umax, std::fabs(velocity(i, dmin)), std::fabs(velocity(i, dmax))});
   }
-  const double courant = umax * exchange->maxAreaOverVolume() * dt;
+  const double courant = umax * exchange().maxAreaOverVolume() * dt;
   const double needed = std::ceil(courant / maxShare);
   PetscCheck(needed <= substepLimit, comm, PETSC_ERR_NOT_CONVERGED,
              "Drift needs %.0f sub-steps per step (Courant number %.3g), more than -%smax_substeps %d",
@@ -131,11 +127,9 @@ PetscErrorCode DriftOperator::apply(const StepInfo &step, FractionState &state) 
   // N-th step (counted from the run's start, so a restart keeps the rhythm).
   if ((step.step + 1) % every != 0) PetscFunctionReturn(PETSC_SUCCESS);
   const double dt = step.dt * static_cast<double>(every);
-  PetscCall(substepsFor(dt, state, &n));
+  PetscCall(substepsFor(dt, &n));
   for (int s = 0; s < n; ++s) PetscCall(substep(dt / n, state));
-  ++steps;
-  substeps += n;
-  mostSubsteps = std::max(mostSubsteps, n);
+  countStep(n);
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
@@ -150,23 +144,23 @@ PetscErrorCode DriftOperator::apply(const StepInfo &step, FractionState &state) 
 // top-ups at most (1 - maxShare) together.
 PetscErrorCode DriftOperator::substep(double dt, FractionState &state) {
   PetscFunctionBeginUser;
-  PetscCall(exchange->gather(state.masses()));
-  switch (nf) { // the common inventories get loops the compiler unrolls
-  case 2: sweep<2>(dt); break;
-  case 3: sweep<3>(dt); break;
-  case 4: sweep<4>(dt); break;
-  case 5: sweep<5>(dt); break;
-  default: sweep<0>(dt); break;
-  }
-  PetscCall(exchange->endKernel());
-  PetscCall(exchange->scatterAdd(state.masses()));
+  PetscCall(exchange().sweep(state.masses(), [&] {
+    switch (nf) { // the common inventories get loops the compiler unrolls
+    case 2: sweep<2>(dt); break;
+    case 3: sweep<3>(dt); break;
+    case 4: sweep<4>(dt); break;
+    case 5: sweep<5>(dt); break;
+    default: sweep<0>(dt); break;
+    }
+  }));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
 template <int NF> void DriftOperator::sweep(double dt) {
   const int n = NF > 0 ? NF : nf;
   constexpr int cap = NF > 0 ? NF : kMaxFractions;
-  const double faceShare = 0.999 * (1.0 - maxShare) / std::max(1, exchange->maxFacesPerCell());
+  FaceExchange &x = exchange();
+  const double faceShare = 0.999 * (1.0 - maxShare) / std::max(1, x.maxFacesPerCell());
   double uLowerLocal[cap], uUpperLocal[cap], pLower[cap], pUpper[cap];
   // With the inventory's d32 every face uses the same velocities.
   const double *uLower = localD32 ? uLowerLocal : velocityCache.data();
@@ -176,8 +170,8 @@ template <int NF> void DriftOperator::sweep(double dt) {
     for (int i = 0; i < n; ++i) s += mc[i] / diameter[i];
     return s > 0 ? total / s : d32;
   };
-  for (const SwapFace &f : exchange->faces()) {
-    const PetscScalar *mL = exchange->massAt(f.lower), *mU = exchange->massAt(f.upper);
+  for (const SwapFace &f : x.faces()) {
+    const PetscScalar *mL = x.massAt(f.lower), *mU = x.massAt(f.upper);
     double ML = 0.0, MU = 0.0;
     for (int i = 0; i < n; ++i) ML += mL[i], MU += mU[i];
     if (!(ML > 0.0 && MU > 0.0)) continue; // an empty side has nothing to swap with
@@ -205,7 +199,7 @@ template <int NF> void DriftOperator::sweep(double dt) {
     const double lambda = std::min({1.0, perX * ML, perX * MU});
     // The side that sent less tops up with its own mixture (one of the two is zero).
     const double topLower = up < X ? (X - up) / ML : 0.0, topUpper = down < X ? (X - down) / MU : 0.0;
-    PetscScalar *dL = exchange->changeAt(f.lower), *dU = exchange->changeAt(f.upper);
+    PetscScalar *dL = x.changeAt(f.lower), *dU = x.changeAt(f.upper);
     for (int i = 0; i < n; ++i) {
       const double toUpper = lambda * (pLower[i] + topLower * mL[i]);
       const double toLower = lambda * (pUpper[i] + topUpper * mU[i]);
@@ -228,9 +222,9 @@ PetscErrorCode DriftOperator::view(PetscViewer viewer) const {
   for (int i = 0; i < nf; ++i)
     PetscCall(PetscViewerASCIIPrintf(viewer, "fraction %d (d = %.4g mm): u_d = %+.4g m/s\n", i,
                                      diameter[i] * 1e3, velocityCache[i]));
-  if (exchange)
+  if (isSetUp())
     PetscCall(PetscViewerASCIIPrintf(viewer, "swap faces on this rank: %zu; sub-steps: %ld over %ld steps (at most %d)\n",
-                                     exchange->faces().size(), substeps, steps, mostSubsteps));
+                                     exchange().faces().size(), substepsTaken(), stepsTaken(), maxSubsteps()));
   PetscCall(PetscViewerASCIIPopTab(viewer));
   PetscFunctionReturn(PETSC_SUCCESS);
 }

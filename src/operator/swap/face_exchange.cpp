@@ -1,4 +1,5 @@
-#include "operator/swap/face_exchange.hpp"
+#include "rcfd/face_exchange.hpp"
+#include "base/petsc_compat.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -6,15 +7,41 @@
 
 namespace rcfd {
 
+struct FaceExchange::Impl {
+  std::vector<SwapFace> swapFaces;
+  OwnedVec ghostMasses, ghostChanges; // nf per ghost cell
+  OwnedScatter ghostScatter, scalarScatter;
+  OwnedVec scalarLocal;
+  std::vector<PetscInt> rows; // PETSc row of each gathered cell (own, then ghosts)
+  std::vector<PetscScalar> ownChanges;
+  Vec openMasses = nullptr;
+  const Layout *layout = nullptr;
+  PetscInt gathered = 0;
+  int maxPerCell = 0;
+  double maxAoverV = 0.0;
+};
+
+FaceExchange::FaceExchange() : impl(std::make_unique<Impl>()) {}
+FaceExchange::~FaceExchange() = default;
+
+const std::vector<SwapFace> &FaceExchange::faces() const { return impl->swapFaces; }
+int FaceExchange::maxFacesPerCell() const { return impl->maxPerCell; }
+double FaceExchange::maxAreaOverVolume() const { return impl->maxAoverV; }
+PetscInt FaceExchange::numGathered() const { return impl->gathered; }
+
 PetscErrorCode FaceExchange::setUp(const Database &db, int numFractions, const Vec3 &direction,
                                    double minShare) {
   PetscFunctionBeginUser;
   const Mesh &mesh = db.mesh();
   const Layout &L = db.layout();
   const double dn = std::hypot(direction[0], direction[1], direction[2]);
-  nf = numFractions;
-  layout = &L;
-  nlocal = L.numLocal();
+  impl = std::make_unique<Impl>();
+  open = Window{};
+  auto &swapFaces = impl->swapFaces;
+  auto &rows = impl->rows;
+  const int nf = numFractions;
+  const PetscInt nlocal = L.numLocal();
+  impl->layout = &L;
   rows.resize(nlocal);
   for (PetscInt r = 0; r < nlocal; ++r) rows[r] = L.rowStart() + r;
   std::map<PetscInt, PetscInt> ghostIndex; // PETSc row -> local index of a ghost cell
@@ -24,7 +51,6 @@ PetscErrorCode FaceExchange::setUp(const Database &db, int numFractions, const V
     if (inserted) rows.push_back(row);
     return it->second;
   };
-  swapFaces.clear();
   for (int f = 0; f < mesh.numFaces(); ++f) {
     const PetscInt owner = L.petscRow(mesh.faceOwner[f]);
     if (owner < L.rowStart() || owner >= L.rowEnd()) continue; // another rank's face
@@ -43,7 +69,7 @@ PetscErrorCode FaceExchange::setUp(const Database &db, int numFractions, const V
                          mesh.cellVolume[lo], mesh.cellVolume[up], normalDistance,
                          projected / mesh.cellVolume[lo], projected / mesh.cellVolume[up]});
   }
-  gathered = static_cast<PetscInt>(rows.size());
+  const PetscInt gathered = impl->gathered = static_cast<PetscInt>(rows.size());
 
   // Area over volume sent through in each direction, and faces, per cell.
   // A cell's faces may be handled by several ranks: the per-cell sums are
@@ -74,64 +100,74 @@ PetscErrorCode FaceExchange::setUp(const Database &db, int numFractions, const V
     localFaces = std::max(localFaces, static_cast<int>(t[3 * c + 2] + 0.5));
   }
   PetscCall(VecRestoreArrayRead(perCell.masses(), &t));
-  PetscCallMPI(MPI_Allreduce(&localMax, &maxAoverV, 1, MPI_DOUBLE, MPI_MAX, L.comm()));
-  PetscCallMPI(MPI_Allreduce(&localFaces, &maxPerCell, 1, MPI_INT, MPI_MAX, L.comm()));
+  PetscCallMPI(MPI_Allreduce(&localMax, &impl->maxAoverV, 1, MPI_DOUBLE, MPI_MAX, L.comm()));
+  PetscCallMPI(MPI_Allreduce(&localFaces, &impl->maxPerCell, 1, MPI_INT, MPI_MAX, L.comm()));
 
-  ownChanges.assign(static_cast<size_t>(nlocal) * nf, 0.0);
-  PetscCall(L.rowsScatter(nf, gathered - nlocal, rows.data() + nlocal, ghostMasses.put(), ghostScatter.put()));
-  PetscCall(VecDuplicate(ghostMasses, ghostChanges.put()));
-  PetscCall(VecZeroEntries(ghostChanges));
+  impl->ownChanges.assign(static_cast<size_t>(nlocal) * nf, 0.0);
+  PetscCall(L.rowsScatter(nf, gathered - nlocal, rows.data() + nlocal, impl->ghostMasses.put(),
+                          impl->ghostScatter.put()));
+  PetscCall(VecDuplicate(impl->ghostMasses, impl->ghostChanges.put()));
+  PetscCall(VecZeroEntries(impl->ghostChanges));
+  open.nf = nf;
+  open.nlocal = nlocal;
+  open.ownChange = impl->ownChanges.data();
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
 PetscErrorCode FaceExchange::gather(Vec masses) {
   PetscFunctionBeginUser;
-  PetscCall(VecScatterBegin(ghostScatter, masses, ghostMasses, INSERT_VALUES, SCATTER_FORWARD));
-  PetscCall(VecScatterEnd(ghostScatter, masses, ghostMasses, INSERT_VALUES, SCATTER_FORWARD));
-  openMasses = masses;
-  PetscCall(VecGetArrayRead(masses, &ownMasses));
-  PetscCall(VecGetArrayRead(ghostMasses, &ghostMassArray));
-  PetscCall(VecGetArray(ghostChanges, &ghostChangeArray));
+  Impl &x = *impl;
+  PetscCall(VecScatterBegin(x.ghostScatter, masses, x.ghostMasses, INSERT_VALUES, SCATTER_FORWARD));
+  PetscCall(VecScatterEnd(x.ghostScatter, masses, x.ghostMasses, INSERT_VALUES, SCATTER_FORWARD));
+  x.openMasses = masses;
+  PetscCall(VecGetArrayRead(masses, &open.own));
+  PetscCall(VecGetArrayRead(x.ghostMasses, &open.ghost));
+  PetscCall(VecGetArray(x.ghostChanges, &open.ghostChange));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
 PetscErrorCode FaceExchange::gatherScalar(Vec cellValues, std::vector<double> *out) {
   PetscFunctionBeginUser;
-  if (!scalarScatter) PetscCall(layout->rowsScatter(1, gathered, rows.data(), scalarLocal.put(), scalarScatter.put()));
-  PetscCall(VecScatterBegin(scalarScatter, cellValues, scalarLocal, INSERT_VALUES, SCATTER_FORWARD));
-  PetscCall(VecScatterEnd(scalarScatter, cellValues, scalarLocal, INSERT_VALUES, SCATTER_FORWARD));
+  Impl &x = *impl;
+  if (!x.scalarScatter)
+    PetscCall(x.layout->rowsScatter(1, x.gathered, x.rows.data(), x.scalarLocal.put(), x.scalarScatter.put()));
+  PetscCall(VecScatterBegin(x.scalarScatter, cellValues, x.scalarLocal, INSERT_VALUES, SCATTER_FORWARD));
+  PetscCall(VecScatterEnd(x.scalarScatter, cellValues, x.scalarLocal, INSERT_VALUES, SCATTER_FORWARD));
   const PetscScalar *a;
-  PetscCall(VecGetArrayRead(scalarLocal, &a));
-  out->assign(a, a + gathered);
-  PetscCall(VecRestoreArrayRead(scalarLocal, &a));
+  PetscCall(VecGetArrayRead(x.scalarLocal, &a));
+  out->assign(a, a + x.gathered);
+  PetscCall(VecRestoreArrayRead(x.scalarLocal, &a));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
 PetscErrorCode FaceExchange::endKernel() {
   PetscFunctionBeginUser;
-  PetscCall(VecRestoreArrayRead(openMasses, &ownMasses));
-  PetscCall(VecRestoreArrayRead(ghostMasses, &ghostMassArray));
-  PetscCall(VecRestoreArray(ghostChanges, &ghostChangeArray));
-  openMasses = nullptr;
+  Impl &x = *impl;
+  PetscCall(VecRestoreArrayRead(x.openMasses, &open.own));
+  PetscCall(VecRestoreArrayRead(x.ghostMasses, &open.ghost));
+  PetscCall(VecRestoreArray(x.ghostChanges, &open.ghostChange));
+  x.openMasses = nullptr;
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
 PetscErrorCode FaceExchange::scatterAdd(Vec masses) {
   PetscFunctionBeginUser;
+  Impl &x = *impl;
+  const size_t nf = static_cast<size_t>(open.nf);
   PetscScalar *m;
   PetscCall(VecGetArray(masses, &m));
   // Add and zero in one pass, over the cells that can have changed (the
   // freeboard, typically the upper half of a rank's rows, is left alone).
-  for (size_t k = static_cast<size_t>(changedFrom) * nf; k < static_cast<size_t>(changedTo) * nf; ++k) {
-    m[k] += ownChanges[k];
-    ownChanges[k] = 0.0;
+  for (size_t k = static_cast<size_t>(open.changedFrom) * nf; k < static_cast<size_t>(open.changedTo) * nf; ++k) {
+    m[k] += x.ownChanges[k];
+    x.ownChanges[k] = 0.0;
   }
-  changedFrom = PETSC_MAX_INT;
-  changedTo = 0;
+  open.changedFrom = PETSC_MAX_INT;
+  open.changedTo = 0;
   PetscCall(VecRestoreArray(masses, &m));
-  PetscCall(VecScatterBegin(ghostScatter, ghostChanges, masses, ADD_VALUES, SCATTER_REVERSE));
-  PetscCall(VecScatterEnd(ghostScatter, ghostChanges, masses, ADD_VALUES, SCATTER_REVERSE));
-  PetscCall(VecZeroEntries(ghostChanges));
+  PetscCall(VecScatterBegin(x.ghostScatter, x.ghostChanges, masses, ADD_VALUES, SCATTER_REVERSE));
+  PetscCall(VecScatterEnd(x.ghostScatter, x.ghostChanges, masses, ADD_VALUES, SCATTER_REVERSE));
+  PetscCall(VecZeroEntries(x.ghostChanges));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 

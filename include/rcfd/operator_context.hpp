@@ -1,0 +1,27 @@
+// What an operator sees: the case while it is set up (RunContext) and the
+// step it advances (StepInfo).
+#pragma once
+
+#include "rcfd/database.hpp"
+#include "rcfd/fractions.hpp"
+
+namespace rcfd {
+
+/// What an operator may read while it is set up.
+struct RunContext {
+  const Database &db;
+  const FractionSet &fractions;
+  double solidDensity; // [kg/m^3]
+};
+
+/// The step being taken: frame k moves the state from t_k to t_k + dt_rec.
+struct StepInfo {
+  long step = 0;      // 0-based step counter
+  double time = 0.0;  // simulated time at the start of the step [s]
+  double dt = 0.0;    // dt_rec [s]
+  int frame = 0;      // database frame used by this step
+  int nextFrame = 0;  // frame of the following step
+  bool jump = false;  // true when nextFrame != frame + 1 (wrap or stitching jump)
+};
+
+} // namespace rcfd

@@ -1,0 +1,13 @@
+// rcfd's built-in carry kinds (rcfd/carry.hpp describes them).
+#pragma once
+
+#include "rcfd/carry_kind.hpp"
+
+#include <memory>
+
+namespace rcfd {
+
+std::unique_ptr<CarryKind> makeRemapCarry(); // carry_remap.cpp
+std::unique_ptr<CarryKind> makeLevelCarry(); // carry_level.cpp
+
+} // namespace rcfd
