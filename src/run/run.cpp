@@ -1,4 +1,5 @@
 #include "run/run_impl.hpp"
+#include "state/initial_state.hpp"
 #include "base/petsc_compat.hpp"
 
 #include "base/collective.hpp"
@@ -190,7 +191,8 @@ PetscErrorCode Run::setUp() {
   }
   for (auto &m : r.monitors) PetscCall(m.monitor->setUp(ctx, r.fstate, r.outputDir));
   r.isSetUp = true;
-  if (r.restartFile.empty()) PetscCall(r.initialState());
+  if (r.restartFile.empty())
+    PetscCall(setInitialState(InitialState{r.initKind, r.initFile}, *r.db, r.set, r.solidDensity, r.fstate));
   else PetscCall(r.readCheckpoint());
   if (r.viewer) {
     PetscCall(PetscViewerPushFormat(r.viewer, r.viewFormat));

@@ -22,8 +22,6 @@ struct Run::Impl {
     std::string name;
   };
 
-  PetscErrorCode initialState();      // src/state/initial_state.cpp
-  PetscErrorCode loadInitialMasses(); // src/state/initial_state.cpp
   PetscErrorCode callMonitors(long step, double time, int frame, bool last);
   PetscErrorCode flushMonitors();
   PetscErrorCode progress(long step, double time, bool last);

@@ -1,4 +1,4 @@
-#include "run/run_impl.hpp"
+#include "state/initial_state.hpp"
 #include "base/petsc_compat.hpp"
 
 #include "base/collective.hpp"
@@ -60,31 +60,43 @@ void layeredMasses(const FractionSet &set, double rho, const Mesh &mesh, const V
 
 } // namespace
 
-// Initial masses: "mixed", "layered" (see above) or "file" (/masses of an
-// HDF5 file, natural cell order, e.g. from rcfd build -init_out).
-PetscErrorCode Run::Impl::initialState() {
-  const Layout &L = db->layout();
+namespace {
+
+PetscErrorCode loadInitialMasses(const std::string &initFile, const Database &db, const FractionSet &set,
+                                 FractionState &fstate);
+
+} // namespace
+
+PetscErrorCode setInitialState(const InitialState &spec, const Database &db, const FractionSet &set,
+                               double solidDensity, FractionState &fstate) {
+  const Layout &L = db.layout();
   PetscFunctionBeginUser;
-  if (initKind == "file") {
-    PetscCall(loadInitialMasses());
+  if (spec.kind == "file") {
+    PetscCall(loadInitialMasses(spec.file, db, set, fstate));
     PetscFunctionReturn(PETSC_SUCCESS);
   }
+  PetscCheck(spec.kind == "mixed" || spec.kind == "layered", L.comm(), PETSC_ERR_USER_INPUT,
+             "-init %s is not known; use mixed, layered or file", spec.kind.c_str());
   std::vector<double> alphaAll;
-  if (initKind == "layered") PetscCall(L.gatherToAll(1, db->alphaS(0), &alphaAll));
+  if (spec.kind == "layered") PetscCall(L.gatherToAll(1, db.alphaS(0), &alphaAll));
   const PetscScalar *alpha;
   PetscScalar *m;
-  PetscCall(VecGetArrayRead(db->alphaS(0), &alpha));
+  PetscCall(VecGetArrayRead(db.alphaS(0), &alpha));
   PetscCall(VecGetArrayWrite(fstate.masses(), &m));
-  if (initKind == "mixed") mixedMasses(set, solidDensity, alpha, db->localVolumes(), m);
-  else layeredMasses(set, solidDensity, db->mesh(), db->metadata().gravity, alphaAll, L.ownedNatural(), m);
+  if (spec.kind == "mixed") mixedMasses(set, solidDensity, alpha, db.localVolumes(), m);
+  else layeredMasses(set, solidDensity, db.mesh(), db.metadata().gravity, alphaAll, L.ownedNatural(), m);
   PetscCall(VecRestoreArrayWrite(fstate.masses(), &m));
-  PetscCall(VecRestoreArrayRead(db->alphaS(0), &alpha));
+  PetscCall(VecRestoreArrayRead(db.alphaS(0), &alpha));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
-PetscErrorCode Run::Impl::loadInitialMasses() {
+namespace {
+
+PetscErrorCode loadInitialMasses(const std::string &initFile, const Database &db, const FractionSet &set,
+                                 FractionState &fstate) {
   const int nf = set.size();
-  const Layout &L = db->layout();
+  const Layout &L = db.layout();
+  const MPI_Comm comm = L.comm();
   PetscFunctionBeginUser;
   // Dimensions and diameters first, so that a mismatch gets a sentence
   // rather than a PETSc size error.
@@ -114,12 +126,41 @@ PetscErrorCode Run::Impl::loadInitialMasses() {
   PetscCall(VecLoad(natural, v));
   PetscCall(VecScatterBegin(scatter, natural, fstate.masses(), INSERT_VALUES, SCATTER_REVERSE));
   PetscCall(VecScatterEnd(scatter, natural, fstate.masses(), INSERT_VALUES, SCATTER_REVERSE));
-  PetscReal low;
-  PetscCall(VecMin(fstate.masses(), nullptr, &low));
-  PetscCheck(low >= 0 && std::isfinite(low), comm, PETSC_ERR_USER_INPUT,
-             "-init_file '%s': /masses has a negative or non-finite mass (%g kg)", initFile.c_str(),
-             (double)low);
+  // Every entry checked: VecMin passes over NaN.  Counts: [not finite or negative,
+  // mass in cells frame 0 says are empty, total mass, that stray mass].
+  double counts[4] = {0.0, 0.0, 0.0, 0.0};
+  const PetscScalar *m, *alpha;
+  PetscCall(VecGetArrayRead(fstate.masses(), &m));
+  PetscCall(VecGetArrayRead(db.alphaS(0), &alpha));
+  for (PetscInt c = 0; c < L.numLocal(); ++c) {
+    double cell = 0.0;
+    for (int i = 0; i < nf; ++i) {
+      const double v = m[c * nf + i];
+      if (!(v >= 0.0) || !std::isfinite(v)) ++counts[0];
+      else cell += v;
+    }
+    counts[2] += cell;
+    if (cell > 0.0 && !(alpha[c] > 0.0)) {
+      ++counts[1];
+      counts[3] += cell;
+    }
+  }
+  PetscCall(VecRestoreArrayRead(db.alphaS(0), &alpha));
+  PetscCall(VecRestoreArrayRead(fstate.masses(), &m));
+  PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, counts, 4, MPI_DOUBLE, MPI_SUM, comm));
+  PetscCheck(counts[0] == 0.0, comm, PETSC_ERR_USER_INPUT,
+             "-init_file '%s': /masses holds %.0f negative or non-finite (NaN, inf) masses; expected masses >= 0 kg",
+             initFile.c_str(), counts[0]);
+  PetscCheck(counts[2] > 0.0, comm, PETSC_ERR_USER_INPUT,
+             "-init_file '%s': /masses holds no mass at all; expected the kg of each fraction per cell",
+             initFile.c_str());
+  if (counts[1] > 0.0)
+    PetscCall(PetscPrintf(comm,
+                          "Warning: -init_file '%s' puts %.4g kg (%.2g %% of its mass) in %.0f cells that frame 0 "
+                          "of the database says are empty; the first steps will move it with the bulk\n",
+                          initFile.c_str(), counts[3], 100.0 * counts[3] / counts[2], counts[1]));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
+} // namespace
 } // namespace rcfd
