@@ -53,6 +53,11 @@ if "$rcfd" run -db "$db" -fractions_diameters 2.0001e-3,2.0004e-3 -fractions_mas
   head -1 "$work/alike/cog.csv" | grep -q "z_cog_d2.0001mm_m,z_cog_d2.0004mm_m"; then ok
 else fail "labels of 2.0001 and 2.0004 mm: $(head -1 "$work/alike/cog.csv" 2>&1)"; fi
 expect_error "-synth_cells 2000,2000,2000 asks for 8e+09 cells" synth -synth_cells 2000,2000,2000 -o "$work/s.h5"
+# A fraction without mass has no centre of gravity: nan, not 0 m.
+if "$rcfd" run -db "$db" -fractions_diameters 2e-3,3e-3 -fractions_mass_shares 1,0 -t_end 0.01 \
+  -output_dir "$work/empty" -quiet -fields false -plot false &&
+  awk -F, 'NR == 2 { exit !($4 == "nan" && $5 == "nan" && $3 + 0 > 0) }' "$work/empty/cog.csv"; then ok
+else fail "a fraction without mass: $(sed -n 2p "$work/empty/cog.csv" 2>&1)"; fi
 # Help from the program itself, not "unknown command".
 if "$rcfd" -help | grep -q "usage: rcfd <command>"; then ok; else fail "rcfd -help"; fi
 

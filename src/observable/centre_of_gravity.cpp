@@ -2,6 +2,7 @@
 #include "base/petsc_compat.hpp"
 
 #include <cmath>
+#include <limits>
 
 namespace rcfd {
 
@@ -91,13 +92,16 @@ PetscErrorCode CentreOfGravity::measure(double time, Vec masses, Vec alpha, doub
   s->time = time;
   s->mass.assign(sums.begin(), sums.begin() + nf);
   s->zCog.resize(nf);
+  // A fraction without mass has no centre of gravity: NaN, not a height of 0 m
+  // that would read as "at the bottom" and make delta z meaningless.
+  const double none = std::numeric_limits<double>::quiet_NaN();
   double total = 0.0, moment = 0.0;
   for (int i = 0; i < nf; ++i) {
-    s->zCog[i] = sums[i] > 0 ? sums[nf + i] / sums[i] : 0.0;
+    s->zCog[i] = sums[i] > 0 ? sums[nf + i] / sums[i] : none;
     total += sums[i];
     moment += sums[nf + i];
   }
-  s->zCogBed = total > 0 ? moment / total : 0.0;
+  s->zCogBed = total > 0 ? moment / total : none;
   s->deltaZ = s->zCog[small] - s->zCog[large];
   PetscCallMPI(MPI_Allreduce(&lowest, &s->minMass, 1, MPI_DOUBLE, MPI_MIN, comm));
   PetscFunctionReturn(PETSC_SUCCESS);
