@@ -412,7 +412,8 @@ PetscErrorCode loseFraction0(const StepInfo &, FractionState &state) {
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
-PetscErrorCode runWith(const std::string &op, const std::string &dbPath, std::string *message) {
+PetscErrorCode runWith(const std::string &op, const std::string &dbPath, std::string *message,
+                       const std::string &tEnd = "0.125") {
   OperatorRegistry registry = OperatorRegistry::withBuiltins();
   registry.add("leak", [] { return std::make_unique<ShellOperator>("leak", loseFraction0); },
                "loses 1e-6 of fraction 0 per step");
@@ -421,7 +422,7 @@ PetscErrorCode runWith(const std::string &op, const std::string &dbPath, std::st
   registry.add("keep", [] {
     return std::make_unique<ShellOperator>("keep", [](const StepInfo &, FractionState &) { return PETSC_SUCCESS; });
   }, "changes nothing");
-  ScopedOptions options("-db " + dbPath + " -pipeline " + op + " -t_end 0.125 -output_dir " + dir +
+  ScopedOptions options("-db " + dbPath + " -pipeline " + op + " -t_end " + tEnd + " -output_dir " + dir +
                         "/run_" + op + " -fields false -plot false -quiet");
   ErrorCapture error;
   Run run(PETSC_COMM_WORLD, registry);
@@ -441,6 +442,10 @@ void ledgerRefusesLeak() {
   RCFD_CHECK(leak == PETSC_ERR_PLIB);
   RCFD_CHECK(contains(message, "Fraction 0 changed its mass by -1.000e-05 (relative) between steps 0 and 10"));
   RCFD_CHECK(contains(message, "an operator is not mass-conserving"));
+  // A run that ends before the first regular check is checked at its end.
+  std::string shortRun;
+  RCFD_CHECK(runWith("leak", path, &shortRun, "0.02") == PETSC_ERR_PLIB);
+  RCFD_CHECK(contains(shortRun, "an operator is not mass-conserving"));
   for (const std::string op : {"keep", "discharge"}) { // conservative, or a loss declared as such
     std::string none;
     RCFD_CHECK(runWith(op, path, &none) == 0);

@@ -22,8 +22,11 @@ public:
   PetscErrorCode setFromOptions(MPI_Comm comm);
   /// Record the reference totals.
   PetscErrorCode start(const FractionState &state);
-  /// Collective.  Every `checkEvery` steps: refuse a leak, remove round-off.
-  PetscErrorCode check(long step, FractionState &state);
+  /// Collective.  Every `checkEvery` steps: refuse a leak, remove round-off.  With
+  /// `endOfRun` it also refuses a leak at a step between two checks (the end of a
+  /// run), without removing round-off there, so that a run stopped and restarted
+  /// gives the same bits as one that went on.
+  PetscErrorCode check(long step, FractionState &state, bool endOfRun = false);
   PetscInt interval() const { return checkEvery; }
   /// Reference totals, and setting them again on restart.
   const std::vector<double> &reference() const { return totals; }

@@ -266,7 +266,7 @@ PetscErrorCode Run::solve() {
     }
     r.frames.push_back(frame);
     PetscCall(r.ops.apply(info, r.fstate));
-    if (ledgerOn) PetscCall(r.ledger.check(s + 1, r.fstate));
+    if (ledgerOn) PetscCall(r.ledger.check(s + 1, r.fstate, s + 1 == r.steps));
     frame = info.nextFrame;
     const double t = (s + 1) * dt;
     PetscCall(r.callMonitors(s + 1, t, frame, s + 1 == r.steps));
