@@ -58,6 +58,27 @@ if "$rcfd" run -db "$db" -fractions_diameters 2e-3,3e-3 -fractions_mass_shares 1
   -output_dir "$work/empty" -quiet -fields false -plot false &&
   awk -F, 'NR == 2 { exit !($4 == "nan" && $5 == "nan" && $3 + 0 > 0) }' "$work/empty/cog.csv"; then ok
 else fail "a fraction without mass: $(sed -n 2p "$work/empty/cog.csv" 2>&1)"; fi
+# Every numeric option checked where it is read: not finite, out of range, or meaningless.
+expect_error "-t_end nan: expected a positive time in s" run -db "$db" -t_end nan
+expect_error "-t_end inf: expected a positive time in s" run -db "$db" -t_end inf
+expect_error "-t_end 1e+300: expected a positive time in s" run -db "$db" -t_end 1e300
+expect_error "-t_end -5: expected a positive time in s" run -db "$db" -t_end -5
+expect_error "-t_end 1e-05 s is 0.002 steps of dt_rec" run -db "$db" -t_end 1e-5
+expect_error "-solid_density 0: expected a positive density" run -db "$db" -solid_density 0
+expect_error "-fields_every -1: expected a number >= 0" run -db "$db" -fields_every -1
+expect_error "-drift_kd -5: expected a number >= 0" run -db "$db" -drift_kd -5
+expect_error "-drift_alpha_max 1.5: expected a number in (0, 1]" run -db "$db" -drift_alpha_max 1.5
+expect_error "-monitor_every 0: expected a whole number from 1" run -db "$db" -monitor_every 0
+expect_error "-synth_packing 1: expected a number between 0 and 1" synth -synth_packing 1 -o "$work/s.h5"
+expect_error "-pipeline is empty" run -db "$db" -pipeline ""
+expect_error "-pipeline names 'shift' twice" run -db "$db" -pipeline shift,drift,shift
+# Outputs that cannot be made: one sentence, nothing written.
+expect_error "-output_dir is empty" run -db "$db" -output_dir ""
+touch "$work/plain"
+expect_error "-output_dir '$work/plain' is a file; expected a directory" run -db "$db" -output_dir "$work/plain"
+expect_error "-checkpoint_file '$work' is a directory" run -db "$db" -checkpoint_file "$work" \
+  -checkpoint_every 0.01 -output_dir "$work/cp"
+[ ! -e "$work/cp" ] && ok || fail "a refused checkpoint file left $work/cp behind"
 # Help from the program itself, not "unknown command".
 if "$rcfd" -help | grep -q "usage: rcfd <command>"; then ok; else fail "rcfd -help"; fi
 

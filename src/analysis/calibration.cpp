@@ -1,4 +1,5 @@
 #include "analysis/calibration.hpp"
+#include "base/checked_options.hpp"
 #include "base/petsc_compat.hpp"
 
 #include "base/collective.hpp"
@@ -32,13 +33,13 @@ PetscErrorCode DriftCalibration::setFromOptions() {
                                "", objective, objective, sizeof objective, nullptr));
   PetscCall(PetscOptionsRealArray("-calibrate_kd_range", "Search interval of k_d [1/(m s)]", "",
                                   range, &nrange, &setRange));
-  PetscCall(PetscOptionsReal("-calibrate_tolerance", "Width of the final interval in log10 k_d",
-                             "", tolerance, &tolerance, nullptr));
-  PetscCall(PetscOptionsInt("-calibrate_scan", "Points of the coarse scan that brackets the minimum",
-                            "", scanPoints, &scanPoints, nullptr));
-  PetscCall(PetscOptionsReal("-rcfd_time_offset",
-                             "Physical time of the database's frame 0 [s], added to the runs' times",
-                             "", offset, &offset, nullptr));
+  PetscCall(checkedReal(PetscOptionsObject, "-calibrate_tolerance",
+                        "Width of the final interval in log10 k_d", &tolerance, kPositive));
+  PetscCall(checkedInt(PetscOptionsObject, "-calibrate_scan",
+                       "Points of the coarse scan that brackets the minimum", &scanPoints, 2, 100000));
+  PetscCall(checkedReal(PetscOptionsObject, "-rcfd_time_offset",
+                        "Physical time of the database's frame 0 [s], added to the runs' times",
+                        &offset, {-1e9, 1e9, true, true, "a finite time in s"}));
   PetscCall(PetscOptionsRealArray("-score_window", "Window t0,t1 [s] of the Eq. 7 means", "",
                                   window, &nwindow, &setWindow));
   PetscOptionsEnd();

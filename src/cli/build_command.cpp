@@ -2,6 +2,7 @@
 // initial composition of a run (-init_out) from the first snapshot used.
 // With -eulerian it builds from Eulerian frames instead (build_eulerian_command.cpp).
 #include "cli/commands.hpp"
+#include "base/checked_options.hpp"
 #include "base/petsc_compat.hpp"
 
 #include "cli/particle_input.hpp"
@@ -41,8 +42,8 @@ PetscErrorCode readBuildOptions(MPI_Comm comm, BuildOutputs *o) {
                                "Also write the first snapshot's masses per cell and size class "
                                "(HDF5 /masses, for rcfd run -init file)",
                                "", "", init, sizeof init, &setInit));
-  PetscCall(PetscOptionsReal("-gravity", "Magnitude of gravity [m/s^2]", "", o->gravity,
-                             &o->gravity, nullptr));
+  PetscCall(checkedReal(PetscOptionsObject, "-gravity",
+                        "Magnitude of gravity [m/s^2]", &o->gravity, kPositive));
   PetscCall(PetscOptionsBool("-quiet", "No progress or report", "", o->quiet, &o->quiet, nullptr));
   PetscOptionsEnd();
   PetscCheck(o->gravity > 0, comm, PETSC_ERR_USER_INPUT, "-gravity must be positive");

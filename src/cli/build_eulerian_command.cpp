@@ -2,6 +2,7 @@
 // frames (x y z alpha Ux Uy Uz Usx Usy Usz per cell), shifts by tracing the
 // solid velocity and proportional scaling (src/database/eulerian_frames.hpp).
 #include "cli/commands.hpp"
+#include "base/checked_options.hpp"
 #include "base/petsc_compat.hpp"
 
 #include "builders/eulerian/eulerian_frames.hpp"
@@ -44,46 +45,48 @@ PetscErrorCode readEulerianOptions(MPI_Comm comm, EulerianInput *in) {
                                "fraction): a quoted glob pattern, taken in natural order",
                                "", pattern, pattern, sizeof pattern, nullptr));
   PetscCall(PetscOptionsString("-o", "Output database file", "", db, db, sizeof db, nullptr));
-  PetscCall(PetscOptionsReal("-dt_rec", "Time between the frame files [s] (required)", "",
-                             b.dtRec, &b.dtRec, &setDt));
+  PetscCall(checkedReal(PetscOptionsObject, "-dt_rec",
+                        "Time between the frame files [s] (required)", &b.dtRec, kPositive, &setDt));
   PetscCall(PetscOptionsIntArray("-mesh_cells", "Cells nx,ny,nz (default: from the cell centres)",
                                  "", cells, &ncells, &setCells));
   PetscCall(PetscOptionsRealArray("-mesh_lo", "Lower corner x,y,z [m] (default: from the centres)",
                                   "", lo, &nlo, &setLo));
   PetscCall(PetscOptionsRealArray("-mesh_hi", "Upper corner x,y,z [m] (default: from the centres)",
                                   "", hi, &nhi, &setHi));
-  PetscCall(PetscOptionsInt("-tracers_per_cell", "Tracers per occupied cell and frame", "", tracers,
-                            &tracers, nullptr));
-  PetscCall(PetscOptionsInt("-tracer_seed", "Seed of the tracers' jitter", "", seed, &seed, nullptr));
+  PetscCall(checkedInt(PetscOptionsObject, "-tracers_per_cell",
+                       "Tracers per occupied cell and frame", &tracers, 1, 1000000));
+  PetscCall(checkedInt(PetscOptionsObject, "-tracer_seed",
+                       "Seed of the tracers' jitter", &seed, 0, PETSC_MAX_INT));
   PetscCall(PetscOptionsString("-tracer_interpolation",
                                "Solid velocity at a tracer: trilinear (between cell centres, weighted "
                                "by alpha_s) or cell (constant per cell)",
                                "", interp, interp, sizeof interp, nullptr));
-  PetscCall(PetscOptionsReal("-tracer_courant", "Largest tracer move per sub-step [cells]", "",
-                             b.courant, &b.courant, nullptr));
-  PetscCall(PetscOptionsReal("-slow_cell_factor",
-                             "Slow cell: V^(1/3)/|Us| > factor * dt_rec (0: no slow-cell split)", "",
-                             b.slowCellFactor, &b.slowCellFactor, nullptr));
-  PetscCall(PetscOptionsReal("-empty_alpha_s", "A cell with alpha_s at or below this is empty", "",
-                             b.emptyAlphaS, &b.emptyAlphaS, nullptr));
-  PetscCall(PetscOptionsReal("-scaling_support",
-                             "Before scaling, each occupied cell sends this share of its solid to "
-                             "itself and to each face neighbour that holds solid at t_k+1 (0: none)",
-                             "", b.supportSeed, &b.supportSeed, nullptr));
-  PetscCall(PetscOptionsInt("-scaling_support_radius",
-                            "Cells that scaling cannot serve get such seeds from up to this many "
-                            "cells away (1: never)",
-                            "", radius, &radius, nullptr));
-  PetscCall(PetscOptionsInt("-scaling_iterations",
-                            "Most scaling iterations (sweeps and Newton steps) per frame (0: none)", "",
-                            iterations, &iterations, nullptr));
-  PetscCall(PetscOptionsReal("-scaling_tolerance",
-                             "Stop scaling at |T a_k - a_k+1|_1 / |a_k|_1 below this", "",
-                             b.scalingTolerance, &b.scalingTolerance, nullptr));
-  PetscCall(PetscOptionsReal("-solid_density", "Particle density [kg/m^3]", "", in->solidDensity,
-                             &in->solidDensity, nullptr));
-  PetscCall(PetscOptionsReal("-gravity", "Magnitude of gravity [m/s^2], along -z", "", in->gravity,
-                             &in->gravity, nullptr));
+  PetscCall(checkedReal(PetscOptionsObject, "-tracer_courant",
+                        "Largest tracer move per sub-step [cells]", &b.courant, kPositive));
+  PetscCall(checkedReal(PetscOptionsObject, "-slow_cell_factor",
+                        "Slow cell: V^(1/3)/|Us| > factor * dt_rec (0: no slow-cell split)",
+                        &b.slowCellFactor, kPositive));
+  PetscCall(checkedReal(PetscOptionsObject, "-empty_alpha_s",
+                        "A cell with alpha_s at or below this is empty",
+                        &b.emptyAlphaS, {0.0, 1.0, true, false, "a solid fraction in [0, 1)"}));
+  PetscCall(checkedReal(PetscOptionsObject, "-scaling_support",
+                        "Before scaling, each occupied cell sends this share of its solid to itself and to each "
+                        "face neighbour that holds solid at t_k+1 (0: none)",
+                        &b.supportSeed, kNonNegative));
+  PetscCall(checkedInt(PetscOptionsObject, "-scaling_support_radius",
+                       "Cells that scaling cannot serve get such seeds from up to this many cells away (1: never)",
+                       &radius, 0, 1000));
+  PetscCall(checkedInt(PetscOptionsObject, "-scaling_iterations",
+                       "Most scaling iterations (sweeps and Newton steps) per frame (0: none)",
+                       &iterations, 0, 100000000));
+  PetscCall(checkedReal(PetscOptionsObject, "-scaling_tolerance",
+                        "Stop scaling at |T a_k - a_k+1|_1 / |a_k|_1 below this",
+                        &b.scalingTolerance, kPositive));
+  PetscCall(checkedReal(PetscOptionsObject, "-solid_density",
+                        "Particle density [kg/m^3]",
+                        &in->solidDensity, {0.0, 1e6, false, true, "a positive density in kg/m^3"}));
+  PetscCall(checkedReal(PetscOptionsObject, "-gravity",
+                        "Magnitude of gravity [m/s^2], along -z", &in->gravity, kPositive));
   PetscCall(PetscOptionsBool("-quiet", "No progress or report", "", in->quiet, &in->quiet, nullptr));
   PetscOptionsEnd();
   if (helpRequested()) PetscFunctionReturn(PETSC_SUCCESS);

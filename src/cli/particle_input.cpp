@@ -1,4 +1,5 @@
 #include "cli/particle_input.hpp"
+#include "base/checked_options.hpp"
 #include "base/petsc_compat.hpp"
 
 #include "cli/commands.hpp"
@@ -53,30 +54,31 @@ PetscErrorCode readParticleInputOptions(MPI_Comm comm, ParticleInput *in) {
                                "", "", list, sizeof list, &setList));
   PetscCall(PetscOptionsString("-times", "File of 'index time' lines, one per snapshot [s]", "", "",
                                times, sizeof times, &setTimes));
-  PetscCall(PetscOptionsReal("-dump_dt", "Or the time between snapshot files [s]", "", in->dumpDt,
-                             &in->dumpDt, &setDt));
+  PetscCall(checkedReal(PetscOptionsObject, "-dump_dt",
+                        "Or the time between snapshot files [s]", &in->dumpDt, kPositive, &setDt));
   PetscCall(PetscOptionsString("-vertical_axis", "File axis that points along gravity: x, y or z",
                                "", axis, axis, sizeof axis, nullptr));
   PetscCall(PetscOptionsInt("-gravity_sign", "-1: gravity points to -vertical_axis; +1: to +axis",
                             "", gravitySign, &gravitySign, nullptr));
   PetscCall(PetscOptionsIntArray("-mesh_cells", "Cells nx,ny,nz of the box mesh", "", cells,
                                  &ncells, &setCells));
-  PetscCall(PetscOptionsReal("-mesh_cell_size", "Or the cell size [m] (counts rounded)", "",
-                             cellSize, &cellSize, nullptr));
+  PetscCall(checkedReal(PetscOptionsObject, "-mesh_cell_size",
+                        "Or the cell size [m] (counts rounded)", &cellSize, kPositive));
   PetscCall(PetscOptionsRealArray("-mesh_lo", "Lower corner x,y,z [m, z up] (default: the first snapshot's box)",
                                   "", lo, &nlo, &setLo));
   PetscCall(PetscOptionsRealArray("-mesh_hi", "Upper corner x,y,z [m, z up] (default: the first snapshot's box)",
                                   "", hi, &nhi, &setHi));
-  PetscCall(PetscOptionsInt("-frame_stride", "Use every n-th snapshot (dt_rec = n * snapshot interval)",
-                            "", stride, &stride, nullptr));
+  PetscCall(checkedInt(PetscOptionsObject, "-frame_stride",
+                       "Use every n-th snapshot (dt_rec = n * snapshot interval)",
+                       &stride, 1, PETSC_MAX_INT));
   PetscCall(PetscOptionsIntArray("-window", "First and last snapshot index to use, inclusive (last -1: to the end)",
                                  "", window, &nwindow, &setWindow));
-  PetscCall(PetscOptionsReal("-solid_density",
-                             "Particle density [kg/m^3] for files without density or mass columns",
-                             "", in->solidDensity, &in->solidDensity, nullptr));
-  PetscCall(PetscOptionsReal("-class_tolerance",
-                             "Relative diameter spread within one size class", "",
-                             in->classTolerance, &in->classTolerance, nullptr));
+  PetscCall(checkedReal(PetscOptionsObject, "-solid_density",
+                        "Particle density [kg/m^3] for files without density or mass columns",
+                        &in->solidDensity, {0.0, 1e6, false, true, "a positive density in kg/m^3"}));
+  PetscCall(checkedReal(PetscOptionsObject, "-class_tolerance",
+                        "Relative diameter spread within one size class",
+                        &in->classTolerance, {0.0, 1.0, true, false, "a relative tolerance in [0, 1)"}));
   PetscOptionsEnd();
   if (helpRequested()) PetscFunctionReturn(PETSC_SUCCESS);
 

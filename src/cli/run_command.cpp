@@ -1,4 +1,5 @@
 #include "cli/commands.hpp"
+#include "base/checked_options.hpp"
 #include "base/petsc_compat.hpp"
 #include "cli/figures.hpp"
 
@@ -58,8 +59,9 @@ PetscErrorCode runCommand(MPI_Comm comm) {
   Run run(comm, registry);
   PetscCall(run.setFromOptions());
   PetscOptionsBegin(comm, nullptr, "rcfd run: ensembles and figures", "rcfd");
-  PetscCall(PetscOptionsInt("-ensemble", "Run this many stitched paths (seeds path_seed, path_seed+1, ...)",
-                            "", members, &members, nullptr));
+  PetscCall(checkedInt(PetscOptionsObject, "-ensemble",
+                       "Run this many stitched paths (seeds path_seed, path_seed+1, ...)",
+                       &members, 1, 100000));
   PetscCall(PetscOptionsBool("-plot", "Draw figures of the results at the end", "", plot, &plot, nullptr));
   PetscOptionsEnd();
   if (helpRequested()) PetscFunctionReturn(PETSC_SUCCESS);

@@ -1,4 +1,5 @@
 #include "cli/commands.hpp"
+#include "base/checked_options.hpp"
 #include "base/petsc_compat.hpp"
 
 #include "builders/synthetic/synthetic_bed.hpp"
@@ -24,22 +25,22 @@ PetscErrorCode readSynthOptions(MPI_Comm comm, SyntheticBedOptions *o, std::stri
   PetscCall(PetscOptionsIntArray("-synth_cells", "Cells nx,ny,nz", "", cells, &ncells, &setCells));
   PetscCall(PetscOptionsRealArray("-synth_length", "Box size lx,ly,lz [m]", "", length, &nlength,
                                   &setLength));
-  PetscCall(PetscOptionsInt("-synth_frames", "Number of frames K", "", frames, &frames, nullptr));
-  PetscCall(PetscOptionsReal("-synth_dt", "Time between frames dt_rec [s]", "", o->dtRec,
-                             &o->dtRec, nullptr));
-  PetscCall(PetscOptionsInt("-synth_seed", "Random seed", "", seed, &seed, nullptr));
-  PetscCall(PetscOptionsReal("-synth_bed_height", "Settled bed height [m]", "", o->bedHeight,
-                             &o->bedHeight, nullptr));
-  PetscCall(PetscOptionsReal("-synth_packing", "alpha_s of the dense phase", "", o->packing,
-                             &o->packing, nullptr));
-  PetscCall(PetscOptionsInt("-synth_parcels_per_cell", "Parcels per dense cell", "", parcels,
-                            &parcels, nullptr));
-  PetscCall(PetscOptionsReal("-synth_nucleation_rate", "Bubbles per second and m^2 of distributor",
-                             "", o->nucleationRate, &o->nucleationRate, nullptr));
-  PetscCall(PetscOptionsReal("-synth_max_diameter", "Largest bubble diameter [m]", "",
-                             o->maxDiameter, &o->maxDiameter, nullptr));
-  PetscCall(PetscOptionsReal("-synth_warm_up", "Simulated time before frame 0 [s]", "",
-                             o->warmUpTime, &o->warmUpTime, nullptr));
+  PetscCall(checkedInt(PetscOptionsObject, "-synth_frames", "Number of frames K", &frames, 1, 10000000));
+  PetscCall(checkedReal(PetscOptionsObject, "-synth_dt",
+                        "Time between frames dt_rec [s]", &o->dtRec, kPositive));
+  PetscCall(checkedInt(PetscOptionsObject, "-synth_seed", "Random seed", &seed, 0, PETSC_MAX_INT));
+  PetscCall(checkedReal(PetscOptionsObject, "-synth_bed_height",
+                        "Settled bed height [m]", &o->bedHeight, kPositive));
+  PetscCall(checkedReal(PetscOptionsObject, "-synth_packing",
+                        "alpha_s of the dense phase", &o->packing, kOpenUnit));
+  PetscCall(checkedInt(PetscOptionsObject, "-synth_parcels_per_cell",
+                       "Parcels per dense cell", &parcels, 1, 10000));
+  PetscCall(checkedReal(PetscOptionsObject, "-synth_nucleation_rate",
+                        "Bubbles per second and m^2 of distributor", &o->nucleationRate, kNonNegative));
+  PetscCall(checkedReal(PetscOptionsObject, "-synth_max_diameter",
+                        "Largest bubble diameter [m]", &o->maxDiameter, kPositive));
+  PetscCall(checkedReal(PetscOptionsObject, "-synth_warm_up",
+                        "Simulated time before frame 0 [s]", &o->warmUpTime, kNonNegative));
   PetscCall(PetscOptionsBool("-quiet", "No report", "", *quiet, quiet, nullptr));
   PetscOptionsEnd();
   PetscCheck((!setCells || ncells == 3) && (!setLength || nlength == 3), comm, PETSC_ERR_USER_INPUT,

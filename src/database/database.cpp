@@ -1,4 +1,5 @@
 #include "rcfd/database.hpp"
+#include "base/checked_options.hpp"
 #include "base/petsc_compat.hpp"
 
 #include "base/atomic_file.hpp"
@@ -286,9 +287,9 @@ PetscErrorCode Database::optionsFromCommandLine(DatabaseLoadOptions *o) {
   PetscInt nwindow = 2;
   PetscFunctionBeginUser;
   PetscOptionsBegin(PETSC_COMM_WORLD, nullptr, "Database loading", "rcfd");
-  PetscCall(PetscOptionsReal("-db_column_tolerance",
-                             "Largest |column sum - 1| of a shift matrix accepted on load", "",
-                             o->columnTolerance, &o->columnTolerance, nullptr));
+  PetscCall(checkedReal(PetscOptionsObject, "-db_column_tolerance",
+                        "Largest |column sum - 1| of a shift matrix accepted on load",
+                        &o->columnTolerance, kPositive));
   PetscCall(PetscOptionsIntArray("-db_frames", "First and last frame to load (last -1: to the end)",
                                  "", window, &nwindow, nullptr));
   // Read by Layout::create while loading; registered here so that -help lists

@@ -1,4 +1,5 @@
 #include "observable/cog_monitor.hpp"
+#include "base/checked_options.hpp"
 #include "base/petsc_compat.hpp"
 
 #include <sstream>
@@ -19,10 +20,10 @@ std::string formatCsvRow(const BedSample &s, int digits) {
 PetscErrorCode CogMonitor::setFromOptions(MPI_Comm comm) {
   PetscFunctionBeginUser;
   PetscOptionsBegin(comm, nullptr, "Centre-of-gravity monitor (cog.csv)", "rcfd");
-  PetscCall(PetscOptionsInt("-monitor_every", "Steps between rows of cog.csv", "", monitorEvery,
-                            &monitorEvery, nullptr));
-  PetscCall(PetscOptionsInt("-monitor_digits", "Significant digits in cog.csv", "", csvDigits,
-                            &csvDigits, nullptr));
+  PetscCall(checkedInt(PetscOptionsObject, "-monitor_every",
+                       "Steps between rows of cog.csv", &monitorEvery, 1, PETSC_MAX_INT));
+  PetscCall(checkedInt(PetscOptionsObject, "-monitor_digits",
+                       "Significant digits in cog.csv", &csvDigits, 1, 17));
   PetscOptionsEnd();
   PetscCheck(monitorEvery >= 1, comm, PETSC_ERR_USER_INPUT, "-monitor_every must be at least 1");
   PetscFunctionReturn(PETSC_SUCCESS);

@@ -2,6 +2,7 @@
 // frames joined by jumps to a frame whose alpha_s matches, by the database's
 // recurrence matrix, the one where the sequence ended (docs/paths.md).
 #include "path/builtin_paths.hpp"
+#include "base/checked_options.hpp"
 #include "base/petsc_compat.hpp"
 
 #include "base/collective.hpp"
@@ -321,8 +322,8 @@ PetscErrorCode StitchingPath::setFromOptions(MPI_Comm comm) {
     PetscCall(PetscOptionsInt("-band", "Jumps only to frames at least this far away (default: K/10)",
                               "", band, &band, nullptr));
   if (markov)
-    PetscCall(PetscOptionsReal("-mean_interval", "Mean extra steps before a jump (default: K/10)",
-                               "", meanInterval, &meanInterval, nullptr));
+    PetscCall(checkedReal(PetscOptionsObject, "-mean_interval",
+                          "Mean extra steps before a jump (default: K/10)", &meanInterval, kNonNegative));
   PetscCall(PetscOptionsInt("-candidates", "Jump to one of this many best matches, at random", "",
                             candidates, &candidates, nullptr));
   PetscCall(PetscOptionsString("-recurrence_norm", "Distance between frames: sqrDiff, euclidean, absDiff or max",

@@ -1,10 +1,12 @@
 #include "run/run_impl.hpp"
+#include "base/checked_options.hpp"
 #include "state/initial_state.hpp"
 #include "base/petsc_compat.hpp"
 
 #include "base/collective.hpp"
 
 #include <algorithm>
+#include <filesystem>
 #include <cmath>
 #include <sstream>
 #include <stdexcept>
@@ -104,8 +106,9 @@ PetscErrorCode Run::setFromOptions() {
   PetscCall(PetscOptionsString("-db", "Database file (HDF5), e.g. from rcfd synth", "", "", text,
                                sizeof text, &set_));
   if (set_) r.dbPath = text;
-  PetscCall(PetscOptionsReal("-t_end", "Simulated time to run [s] (default: one pass over the frames)",
-                             "", r.tEnd, &r.tEnd, nullptr));
+  PetscCall(checkedReal(PetscOptionsObject, "-t_end",
+                        "Simulated time to run [s] (default: one pass over the frames)", &r.tEnd,
+                        {0.0, 1e15, false, true, "a positive time in s"}));
   PetscCall(PetscOptionsString("-output_dir", "Directory for results", "", r.outputDir.c_str(), text,
                                sizeof text, &set_));
   if (set_) r.outputDir = text;
@@ -114,27 +117,29 @@ PetscErrorCode Run::setFromOptions() {
   if (set_) r.pipelineSpec = text;
   PetscCall(PetscOptionsBool("-fields", "Write HDF5 + XDMF fields", "", r.writeFields, &r.writeFields,
                              nullptr));
-  PetscCall(PetscOptionsReal("-fields_every", "Simulated time between field outputs [s] (0: start and end only)",
-                             "", r.fieldsEvery, &r.fieldsEvery, nullptr));
+  PetscCall(checkedReal(PetscOptionsObject, "-fields_every",
+                        "Simulated time between field outputs [s] (0: start and end only)", &r.fieldsEvery,
+                        kNonNegative));
   PetscCall(PetscOptionsString("-init", "Initial state: mixed, layered or file", "",
                                r.initKind.c_str(), text, sizeof text, &set_));
   if (set_) r.initKind = text;
   PetscCall(PetscOptionsString("-init_file", "HDF5 file with dataset /masses [cells x fractions] in kg",
                                "", "", text, sizeof text, &set_));
   if (set_) r.initFile = text;
-  PetscCall(PetscOptionsReal("-checkpoint_every", "Simulated time between checkpoints [s] (0: none)",
-                             "", r.checkpointEvery, &r.checkpointEvery, nullptr));
+  PetscCall(checkedReal(PetscOptionsObject, "-checkpoint_every",
+                        "Simulated time between checkpoints [s] (0: none)", &r.checkpointEvery, kNonNegative));
   PetscCall(PetscOptionsString("-checkpoint_file", "Checkpoint file (default: OUTPUT_DIR/checkpoint.h5)",
                                "", "", text, sizeof text, &set_));
   if (set_) r.checkpointFile = text;
   PetscCall(PetscOptionsString("-restart", "Continue from this checkpoint file", "", "", text,
                                sizeof text, &set_));
   if (set_) r.restartFile = text;
-  PetscCall(PetscOptionsReal("-solid_density", "Particle density [kg/m^3] (default: the database's)",
-                             "", r.solidDensity, &r.solidDensity, nullptr));
+  PetscCall(checkedReal(PetscOptionsObject, "-solid_density",
+                        "Particle density [kg/m^3] (default: the database's)", &r.solidDensity,
+                        {0.0, 1e6, false, true, "a positive density in kg/m^3"}));
   PetscCall(PetscOptionsBool("-quiet", "No progress or summary output", "", r.quiet, &r.quiet, nullptr));
-  PetscCall(PetscOptionsReal("-progress_interval", "Wall seconds between progress lines", "",
-                             r.progressInterval, &r.progressInterval, nullptr));
+  PetscCall(checkedReal(PetscOptionsObject, "-progress_interval", "Wall seconds between progress lines",
+                        &r.progressInterval, kNonNegative));
   PetscOptionsEnd();
   PetscCall(PetscOptionsGetViewer(r.comm, nullptr, nullptr, "-run_view", r.viewer.put(), &r.viewFormat,
                                   nullptr));
@@ -146,16 +151,22 @@ PetscErrorCode Run::setFromOptions() {
              PETSC_ERR_USER_INPUT, "-init %s is not known; use mixed, layered or file", r.initKind.c_str());
   PetscCheck(r.initKind != "file" || !r.initFile.empty(), r.comm, PETSC_ERR_USER_INPUT,
              "-init file needs -init_file FILE");
-  PetscCheck(r.checkpointEvery >= 0, r.comm, PETSC_ERR_USER_INPUT, "-checkpoint_every must be >= 0");
+  PetscCheck(!r.outputDir.empty(), r.comm, PETSC_ERR_USER_INPUT,
+             "-output_dir is empty; give the directory for the results (default rcfd-output)");
   PetscCall(Database::optionsFromCommandLine(&r.loadOptions));
   PetscCall(FractionSet::fromOptions(r.comm, &r.set));
 
+  const std::vector<std::string> names = splitList(r.pipelineSpec);
+  PetscCheck(!names.empty() || help, r.comm, PETSC_ERR_USER_INPUT,
+             "-pipeline is empty; name the operators to apply, e.g. shift,drift,carry");
+  for (std::size_t i = 0; i < names.size(); ++i)
+    for (std::size_t j = i + 1; j < names.size(); ++j)
+      PetscCheck(names[i] != names[j], r.comm, PETSC_ERR_USER_INPUT,
+                 "-pipeline names '%s' twice; an operator reads its options once, so apply it once",
+                 names[i].c_str());
   std::vector<std::unique_ptr<Operator>> created;
   PetscCall(collectively(
-      r.comm,
-      [&] {
-        for (const auto &name : splitList(r.pipelineSpec)) created.push_back(r.registry.create(name));
-      },
+      r.comm, [&] { for (const auto &name : names) created.push_back(r.registry.create(name)); },
       PETSC_ERR_USER_INPUT));
   for (auto &op : created) PetscCall(r.ops.add(std::move(op)));
   PetscCall(r.ops.setFromOptions(r.comm));
@@ -179,11 +190,21 @@ PetscErrorCode Run::setUp() {
   if (r.solidDensity <= 0) r.solidDensity = r.db->metadata().solidDensity;
   if (r.tEnd < 0) r.tEnd = r.db->numFrames() * dt;
   if (r.checkpointFile.empty()) r.checkpointFile = r.outputDir + "/checkpoint.h5";
+  PetscCheck(r.tEnd / dt >= 0.5 && r.tEnd / dt <= 1e12, r.comm, PETSC_ERR_USER_INPUT,
+             "-t_end %g s is %.3g steps of dt_rec = %g s; expected at least one step and at most 1e12",
+             r.tEnd, r.tEnd / dt, dt);
   r.steps = std::lround(r.tEnd / dt);
   PetscCall(r.fstate.create(r.db->layout(), r.set.size()));
   const RunContext ctx = r.context();
   PetscCall(r.ops.setUp(ctx));
   PetscCall(r.path->setUp(PathContext{*r.db, r.quiet == PETSC_TRUE}));
+  PetscCall(collectively(r.comm, [&] { // before anything is written: one sentence, nothing made
+    namespace fs = std::filesystem;
+    if (fs::exists(r.outputDir) && !fs::is_directory(r.outputDir))
+      throw std::invalid_argument("-output_dir '" + r.outputDir + "' is a file; expected a directory");
+    if (fs::is_directory(r.checkpointFile))
+      throw std::invalid_argument("-checkpoint_file '" + r.checkpointFile + "' is a directory; expected a file name");
+  }, PETSC_ERR_USER_INPUT));
   PetscCall(makeDirectories(r.comm, r.outputDir));
   if (r.writeFields) { // right after the centres of gravity
     const long fieldSteps = r.fieldsEvery > 0 ? std::max(1L, std::lround(r.fieldsEvery / dt)) : 0L;

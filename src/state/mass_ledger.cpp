@@ -1,4 +1,5 @@
 #include "rcfd/mass_ledger.hpp"
+#include "base/checked_options.hpp"
 #include "base/petsc_compat.hpp"
 
 #include <algorithm>
@@ -9,12 +10,12 @@ namespace rcfd {
 PetscErrorCode MassLedger::setFromOptions(MPI_Comm comm) {
   PetscFunctionBeginUser;
   PetscOptionsBegin(comm, nullptr, "Mass ledger", "rcfd");
-  PetscCall(PetscOptionsInt("-mass_check_every",
-                            "Steps between checks of every fraction's total mass (0: never)", "",
-                            checkEvery, &checkEvery, nullptr));
-  PetscCall(PetscOptionsReal("-mass_leak_tolerance",
-                             "Relative change of a fraction's mass treated as a leak, not round-off",
-                             "", leakTolerance, &leakTolerance, nullptr));
+  PetscCall(checkedInt(PetscOptionsObject, "-mass_check_every",
+                       "Steps between checks of every fraction's total mass (0: never)",
+                       &checkEvery, 0, PETSC_MAX_INT));
+  PetscCall(checkedReal(PetscOptionsObject, "-mass_leak_tolerance",
+                        "Relative change of a fraction's mass treated as a leak, not round-off",
+                        &leakTolerance, kPositive));
   PetscOptionsEnd();
   PetscCheck(checkEvery >= 0, comm, PETSC_ERR_USER_INPUT, "-mass_check_every must be >= 0");
   PetscFunctionReturn(PETSC_SUCCESS);

@@ -1,5 +1,6 @@
 // The `level` carry kind: levelling sweeps after a jump.
 #include "operator/swap/carry_kinds.hpp"
+#include "base/checked_options.hpp"
 #include "base/petsc_compat.hpp"
 
 #include <algorithm>
@@ -26,10 +27,10 @@ private:
 PetscErrorCode LevelCarry::setFromOptions(MPI_Comm comm, const std::string &prefix) {
   PetscFunctionBeginUser;
   PetscOptionsBegin(comm, prefix.c_str(), "Levelling carry (-carry_type level)", "rcfd");
-  PetscCall(PetscOptionsInt("-sweeps", "Levelling sweeps after each jump (0: none)", "", sweeps,
-                            &sweeps, nullptr));
-  PetscCall(PetscOptionsInt("-sweeps_per_step", "Levelling sweeps after every step", "",
-                            sweepsPerStep, &sweepsPerStep, nullptr));
+  PetscCall(checkedInt(PetscOptionsObject, "-sweeps",
+                       "Levelling sweeps after each jump (0: none)", &sweeps, 0, 1000000));
+  PetscCall(checkedInt(PetscOptionsObject, "-sweeps_per_step",
+                       "Levelling sweeps after every step", &sweepsPerStep, 0, 1000000));
   PetscOptionsEnd();
   PetscCheck(sweeps >= 0 && sweepsPerStep >= 0, comm, PETSC_ERR_USER_INPUT,
              "-%ssweeps and -%ssweeps_per_step must be >= 0", prefix.c_str(), prefix.c_str());

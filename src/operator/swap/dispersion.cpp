@@ -1,4 +1,5 @@
 #include "rcfd/dispersion.hpp"
+#include "base/checked_options.hpp"
 #include "base/petsc_compat.hpp"
 
 #include <algorithm>
@@ -12,10 +13,11 @@ DispersionOperator::~DispersionOperator() = default;
 PetscErrorCode DispersionOperator::setFromOptions(MPI_Comm comm) {
   PetscFunctionBeginUser;
   PetscOptionsBegin(comm, prefix.c_str(), "Dispersion (symmetric face swaps)", "rcfd");
-  PetscCall(PetscOptionsReal("-coefficient", "Dispersion coefficient D [m^2/s]", "", coefficient,
-                             &coefficient, nullptr));
-  PetscCall(PetscOptionsReal("-alpha_min", "Faces touching a cell below this alpha_s do not swap",
-                             "", alphaMin, &alphaMin, nullptr));
+  PetscCall(checkedReal(PetscOptionsObject, "-coefficient",
+                        "Dispersion coefficient D [m^2/s]", &coefficient, kNonNegative));
+  PetscCall(checkedReal(PetscOptionsObject, "-alpha_min",
+                        "Faces touching a cell below this alpha_s do not swap",
+                        &alphaMin, {0.0, 1.0, true, false, "a solid fraction in [0, 1)"}));
   PetscOptionsEnd();
   PetscCheck(coefficient >= 0 && std::isfinite(coefficient), comm, PETSC_ERR_USER_INPUT,
              "-%scoefficient must be a non-negative number of m^2/s, got %g", prefix.c_str(),

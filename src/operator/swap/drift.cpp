@@ -1,4 +1,5 @@
 #include "rcfd/drift.hpp"
+#include "base/checked_options.hpp"
 #include "base/petsc_compat.hpp"
 
 #include <algorithm>
@@ -20,26 +21,30 @@ PetscErrorCode DriftOperator::setFromOptions(MPI_Comm comm) {
   PetscOptionsBegin(comm, prefix.c_str(), "Fractional drift (face swaps along gravity)", "rcfd");
   PetscCall(PetscOptionsEList("-model", "Drift model: A (d^2), B (d|d|), constant or none", "",
                               models, 4, models[which], &which, nullptr));
-  PetscCall(PetscOptionsReal("-kd", "Drift constant k_d [1/(m s)] (paper: 5e2 for A, 5e3 for B)",
-                             "", kd, &kd, nullptr));
+  PetscCall(checkedReal(PetscOptionsObject, "-kd",
+                        "Drift constant k_d [1/(m s)] (paper: 5e2 for A, 5e3 for B)", &kd, kNonNegative));
   PetscCall(PetscOptionsRealArray("-velocities", "Drift velocity of each fraction, up positive [m/s] (model constant)",
                                   "", velocities, &nv, &setV));
-  PetscCall(PetscOptionsReal("-d32", "Sauter diameter in the model [m] (default: the inventory's)",
-                             "", d32Override, &d32Override, nullptr));
+  PetscCall(checkedReal(PetscOptionsObject, "-d32",
+                        "Sauter diameter in the model [m] (default: the inventory's)",
+                        &d32Override, {0.0, 1.0, false, true, "a positive diameter in m"}));
   PetscCall(PetscOptionsBool("-local_d32", "Use each sending cell's Sauter diameter instead", "",
                              localD32, &localD32, nullptr));
   PetscCall(PetscOptionsBool("-hindered", "Hindered drift: times (1 - alpha_s / alpha_max)", "",
                              hindered, &hindered, nullptr));
-  PetscCall(PetscOptionsReal("-alpha_max", "Packing limit of hindered drift", "", alphaMax,
-                             &alphaMax, nullptr));
-  PetscCall(PetscOptionsReal("-alpha_min", "Faces touching a cell below this alpha_s do not swap",
-                             "", alphaMin, &alphaMin, nullptr));
-  PetscCall(PetscOptionsReal("-max_share", "Largest share of a fraction one sub-step may drift out of a cell",
-                             "", maxShare, &maxShare, nullptr));
-  PetscCall(PetscOptionsInt("-max_substeps", "Refuse steps that would need more sub-steps", "",
-                            substepLimit, &substepLimit, nullptr));
-  PetscCall(PetscOptionsInt("-every", "Apply the drift of N steps at once, every N steps (speed against splitting error, see docs/drift.md)",
-                            "", every, &every, nullptr));
+  PetscCall(checkedReal(PetscOptionsObject, "-alpha_max",
+                        "Packing limit of hindered drift", &alphaMax, kUnitInterval));
+  PetscCall(checkedReal(PetscOptionsObject, "-alpha_min",
+                        "Faces touching a cell below this alpha_s do not swap",
+                        &alphaMin, {0.0, 1.0, true, false, "a solid fraction in [0, 1)"}));
+  PetscCall(checkedReal(PetscOptionsObject, "-max_share",
+                        "Largest share of a fraction one sub-step may drift out of a cell",
+                        &maxShare, kUnitInterval));
+  PetscCall(checkedInt(PetscOptionsObject, "-max_substeps",
+                       "Refuse steps that would need more sub-steps", &substepLimit, 1, 100000000));
+  PetscCall(checkedInt(PetscOptionsObject, "-every",
+                       "Apply the drift of N steps at once, every N steps (speed against splitting error, see docs/drift.md)",
+                       &every, 1, 1000000));
   PetscOptionsEnd();
   model = static_cast<Model>(which);
   constantVelocity.assign(velocities, velocities + (setV ? nv : 0));

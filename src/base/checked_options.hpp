@@ -1,0 +1,34 @@
+// Numeric options checked for what they mean where they are read: a value
+// that is not finite, or outside the range the quantity has, is refused with
+// one sentence naming the option (with its prefix) instead of silently falling
+// back to a default or running with nonsense.  Use inside a
+// PetscOptionsBegin/End block, like PetscOptionsReal.
+#pragma once
+
+#include "base/petsc_compat.hpp"
+
+#include <petscsys.h>
+
+namespace rcfd {
+
+/// The values a quantity may take.
+struct ValueRange {
+  double low, high;
+  bool lowIncluded, highIncluded;
+  const char *meaning; ///< completes "expected ...", e.g. "a positive time in s"
+};
+
+inline constexpr ValueRange kPositive{0.0, PETSC_MAX_REAL, false, true, "a positive number"};
+inline constexpr ValueRange kNonNegative{0.0, PETSC_MAX_REAL, true, true, "a number >= 0"};
+inline constexpr ValueRange kOpenUnit{0.0, 1.0, false, false, "a number between 0 and 1 (exclusive)"};
+inline constexpr ValueRange kUnitInterval{0.0, 1.0, false, true, "a number in (0, 1]"};
+
+/// PetscOptionsReal plus the check: when the option is given, its value must be finite
+/// and in `range`.  `PetscOptionsObject` is the block's (pass it by that name).
+PetscErrorCode checkedReal(PetscOptionItems *PetscOptionsObject, const char *option, const char *text,
+                           PetscReal *value, const ValueRange &range, PetscBool *set = nullptr);
+/// The same for integers (range given as whole numbers).
+PetscErrorCode checkedInt(PetscOptionItems *PetscOptionsObject, const char *option, const char *text,
+                          PetscInt *value, PetscInt low, PetscInt high, PetscBool *set = nullptr);
+
+} // namespace rcfd
