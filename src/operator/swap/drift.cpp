@@ -14,7 +14,7 @@ DriftOperator::~DriftOperator() = default;
 PetscErrorCode DriftOperator::setFromOptions(MPI_Comm comm) {
   const char *models[] = {"A", "B", "constant", "none"};
   PetscInt which = static_cast<PetscInt>(model);
-  PetscReal velocities[256];
+  PetscReal velocities[256] = {0.0}; // -help prints the first entry
   PetscInt nv = 256;
   PetscBool setV = PETSC_FALSE;
   PetscFunctionBeginUser;
