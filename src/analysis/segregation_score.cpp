@@ -3,7 +3,9 @@
 #include <algorithm>
 #include <cerrno>
 #include <cmath>
+#include <cstdio>
 #include <cstdlib>
+#include <cstring>
 #include <fstream>
 #include <sstream>
 #include <stdexcept>
@@ -20,19 +22,21 @@ std::vector<std::string> splitComma(const std::string &line) {
     const auto e = item.find_last_not_of(" \t\r");
     out.push_back(b == std::string::npos ? std::string() : item.substr(b, e - b + 1));
   }
+  if (!line.empty() && line.back() == ',') out.emplace_back(); // a trailing empty field
   return out;
 }
 
-int findColumn(const std::vector<std::string> &names, std::initializer_list<const char *> choices) {
-  for (const char *c : choices)
-    for (std::size_t i = 0; i < names.size(); ++i)
-      if (names[i] == c) return static_cast<int>(i);
-  return -1;
+bool skipped(const std::string &line) {
+  const auto b = line.find_first_not_of(" \t\r");
+  return b == std::string::npos || line[b] == '#';
 }
 
-/// Diameter [mm] of a column named z_cog_d<D>mm or z_cog_d<D>mm_m; negative otherwise.
-double classDiameter(const std::string &name) {
-  const std::string prefix = "z_cog_d";
+/// Diameter [mm] of a column named z_cog_d<D>mm, z_cog_d<D>mm_m or either
+/// with _mean (an ensemble summary); negative otherwise.
+double classDiameter(std::string name) {
+  const std::string prefix = "z_cog_d", mean = "_mean";
+  if (name.size() > mean.size() && name.compare(name.size() - mean.size(), mean.size(), mean) == 0)
+    name.resize(name.size() - mean.size());
   if (name.rfind(prefix, 0) != 0) return -1.0;
   const std::string rest = name.substr(prefix.size());
   const auto mm = rest.find("mm");
@@ -43,22 +47,83 @@ double classDiameter(const std::string &name) {
   return end && *end == '\0' && d > 0 ? d : -1.0;
 }
 
+int timeColumn(const CsvTable &t) { return t.find({"time_s", "time"}); }
+
 } // namespace
 
-DeltaZSeries readDeltaZCsv(const std::string &path, double timeOffset) {
+CsvTable CsvTable::read(const std::string &path, const std::string &what) {
   std::ifstream in(path);
-  if (!in) throw std::runtime_error("cannot open the centre-of-gravity file '" + path + "'.");
+  if (!in) throw std::runtime_error("cannot open the " + what + " '" + path + "' (" + std::strerror(errno) + ").");
+  CsvTable t;
+  t.file = path;
   std::string line;
-  long lineNo = 0;
-  std::vector<std::string> names;
-  while (std::getline(in, line)) {
-    ++lineNo;
-    if (line.empty() || line[0] == '#') continue;
-    names = splitComma(line);
-    break;
+  for (long lineNo = 1; std::getline(in, line); ++lineNo) {
+    if (skipped(line)) continue;
+    auto fields = splitComma(line);
+    if (t.names.empty()) {
+      t.names = std::move(fields);
+      continue;
+    }
+    if (fields.size() != t.names.size())
+      throw std::runtime_error("'" + path + "', line " + std::to_string(lineNo) + ": expected " +
+                               std::to_string(t.names.size()) + " values, found " +
+                               std::to_string(fields.size()) + ".");
+    t.rows.push_back(std::move(fields));
+    t.lines.push_back(lineNo);
   }
-  const int tCol = findColumn(names, {"time_s", "time"});
-  int dzCol = findColumn(names, {"delta_z_m", "delta_z"});
+  if (in.bad()) throw std::runtime_error("reading the " + what + " '" + path + "' failed.");
+  if (t.names.empty()) throw std::runtime_error("the " + what + " '" + path + "' has no header line.");
+  return t;
+}
+
+int CsvTable::find(std::initializer_list<std::string> choices) const {
+  for (const auto &c : choices)
+    for (std::size_t i = 0; i < names.size(); ++i)
+      if (names[i] == c) return static_cast<int>(i);
+  return -1;
+}
+
+double CsvTable::number(std::size_t row, int column) const {
+  const std::string &v = rows[row][column];
+  char *end = nullptr;
+  errno = 0;
+  const double x = std::strtod(v.c_str(), &end);
+  if (v.empty() || *end != '\0' || errno == ERANGE || !std::isfinite(x))
+    throw std::runtime_error(where(row) + ": expected a number in column '" + names[column] + "', found '" + v +
+                             "'.");
+  return x;
+}
+
+std::string CsvTable::where(std::size_t row) const {
+  return "'" + file + "', line " + std::to_string(lines[row]);
+}
+
+DeltaZSeries readSeries(const CsvTable &table, const std::string &column, double timeOffset) {
+  const int tCol = timeColumn(table);
+  const int col = table.find({column, column + "_mean"});
+  if (tCol < 0 || col < 0)
+    throw std::runtime_error("'" + table.path() + "' has no " + (tCol < 0 ? "time_s" : column) + " column.");
+  DeltaZSeries s;
+  for (std::size_t r = 0; r < table.numRows(); ++r) {
+    const double t = table.number(r, tCol) + timeOffset;
+    if (!s.time.empty() && !(t > s.time.back()))
+      throw std::runtime_error(table.where(r) + ": the times do not increase.");
+    if (table.field(r, col) == "nan" || table.field(r, col) == "-nan") continue; // a gap
+    s.time.push_back(t);
+    s.deltaZ.push_back(table.number(r, col));
+  }
+  if (s.time.empty()) throw std::runtime_error("'" + table.path() + "' holds no values of " + column + ".");
+  return s;
+}
+
+DeltaZSeries readDeltaZCsv(const std::string &path, double timeOffset) {
+  return readDeltaZ(CsvTable::read(path, "centre-of-gravity file"), timeOffset);
+}
+
+DeltaZSeries readDeltaZ(const CsvTable &table, double timeOffset) {
+  const std::string &path = table.path();
+  const auto &names = table.columns();
+  const int dzCol = table.find({"delta_z_m", "delta_z", "delta_z_m_mean"});
   int small = -1, large = -1;
   if (dzCol < 0) {
     double dMin = 0.0, dMax = 0.0;
@@ -69,40 +134,31 @@ DeltaZSeries readDeltaZCsv(const std::string &path, double timeOffset) {
       if (large < 0 || d > dMax) large = static_cast<int>(i), dMax = d;
     }
   }
-  if (tCol < 0 || (dzCol < 0 && (small < 0 || small == large)))
+  if (timeColumn(table) < 0 || (dzCol < 0 && (small < 0 || small == large)))
     throw std::runtime_error("'" + path +
                              "' is not a centre-of-gravity file: its header needs a time_s column "
                              "and delta_z_m (or two z_cog_d<D>mm columns).");
-  DeltaZSeries s;
-  const std::size_t need = static_cast<std::size_t>(std::max({tCol, dzCol, small, large})) + 1;
-  while (std::getline(in, line)) {
-    ++lineNo;
-    if (line.empty() || line[0] == '#' || line == "\r") continue;
-    const auto v = splitComma(line);
-    auto number = [&](int c) {
-      if (v.size() < need)
-        throw std::runtime_error("'" + path + "', line " + std::to_string(lineNo) + ": expected " +
-                                 std::to_string(names.size()) + " values, found " +
-                                 std::to_string(v.size()) + ".");
-      char *end = nullptr;
-      errno = 0;
-      const double x = std::strtod(v[c].c_str(), &end);
-      if (v[c].empty() || *end != '\0' || errno == ERANGE)
-        throw std::runtime_error("'" + path + "', line " + std::to_string(lineNo) +
-                                 ": expected a number in column '" + names[c] + "', found '" +
-                                 v[c] + "'.");
-      return x;
-    };
-    const double t = number(tCol) + timeOffset;
-    const double dz = dzCol >= 0 ? number(dzCol) : number(small) - number(large);
-    if (!s.time.empty() && !(t > s.time.back()))
-      throw std::runtime_error("'" + path + "', line " + std::to_string(lineNo) +
-                               ": the times do not increase.");
-    s.time.push_back(t);
-    s.deltaZ.push_back(dz);
-  }
-  if (s.time.empty()) throw std::runtime_error("'" + path + "' holds no rows.");
+  if (dzCol >= 0) return readSeries(table, names[dzCol], timeOffset);
+  DeltaZSeries s = readSeries(table, names[small], timeOffset);
+  const DeltaZSeries l = readSeries(table, names[large], timeOffset);
+  if (l.time != s.time) throw std::runtime_error("'" + path + "' has gaps in its class columns.");
+  for (std::size_t k = 0; k < s.time.size(); ++k) s.deltaZ[k] -= l.deltaZ[k];
   return s;
+}
+
+std::string exactNumber(double x) {
+  char text[40];
+  for (int digits = 1; digits <= 17; ++digits) {
+    std::snprintf(text, sizeof text, "%.*g", digits, x);
+    if (std::strtod(text, nullptr) == x) break;
+  }
+  return text;
+}
+
+std::string csvNumber(double x) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%.9g", x);
+  return text;
 }
 
 double interpolate(const DeltaZSeries &s, double t) {
@@ -131,8 +187,8 @@ DeltaZScore scoreDeltaZ(const DeltaZSeries &ref, const DeltaZSeries &model, doub
   r.meanRef = windowMean(ref, &r.windowSamplesRef);
   r.meanModel = windowMean(model, &r.windowSamplesModel);
   if (r.windowSamplesRef == 0 || r.windowSamplesModel == 0)
-    throw std::invalid_argument("the scoring window [" + std::to_string(w0) + ", " +
-                                std::to_string(w1) + "] s holds no sample of the " +
+    throw std::invalid_argument("the scoring window [" + exactNumber(w0) + ", " + exactNumber(w1) +
+                                "] s holds no sample of the " +
                                 (r.windowSamplesRef == 0 ? "reference" : "rcfd run") + ".");
   r.segregationError = (r.meanModel - r.meanRef) / r.meanRef * 100.0;
 
