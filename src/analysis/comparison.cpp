@@ -163,7 +163,9 @@ double bedDynamicsOfFile(const CsvTable &table) {
       throw std::runtime_error("'" + table.path() + "' should hold one row of bed dynamics.");
     return table.number(0, table.find({"delta_z_cog_m"}));
   }
-  if (table.find({"z_cog_bed_m_mean"}) >= 0)
+  bool ensemble = false; // an ensemble.csv: <column>_mean and _std for every column
+  for (const auto &name : table.columns()) ensemble = ensemble || endsWith(name, "_mean");
+  if (ensemble)
     throw std::runtime_error("'" + table.path() + "' is an ensemble summary: the mean of its members damps the "
                              "bed's motion, so give one member's cog.csv for the bed dynamics.");
   if (kind != AnswerFile::centresOfGravity || table.find({"z_cog_bed_m", "z_cog_bed"}) < 0)
