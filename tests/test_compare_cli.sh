@@ -111,8 +111,8 @@ else
 fi
 
 # ---- bad input: one sentence naming the file.
-expect_error "'$work/ref.csv', delta_z: the scoring window [5, 6] s holds no sample of the reference." compare \
-  -reference "$work/ref.csv" -rcfd "$work/run.csv" -score_window 5,6
+expect_error "'$work/ref.csv', delta_z: the scoring window [5, 10] s holds no sample of the reference." compare \
+  -reference "$work/ref.csv" -rcfd "$work/run.csv" -score_window 5,10
 expect_error "'$work/run.csv', delta_z: the scoring window [0, 1] s holds no sample of the rcfd run." compare \
   -reference "$work/ref.csv" -rcfd "$work/run.csv" -rcfd_time_offset 5 -score_window 0,1
 expect_error "'$work/ref-halves.csv' is a halves file but the reference '$work/ref.csv' is a centre-of-gravity file" \

@@ -99,6 +99,8 @@ void deltaZ(const std::string &dir) {
   RCFD_CHECK(field(scores, 2, "run") == "<missing>");
   RCFD_CHECK(exactNumber(0.1 + 0.2) == "0.30000000000000004" && exactNumber(3.04 + 0.005) == "3.045");
   RCFD_CHECK(exactNumber(0.5) == "0.5" && exactNumber(0.205) == "0.205");
+  RCFD_CHECK(exactNumber(10) == "10" && exactNumber(1200) == "1200" && exactNumber(-3.5) == "-3.5");
+  RCFD_CHECK(exactNumber(1e-7) == "1e-07" && std::strtod(exactNumber(1.0 / 3.0).c_str(), nullptr) == 1.0 / 3.0);
 
   // An ensemble summary is scored by its mean column: the same numbers.
   const std::string ens = write(dir + "/ensemble.csv", "# mean and sample standard deviation over 2 ensemble members\n"

@@ -147,10 +147,12 @@ DeltaZSeries readDeltaZ(const CsvTable &table, double timeOffset) {
 }
 
 std::string exactNumber(double x) {
+  // Plain decimals where a person would write them (10, not 1e+01).
+  const bool plain = std::fabs(x) >= 1e-4 && std::fabs(x) < 1e15;
   char text[40];
   for (int digits = 1; digits <= 17; ++digits) {
     std::snprintf(text, sizeof text, "%.*g", digits, x);
-    if (std::strtod(text, nullptr) == x) break;
+    if (std::strtod(text, nullptr) == x && !(plain && std::strchr(text, 'e'))) break;
   }
   return text;
 }
