@@ -186,8 +186,9 @@ void halves(const std::string &dir) {
   const std::string ref = write(dir + "/ref-halves.csv", "# mass fractions\nclass,diameter,bottom_mass_fraction,"
                                                          "top_mass_fraction\nd1.950mm,0.00195,0.4,0.6\n"
                                                          "d2.820mm,0.00282,0.6,0.4\n");
-  const std::string run = write(dir + "/run-halves.csv", "class,diameter,bottom_mass_fraction,top_mass_fraction\n"
-                                                         "d2.820mm,0.00282,0.7,0.3\nd1.950mm,0.001951,0.3,0.7\n");
+  const std::string run = write(dir + "/run-halves.csv", "class,diameter,bottom_mass_fraction,top_mass_fraction,"
+                                                         "d_over_d32\nd2.820mm,0.00282,0.7,0.3,1.2\n"
+                                                         "d1.950mm,0.001951,0.3,0.7,0.8\n");
   RCFD_CHECK(answerFileKind(table(ref)) == AnswerFile::halves);
   const auto d = compareHalves(readHalves(table(ref)), readHalves(table(run)), "run");
   RCFD_CHECK(d.size() == 3 && d[0].label == "d1.950mm" && d[2].label == "d32");

@@ -2,6 +2,7 @@
 
 #include "analysis/bed_dynamics.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -28,7 +29,10 @@ std::string diameterCurve(std::string column) {
 
 AnswerFile answerFileKind(const CsvTable &t) {
   const auto &c = t.columns();
-  if (c == std::vector<std::string>{"class", "diameter", "bottom_mass_fraction", "top_mass_fraction"})
+  // Halves: these four columns first; more (e.g. d_over_d32) are read past.
+  if (c.size() >= 4 && std::equal(c.begin(), c.begin() + 4,
+                                  std::vector<std::string>{"class", "diameter", "bottom_mass_fraction",
+                                                           "top_mass_fraction"}.begin()))
     return AnswerFile::halves;
   if (!c.empty() && c.front() == "z" && c.back() == "alpha_total") return AnswerFile::profiles;
   if (t.find({"delta_z_cog_m"}) >= 0 && t.find({"mean_z_cog_m"}) >= 0) return AnswerFile::bedDynamics;

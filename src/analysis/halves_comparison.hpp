@@ -18,7 +18,8 @@ struct HalvesTable {
   std::vector<double> bottom, top;      // mass fractions, each summing to 1
 };
 
-/// Throws naming the file when the header is another or a value is not a number.
+/// Throws naming the file when the header does not start with those four
+/// columns or a value is not a number; further columns are read past.
 HalvesTable readHalves(const CsvTable &table);
 
 /// Sauter diameter 1 / sum(m_i / d_i) of mass fractions m_i [m].
