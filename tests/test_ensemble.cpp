@@ -61,11 +61,11 @@ int main() {
 
   const std::string shorter = write(dir, "short.csv", "time_s,z_m,dz_m\n0,1,0\n");
   const std::string renamed = write(dir, "renamed.csv", "time_s,z,dz_m\n0,1,0\n0.5,1,0\n");
-  const std::string words = write(dir, "words.csv", "time_s,z_m,dz_m\n0,one,0\n");
+  const std::string words = write(dir, "words.csv", "time_s,z_m,dz_m\n0,one,0\n0.5,1,0\n");
   RCFD_CHECK(throwsWith({a, shorter}, out, "ensemble member '" + shorter + "' does not have the rows"));
   RCFD_CHECK(throwsWith({a, renamed}, out, "ensemble member '" + renamed + "' does not have the rows"));
-  RCFD_CHECK(throwsWith({a, words}, out, words + ":2: 'one' is not a number"));
-  RCFD_CHECK(throwsWith({a, (dir / "none.csv").string()}, out, "cannot open the CSV file"));
+  RCFD_CHECK(throwsWith({a, words}, out, "'" + words + "', line 2, column 'z_m': expected a number, found 'one'"));
+  RCFD_CHECK(throwsWith({a, (dir / "none.csv").string()}, out, "cannot open the ensemble member"));
   RCFD_CHECK(throwsWith({}, out, "at least one member"));
   RCFD_CHECK(throwsWith({a}, (dir / "no-such-dir" / "e.csv").string(), "cannot write"));
   std::filesystem::remove_all(dir);

@@ -34,7 +34,7 @@ expect_error "alpha_s reaches" build "${common[@]/2,1,2/20,10,20}" -o "$work/x.h
 [ ! -e "$work/x.h5" ] && [ ! -e "$work/x.h5.tmp" ] && ok || fail "a refused build left a file"
 expect_error "Unknown option -frame_strid" build "${common[@]}" -frame_strid 2
 expect_error "-vertical_axis w is not known" reference "${common[@]}" -vertical_axis w
-expect_error "cannot open the centre-of-gravity file '$work/none.csv'" compare \
+expect_error "cannot open the reference file '$work/none.csv'" compare \
   -reference "$work/none.csv" -rcfd "$work/none.csv"
 
 # Sizes too large to hold: one sentence, not std::bad_alloc.

@@ -46,7 +46,9 @@ run B-kd9.4e3 "$out/db-stride1.h5" -drift_kd 9.4e3
 run B-kd2.2e4 "$out/db-stride1.h5" -drift_kd 2.2e4
 run B-kd2.2e4-stride2 "$out/db-stride2.h5" -drift_kd 2.2e4
 
-echo "== comparison (Eq. 7 over 0.5-1.5 s; RMS of the whole curve / reference peak)"
+echo "== comparison (Eq. 7 over 0.5-1.5 s, the segregating phase, and 1.5-2.5 s, the remixing;"
+echo "   RMS of the whole curve / reference peak)"
+windows=0.5,1.5,1.5,2.5
 compare() { # compare PNG NAME...
   local png=$1
   shift
@@ -54,13 +56,36 @@ compare() { # compare PNG NAME...
   files=$(printf "$out/%s/cog.csv," "$@")
   labels=$(printf "%s," "$@")
   "$rcfd" compare -reference "$out/reference/cog.csv" -rcfd "${files%,}" -labels "${labels%,}" \
-    -rcfd_time_offset "$t0" -score_window 0.5,1.5 -o "${png%.png}.csv" -png "$png" \
+    -rcfd_time_offset "$t0" -score_window $windows -o "${png%.png}.csv" -png "$png" \
     -title "dpm-bi-narrow: Delta z(t) of the CFD-DEM reference and of rcfd replays"
 }
 compare "$out/delta_z-all.png" shift-only B-kd5e3 B-kd5e3-stride2 A-kd5e2 B-kd9.4e3 B-kd2.2e4 \
   B-kd2.2e4-stride2
 compare "$out/delta_z.png" shift-only B-kd5e3 B-kd9.4e3 B-kd2.2e4 >/dev/null
-echo "Wrote $out/delta_z.png"
+echo "Wrote $out/delta_z.png, $out/delta_z-all-scores.csv"
+
+# Profiles and halves over the reference's window, for the runs that wrote them (rcfd run writes
+# profiles.csv and halves.csv when its case asks for them; the reference's window 0.5-1.5 s is
+# 0.495-1.495 s of run time).
+answers() { # answers FILE NAME...: compare the runs' FILE (profiles.csv or halves.csv) with the reference's
+  local file=$1 files="" labels="" name
+  shift
+  for name in "$@"; do
+    [ -f "$out/$name/$file" ] || continue
+    files+="$out/$name/$file,"
+    labels+="$name,"
+  done
+  if [ -z "$files" ]; then
+    echo "  (no run wrote $file: not compared)"
+    return
+  fi
+  "$rcfd" compare -reference "$out/reference/$file" -rcfd "${files%,}" -labels "${labels%,}" \
+    -scores "$out/${file%.csv}-scores.csv" -png "$out/${file%.csv}.png" \
+    -title "dpm-bi-narrow: ${file%.csv} over 0.5-1.5 s, CFD-DEM reference and rcfd replays"
+}
+echo "== profiles and halves against the reference (0.5-1.5 s)"
+answers profiles.csv shift-only B-kd5e3 B-kd9.4e3 B-kd2.2e4
+answers halves.csv shift-only B-kd5e3 B-kd9.4e3 B-kd2.2e4
 
 echo "== stitching: a 1.5 s database window (0.205-1.705 s), 5 stitched paths run to 3.485 s (paper Fig. 3)"
 "$rcfd" build "${input[@]}" -window 40,340 -o "$out/db-window.h5" -init_out "$out/init-window.h5" -quiet
@@ -70,10 +95,15 @@ for kd in 5e3 2.2e4; do
     -drift_kd $kd -path_type random -ensemble 5 -t_end 3.28 -output_dir "$out/stitch-kd$kd" -quiet \
     -plot false >/dev/null
   files=$(printf "$out/stitch-kd$kd/member_%d/cog.csv," 0 1 2 3 4)
-  "$rcfd" compare -reference "$out/reference/cog.csv" -rcfd "${files%,}" \
-    -labels "seed 1,seed 2,seed 3,seed 4,seed 5" -rcfd_time_offset "$tw" -score_window 0.5,1.5 \
+  "$rcfd" compare -reference "$out/reference/cog.csv" -rcfd "${files}$out/stitch-kd$kd/ensemble.csv" \
+    -labels "seed 1,seed 2,seed 3,seed 4,seed 5,mean of 5" -rcfd_time_offset "$tw" -score_window $windows \
     -o "$out/stitch-kd$kd.csv" -png "$out/stitch-kd$kd.png" \
     -title "dpm-bi-narrow: stitched from 0.205-1.705 s, model B, k_d = $kd"
+done
+
+echo "== database distance: Delta DB = |Delta z_CoG,db - Delta z_CoG,ref| / Delta z_CoG,ref"
+for db in db-stride1 db-window; do
+  "$rcfd" compare -db_distance "$out/$db.h5,$out/reference/cog.csv" -scores "$out/db_distance-$db.csv"
 done
 
 if [ "${CALIBRATE:-0}" = 1 ]; then

@@ -1,32 +1,64 @@
 #include "analysis/segregation_score.hpp"
 
-#include "base/csv.hpp"
-
 #include <algorithm>
+#include <cerrno>
 #include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <fstream>
+#include <sstream>
 #include <stdexcept>
 
 namespace rcfd {
 namespace {
 
-/// Diameter [mm] of a column named z_cog_d<D>mm or z_cog_d<D>mm_m; negative otherwise.
-double classDiameter(const std::string &name) {
-  const std::string prefix = "z_cog_d";
+/// Diameter [mm] of a column named z_cog_d<D>mm, z_cog_d<D>mm_m or either
+/// with _mean (an ensemble summary); negative otherwise.
+double classDiameter(std::string name) {
+  const std::string prefix = "z_cog_d", mean = "_mean";
+  if (name.size() > mean.size() && name.compare(name.size() - mean.size(), mean.size(), mean) == 0)
+    name.resize(name.size() - mean.size());
   if (name.rfind(prefix, 0) != 0) return -1.0;
   const std::string rest = name.substr(prefix.size());
   const auto mm = rest.find("mm");
   if (mm == std::string::npos || (rest.substr(mm) != "mm" && rest.substr(mm) != "mm_m")) return -1.0;
-  double d = 0.0;
-  return csv::parseNumber(std::string_view(rest).substr(0, mm), d) && d > 0 ? d : -1.0;
+  char *end = nullptr;
+  const std::string number = rest.substr(0, mm);
+  const double d = std::strtod(number.c_str(), &end);
+  return end && *end == '\0' && d > 0 ? d : -1.0;
 }
+
+int timeColumn(const CsvTable &t) { return t.find({"time_s", "time"}); }
 
 } // namespace
 
+DeltaZSeries readSeries(const CsvTable &table, const std::string &column, double timeOffset) {
+  const int tCol = timeColumn(table);
+  const int col = table.find({column, column + "_mean"});
+  if (tCol < 0 || col < 0)
+    throw std::runtime_error("'" + table.path() + "' has no " + (tCol < 0 ? "time_s" : column) + " column.");
+  DeltaZSeries s;
+  for (std::size_t r = 0; r < table.numRows(); ++r) {
+    const double t = table.number(r, tCol) + timeOffset;
+    if (!s.time.empty() && !(t > s.time.back()))
+      throw std::runtime_error(table.where(r) + ": the times do not increase.");
+    if (table.field(r, col) == "nan" || table.field(r, col) == "-nan") continue; // a gap
+    s.time.push_back(t);
+    s.deltaZ.push_back(table.number(r, col));
+  }
+  if (s.time.empty()) throw std::runtime_error("'" + table.path() + "' holds no values of " + column + ".");
+  return s;
+}
+
 DeltaZSeries readDeltaZCsv(const std::string &path, double timeOffset) {
-  const csv::Table table = csv::Table::read(path, "centre-of-gravity file");
+  return readDeltaZ(CsvTable::read(path, "centre-of-gravity file"), timeOffset);
+}
+
+DeltaZSeries readDeltaZ(const CsvTable &table, double timeOffset) {
+  const std::string &path = table.path();
   const auto &names = table.columns();
-  const int tCol = table.find({"time_s", "time"});
-  const int dzCol = table.find({"delta_z_m", "delta_z"});
+  const int dzCol = table.find({"delta_z_m", "delta_z", "delta_z_m_mean"});
   int small = -1, large = -1;
   if (dzCol < 0) {
     double dMin = 0.0, dMax = 0.0;
@@ -37,21 +69,33 @@ DeltaZSeries readDeltaZCsv(const std::string &path, double timeOffset) {
       if (large < 0 || d > dMax) large = static_cast<int>(i), dMax = d;
     }
   }
-  if (tCol < 0 || (dzCol < 0 && (small < 0 || small == large)))
+  if (timeColumn(table) < 0 || (dzCol < 0 && (small < 0 || small == large)))
     throw std::runtime_error("'" + path +
                              "' is not a centre-of-gravity file: its header needs a time_s column "
                              "and delta_z_m (or two z_cog_d<D>mm columns).");
-  DeltaZSeries s;
-  for (std::size_t r = 0; r < table.numRows(); ++r) {
-    const double t = table.number(r, tCol) + timeOffset;
-    const double dz = dzCol >= 0 ? table.number(r, dzCol) : table.number(r, small) - table.number(r, large);
-    if (!s.time.empty() && !(t > s.time.back()))
-      throw std::runtime_error(table.where(r) + ": the times do not increase.");
-    s.time.push_back(t);
-    s.deltaZ.push_back(dz);
-  }
-  if (s.time.empty()) throw std::runtime_error("'" + path + "' holds no rows.");
+  if (dzCol >= 0) return readSeries(table, names[dzCol], timeOffset);
+  DeltaZSeries s = readSeries(table, names[small], timeOffset);
+  const DeltaZSeries l = readSeries(table, names[large], timeOffset);
+  if (l.time != s.time) throw std::runtime_error("'" + path + "' has gaps in its class columns.");
+  for (std::size_t k = 0; k < s.time.size(); ++k) s.deltaZ[k] -= l.deltaZ[k];
   return s;
+}
+
+std::string exactNumber(double x) {
+  // Plain decimals where a person would write them (10, not 1e+01).
+  const bool plain = std::fabs(x) >= 1e-4 && std::fabs(x) < 1e15;
+  char text[40];
+  for (int digits = 1; digits <= 17; ++digits) {
+    std::snprintf(text, sizeof text, "%.*g", digits, x);
+    if (std::strtod(text, nullptr) == x && !(plain && std::strchr(text, 'e'))) break;
+  }
+  return text;
+}
+
+std::string csvNumber(double x) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%.9g", x);
+  return text;
 }
 
 double interpolate(const DeltaZSeries &s, double t) {
@@ -80,8 +124,8 @@ DeltaZScore scoreDeltaZ(const DeltaZSeries &ref, const DeltaZSeries &model, doub
   r.meanRef = windowMean(ref, &r.windowSamplesRef);
   r.meanModel = windowMean(model, &r.windowSamplesModel);
   if (r.windowSamplesRef == 0 || r.windowSamplesModel == 0)
-    throw std::invalid_argument("the scoring window [" + std::to_string(w0) + ", " +
-                                std::to_string(w1) + "] s holds no sample of the " +
+    throw std::invalid_argument("the scoring window [" + exactNumber(w0) + ", " + exactNumber(w1) +
+                                "] s holds no sample of the " +
                                 (r.windowSamplesRef == 0 ? "reference" : "rcfd run") + ".");
   r.segregationError = (r.meanModel - r.meanRef) / r.meanRef * 100.0;
 

@@ -1,5 +1,7 @@
 #include "base/csv.hpp"
 
+#include <limits>
+
 #include <algorithm>
 #include <cctype>
 #include <charconv>
@@ -87,6 +89,12 @@ double Table::number(size_t row, int column) const {
     throw std::runtime_error(where(row) + ", column '" + names[column] +
                              "': expected a number, found '" + rows[row][column] + "'.");
   return v;
+}
+
+double Table::numberOrNan(size_t row, int column) const {
+  const std::string_view f = field(row, column);
+  if (f.empty() || f == "nan" || f == "-nan") return std::numeric_limits<double>::quiet_NaN();
+  return number(row, column);
 }
 
 } // namespace rcfd::csv

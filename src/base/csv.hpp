@@ -40,6 +40,9 @@ public:
   /// The field as a number; throws "'<file>', line L, column '<name>':
   /// expected a number, found '<text>'".
   double number(size_t row, int column) const;
+  /// The same, but an empty field or "nan" (how rcfd writes a value that does not
+  /// exist, such as the centre of gravity of an empty fraction) gives NaN, a gap.
+  double numberOrNan(size_t row, int column) const;
   /// "'<file>', line L" for the line of row `r`, to start a message.
   std::string where(size_t row) const;
 

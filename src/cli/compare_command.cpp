@@ -1,18 +1,24 @@
-// rcfd compare: score the segregation curves Delta z(t) of rcfd runs against
-// a reference (rcfd reference's cog.csv): the paper's Eq. 7 error over a
-// window and the RMS difference of the whole curve relative to the
-// reference's peak.
+// rcfd compare: the answers of rcfd runs (or ensembles) against a reference
+// (rcfd reference, or another run): Delta z(t) with the paper's Eq. 7 over
+// one or more windows and the RMS of the whole curve over the reference's
+// peak; the bottom layer's d32(t); vertical profiles; the halves' size
+// distributions; and the database distance between two bed dynamics.  The
+// scoring is in src/analysis (comparison.hpp, profile_comparison.hpp,
+// halves_comparison.hpp); this file reads options, prints and draws.
 #include "cli/commands.hpp"
 #include "base/petsc_compat.hpp"
 
-#include "analysis/segregation_score.hpp"
+#include "analysis/bed_dynamics.hpp"
+#include "analysis/comparison.hpp"
+#include "analysis/halves_comparison.hpp"
+#include "analysis/profile_comparison.hpp"
 #include "base/collective.hpp"
 #include "cli/figures.hpp"
+#include "rcfd/database.hpp"
 
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
-#include <fstream>
 #include <string>
 #include <vector>
 
@@ -22,104 +28,271 @@ namespace {
 constexpr int kMaxSeries = 16;
 
 struct CompareOptions {
-  std::string reference, output, png, title;
-  std::vector<std::string> runs, labels;
-  double offset = 0.0, windowBegin = 0.5, windowEnd = 1.5;
+  std::string reference, output, scores, png, title;
+  std::vector<std::string> runs, labels, distance;
+  std::vector<TimeSpan> windows{{0.5, 1.5}};
+  double offset = 0.0;
 };
 
-PetscErrorCode readCompareOptions(MPI_Comm comm, CompareOptions *o) {
-  char ref[PETSC_MAX_PATH_LEN] = "", out[PETSC_MAX_PATH_LEN] = "", png[PETSC_MAX_PATH_LEN] = "",
-       title[256] = "";
-  char *runs[kMaxSeries] = {}, *labels[kMaxSeries] = {};
-  PetscInt nruns = kMaxSeries, nlabels = kMaxSeries, nwindow = 2;
-  PetscReal window[2] = {o->windowBegin, o->windowEnd};
-  PetscBool setRef = PETSC_FALSE, setRuns = PETSC_FALSE, setLabels = PETSC_FALSE,
-            setOut = PETSC_FALSE, setWindow = PETSC_FALSE, setPng = PETSC_FALSE;
+/// path's name with its extension replaced: delta_z.png -> delta_z-scores.csv.
+std::string sibling(const std::string &path, const std::string &suffix) {
+  std::filesystem::path p(path);
+  return (p.parent_path() / (p.stem().string() + suffix)).string();
+}
+
+PetscErrorCode readStrings(const char *name, const char *help, std::vector<std::string> *out, PetscBool *set,
+                           PetscOptionItems *PetscOptionsObject) {
+  char *values[kMaxSeries] = {};
+  PetscInt n = kMaxSeries;
   PetscFunctionBeginUser;
-  PetscOptionsBegin(comm, nullptr, "rcfd compare: score Delta z(t) of runs against a reference", "rcfd");
-  PetscCall(PetscOptionsString("-reference", "Reference cog.csv (rcfd reference)", "", "", ref,
-                               sizeof ref, &setRef));
-  PetscCall(PetscOptionsStringArray("-rcfd", "cog.csv of one or more rcfd runs, comma-separated", "",
-                                    runs, &nruns, &setRuns));
-  PetscCall(PetscOptionsStringArray("-labels", "A name for each run (default: its file)", "", labels,
-                                    &nlabels, &setLabels));
+  PetscCall(PetscOptionsStringArray(name, help, "", values, &n, set));
+  for (PetscInt i = 0; i < (*set ? n : 0); ++i) {
+    out->emplace_back(values[i]);
+    PetscCall(PetscFree(values[i]));
+  }
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode readCompareOptions(MPI_Comm comm, CompareOptions *o) {
+  char ref[PETSC_MAX_PATH_LEN] = "", out[PETSC_MAX_PATH_LEN] = "", scores[PETSC_MAX_PATH_LEN] = "",
+       png[PETSC_MAX_PATH_LEN] = "", title[256] = "";
+  PetscInt nwindow = 2 * kMaxSeries;
+  PetscReal window[2 * kMaxSeries] = {0.5, 1.5};
+  PetscBool setRef = PETSC_FALSE, setRuns = PETSC_FALSE, setLabels = PETSC_FALSE, setOut = PETSC_FALSE,
+            setScores = PETSC_FALSE, setWindow = PETSC_FALSE, setPng = PETSC_FALSE, setDistance = PETSC_FALSE;
+  PetscFunctionBeginUser;
+  PetscOptionsBegin(comm, nullptr, "rcfd compare: runs against a reference, and database distances", "rcfd");
+  PetscCall(PetscOptionsString("-reference", "Reference file: cog.csv, profiles.csv or halves.csv of rcfd "
+                               "reference (or any file a run writes)", "", "", ref, sizeof ref, &setRef));
+  PetscCall(readStrings("-rcfd", "Files of one or more runs, comma-separated, of the reference's kind "
+                        "(cog.csv or ensemble.csv, bottom.csv, profiles.csv, halves.csv)", &o->runs, &setRuns,
+                        PetscOptionsObject));
+  PetscCall(readStrings("-labels", "A name for each run (default: its file)", &o->labels, &setLabels,
+                        PetscOptionsObject));
   PetscCall(PetscOptionsReal("-rcfd_time_offset",
                              "Added to the runs' times: the physical time of the database's frame 0 [s]",
                              "", o->offset, &o->offset, nullptr));
-  PetscCall(PetscOptionsRealArray("-score_window", "Window t0,t1 [s] of the Eq. 7 means", "", window,
-                                  &nwindow, &setWindow));
-  PetscCall(PetscOptionsString("-o", "Write the curves at the reference's times to this CSV", "", "",
+  PetscCall(PetscOptionsRealArray("-score_window", "Windows t0,t1[,t0,t1...] [s] of the window means (Eq. 7)",
+                                  "", window, &nwindow, &setWindow));
+  PetscCall(readStrings("-db_distance", "Two bed dynamics A,B (a database .h5, a cog.csv or bed_dynamics.csv): "
+                        "Delta DB = |Delta z_CoG,A - Delta z_CoG,B| / Delta z_CoG,B", &o->distance, &setDistance,
+                        PetscOptionsObject));
+  PetscCall(PetscOptionsString("-o", "Write the curves over time at the reference's times to this CSV", "", "",
                                out, sizeof out, &setOut));
-  PetscCall(PetscOptionsString("-png", "Draw the Delta z(t) curves into this PNG file (from the -o CSV, "
-                               "by default the PNG's name with .csv)", "", "", png, sizeof png, &setPng));
-  PetscCall(PetscOptionsString("-title", "Title of the PNG figure", "", title, title, sizeof title,
-                               nullptr));
+  PetscCall(PetscOptionsString("-scores", "Write the scores to this CSV (default: the -o or -png name with "
+                               "-scores.csv)", "", "", scores, sizeof scores, &setScores));
+  PetscCall(PetscOptionsString("-png", "Draw the comparison into this PNG file", "", "", png, sizeof png, &setPng));
+  PetscCall(PetscOptionsString("-title", "Title of the PNG figure", "", title, title, sizeof title, nullptr));
   PetscOptionsEnd();
-  for (PetscInt i = 0; i < (setRuns ? nruns : 0); ++i) {
-    o->runs.emplace_back(runs[i]);
-    PetscCall(PetscFree(runs[i]));
-  }
-  for (PetscInt i = 0; i < (setLabels ? nlabels : 0); ++i) {
-    o->labels.emplace_back(labels[i]);
-    PetscCall(PetscFree(labels[i]));
-  }
   if (helpRequested()) PetscFunctionReturn(PETSC_SUCCESS);
-  PetscCheck(setRef, comm, PETSC_ERR_USER_INPUT,
-             "No reference given: pass -reference REF/cog.csv (made by rcfd reference)");
-  PetscCheck(!o->runs.empty(), comm, PETSC_ERR_USER_INPUT,
-             "No run given: pass -rcfd RUN/cog.csv (several: comma-separated)");
+  if (setDistance) {
+    PetscCheck(o->distance.size() == 2, comm, PETSC_ERR_USER_INPUT,
+               "-db_distance takes two bed dynamics A,B (a database .h5, a cog.csv or a bed_dynamics.csv), not %d",
+               (int)o->distance.size());
+    PetscCheck(!setRef && !setRuns && !setOut && !setPng, comm, PETSC_ERR_USER_INPUT,
+               "-db_distance is a comparison of its own: give -reference, -rcfd, -o and -png in another call");
+  } else {
+    PetscCheck(setRef, comm, PETSC_ERR_USER_INPUT,
+               "No reference given: pass -reference REF/cog.csv (made by rcfd reference), or -db_distance A,B");
+    PetscCheck(!o->runs.empty(), comm, PETSC_ERR_USER_INPUT,
+               "No run given: pass -rcfd RUN/cog.csv (several: comma-separated)");
+  }
   PetscCheck(!setLabels || o->labels.size() == o->runs.size(), comm, PETSC_ERR_USER_INPUT,
              "-labels has %d names but -rcfd has %d files", (int)o->labels.size(), (int)o->runs.size());
-  PetscCheck(!setWindow || (nwindow == 2 && window[0] < window[1]), comm, PETSC_ERR_USER_INPUT,
-             "-score_window takes two times t0,t1 [s] with t0 < t1");
+  if (setWindow) {
+    PetscCheck(nwindow % 2 == 0 && nwindow > 0, comm, PETSC_ERR_USER_INPUT,
+               "-score_window takes pairs of times t0,t1[,t0,t1...] [s], not %d numbers", (int)nwindow);
+    o->windows.clear();
+    for (PetscInt i = 0; i < nwindow; i += 2) {
+      PetscCheck(window[i] < window[i + 1], comm, PETSC_ERR_USER_INPUT,
+                 "-score_window: window %d, [%s, %s] s, does not have t0 < t1", (int)(i / 2 + 1),
+                 exactNumber(window[i]).c_str(), exactNumber(window[i + 1]).c_str());
+      o->windows.push_back({window[i], window[i + 1]});
+    }
+  }
   o->reference = ref;
+  o->title = title;
   if (setPng) o->png = png;
   if (setOut) o->output = out;
-  else if (setPng) o->output = std::filesystem::path(o->png).replace_extension(".csv").string(); // the figure's numbers
-  o->title = title;
-  o->windowBegin = window[0];
-  o->windowEnd = window[1];
+  if (setScores) o->scores = scores;
+  else if (!o->output.empty()) o->scores = sibling(o->output, "-scores.csv");
+  else if (!o->png.empty()) o->scores = sibling(o->png, "-scores.csv");
   if (o->labels.empty())
     for (const auto &r : o->runs) o->labels.push_back(r);
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
-void writeCurves(const std::string &path, const DeltaZSeries &ref,
-                 const std::vector<DeltaZSeries> &runs, const std::vector<std::string> &labels) {
-  if (std::filesystem::path(path).has_parent_path())
-    std::filesystem::create_directories(std::filesystem::path(path).parent_path());
-  std::ofstream f(path);
-  if (!f) throw std::runtime_error("cannot write '" + path + "'.");
-  f << "time_s,delta_z_reference_m";
-  for (const auto &l : labels) f << ",delta_z_" << l << "_m";
-  f << '\n';
-  f.precision(9);
-  for (std::size_t k = 0; k < ref.time.size(); ++k) {
-    const double t = ref.time[k];
-    f << t << ',' << ref.deltaZ[k];
-    for (const auto &r : runs) {
-      f << ',';
-      if (t >= r.time.front() && t <= r.time.back()) f << interpolate(r, t);
-    }
-    f << '\n';
+/// Delta z in the table rcfd compare has always printed (scripts read its
+/// columns 2-5: mean Delta z, Delta_seg, RMS, RMS/peak), one line per window.
+void printDeltaZScores(const std::string &reference, const std::vector<CurveScore> &scores) {
+  std::printf("Delta z = z_cog(smallest) - z_cog(largest) against %s: mean", reference.c_str());
+  for (const CurveScore &c : scores) // the reference's mean over each window, once
+    if (c.run == scores.front().run)
+      std::printf("%s %.4g mm over [%s, %s] s (%zu samples)", &c == &scores.front() ? "" : ",", 1e3 * c.score.meanRef,
+                  exactNumber(c.score.windowBegin).c_str(), exactNumber(c.score.windowEnd).c_str(),
+                  c.score.windowSamplesRef);
+  std::printf(", peak |Delta z| %.4g mm\n", 1e3 * scores.front().score.peakRef);
+  std::printf("%-28s %14s %14s %10s %10s %-16s %s\n", "run", "mean dz [mm]", "Delta_seg [%]", "RMS [mm]",
+              "RMS/peak", "window [s]", "curve");
+  for (const CurveScore &c : scores) {
+    const DeltaZScore &s = c.score;
+    std::printf("%-28s %14.4f %14.1f %10.4f %10.3f %-16s %s-%s s, %zu samples\n", c.run.c_str(), 1e3 * s.meanModel,
+                s.segregationError, 1e3 * s.rms, s.rmsRelative,
+                (exactNumber(s.windowBegin) + "-" + exactNumber(s.windowEnd)).c_str(),
+                exactNumber(s.overlapBegin).c_str(), exactNumber(s.overlapEnd).c_str(), s.curveSamples);
   }
-  if (!f) throw std::runtime_error("writing '" + path + "' failed.");
 }
 
-/// Delta z(t) of the reference and every run from the curves CSV, each
-/// run's legend carrying its scores.
-PetscErrorCode drawCurves(MPI_Comm comm, const CompareOptions &o, const std::vector<DeltaZScore> &scores) {
+/// Any other curve (d32 of the bottom layer and of zones), in mm.
+void printCurveScores(const std::string &reference, const std::vector<CurveScore> &scores) {
+  std::printf("Against %s (values in mm):\n", reference.c_str());
+  std::printf("%-24s %-14s %-14s %11s %11s %11s %10s %10s  %s\n", "run", "curve", "window [s]", "mean ref",
+              "mean run", "diff [%]", "RMS", "RMS/peak", "curve");
+  for (const CurveScore &c : scores) {
+    const DeltaZScore &s = c.score;
+    std::printf("%-24s %-14s %-14s %11.5f %11.5f %11.2f %10.5f %10.4f  %s-%s s, %zu samples\n", c.run.c_str(),
+                c.curve.c_str(), (exactNumber(s.windowBegin) + "-" + exactNumber(s.windowEnd)).c_str(),
+                1e3 * s.meanRef, 1e3 * s.meanModel, s.segregationError, 1e3 * s.rms, s.rmsRelative,
+                exactNumber(s.overlapBegin).c_str(), exactNumber(s.overlapEnd).c_str(), s.curveSamples);
+  }
+}
+
+/// Delta z(t) of the reference and every run from the curves CSV, each run's
+/// legend carrying its scores over the first window.
+PetscErrorCode drawDeltaZ(MPI_Comm comm, const CompareOptions &o, const std::vector<CurveScore> &scores) {
   PetscFunctionBeginUser;
+  const TimeSpan &w = o.windows.front();
   std::vector<std::string> args{o.output, "-o", o.png, "--title", o.title, "--window",
-                                std::to_string(o.windowBegin) + "," + std::to_string(o.windowEnd)};
-  for (std::size_t i = 0; i < o.labels.size(); ++i) {
+                                exactNumber(w.begin) + "," + exactNumber(w.end)};
+  for (const auto &label : o.labels) {
     char text[200] = "";
-    if (i < scores.size()) // Eq. 7 error and RMS of the whole curve over the reference's peak
-      std::snprintf(text, sizeof text, "%s: $\\Delta_\\mathrm{seg}$ = %.0f %%, RMS/peak = %.2f", o.labels[i].c_str(),
-                    scores[i].segregationError, scores[i].rmsRelative);
+    for (const CurveScore &c : scores)
+      if (c.run == label && c.score.windowBegin == w.begin && c.score.windowEnd == w.end)
+        std::snprintf(text, sizeof text, "%s: $\\Delta_\\mathrm{seg}$ = %.0f %%, RMS/peak = %.2f", label.c_str(),
+                      c.score.segregationError, c.score.rmsRelative);
     args.insert(args.end(), {"--legend", text});
   }
   PetscCall(drawFigure(comm, "compare.py", args));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/// The reference's and the runs' files given to a figure script as they are.
+PetscErrorCode drawFiles(MPI_Comm comm, const CompareOptions &o, const char *script) {
+  PetscFunctionBeginUser;
+  std::vector<std::string> args{o.reference};
+  args.insert(args.end(), o.runs.begin(), o.runs.end());
+  args.insert(args.end(), {"-o", o.png, "--title", o.title});
+  for (const auto &label : o.labels) args.insert(args.end(), {"--label", label});
+  PetscCall(drawFigure(comm, script, args));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/// Rank 0: Delta z or d32 curves over time.
+void compareCurves(const CompareOptions &o, const CsvTable &refTable, std::vector<CurveScore> *scores) {
+  const CurveSet ref = readCurves(refTable, 0.0);
+  std::vector<CurveSet> runs;
+  for (std::size_t i = 0; i < o.runs.size(); ++i) {
+    runs.push_back(readCurves(CsvTable::read(o.runs[i], "run's file"), o.offset));
+    const auto s = scoreCurves(ref, runs.back(), o.labels[i], o.windows);
+    scores->insert(scores->end(), s.begin(), s.end());
+  }
+  if (ref.names == std::vector<std::string>{"delta_z"}) printDeltaZScores(o.reference, *scores);
+  else printCurveScores(o.reference, *scores);
+  if (!o.output.empty()) {
+    writeCurvesSideBySide(o.output, ref, runs, o.labels);
+    std::printf("Wrote %s\n", o.output.c_str());
+  }
+  if (!o.scores.empty()) writeCurveScores(o.scores, o.reference, *scores);
+}
+
+/// Rank 0: vertical profiles.
+void compareProfileFiles(const CompareOptions &o, const CsvTable &refTable) {
+  const ProfileTable ref = readProfiles(refTable);
+  std::vector<ProfileDifference> rows;
+  for (std::size_t i = 0; i < o.runs.size(); ++i) {
+    const auto d = compareProfiles(ref, readProfiles(CsvTable::read(o.runs[i], "run's file")), o.labels[i]);
+    rows.insert(rows.end(), d.begin(), d.end());
+  }
+  std::printf("Vertical profiles against %s (alpha: volume fraction, over the layers holding solid):\n",
+              o.reference.c_str());
+  std::printf("%-24s %-18s %7s %12s %12s %12s %10s\n", "run", "curve", "layers", "RMS diff", "max |diff|",
+              "peak ref", "RMS/peak");
+  for (const auto &d : rows)
+    std::printf("%-24s %-18s %7zu %12.4g %12.4g %12.4g %10.3f\n", d.run.c_str(), d.curve.c_str(), d.layers, d.rms,
+                d.maxAbs, d.peakRef, d.rmsRelative);
+  if (!o.scores.empty()) writeProfileScores(o.scores, o.reference, rows);
+}
+
+/// Rank 0: the halves' size distributions.
+void compareHalvesFiles(const CompareOptions &o, const CsvTable &refTable) {
+  const HalvesTable ref = readHalves(refTable);
+  std::vector<HalvesDifference> rows;
+  for (std::size_t i = 0; i < o.runs.size(); ++i) {
+    const auto d = compareHalves(ref, readHalves(CsvTable::read(o.runs[i], "run's file")), o.labels[i]);
+    rows.insert(rows.end(), d.begin(), d.end());
+  }
+  std::printf("Size distributions of the bottom and top halves against %s (mass fractions; d32 in mm):\n",
+              o.reference.c_str());
+  std::printf("%-24s %-10s %10s %10s %10s %10s %10s %10s\n", "run", "class", "bottom ref", "bottom run", "diff",
+              "top ref", "top run", "diff");
+  for (const auto &d : rows) {
+    const double f = d.diameter == 0.0 ? 1e3 : 1.0; // the d32 row in mm
+    std::printf("%-24s %-10s %10.4f %10.4f %10.4f %10.4f %10.4f %10.4f\n", d.run.c_str(), d.label.c_str(),
+                f * d.bottomRef, f * d.bottomRun, f * (d.bottomRun - d.bottomRef), f * d.topRef, f * d.topRun,
+                f * (d.topRun - d.topRef));
+  }
+  if (!o.scores.empty()) writeHalvesScores(o.scores, o.reference, rows);
+}
+
+bool isDatabase(const std::string &path) {
+  const std::string ext = std::filesystem::path(path).extension().string();
+  return ext == ".h5" || ext == ".hdf5";
+}
+
+/// Collective: Delta DB between two bed dynamics.
+PetscErrorCode databaseDistanceCommand(MPI_Comm comm, const CompareOptions &o) {
+  PetscMPIInt rank;
+  double dyn[2] = {0.0, 0.0};
+  std::size_t samples[2] = {0, 0};
+  PetscFunctionBeginUser;
+  PetscCallMPI(MPI_Comm_rank(comm, &rank));
+  for (int i = 0; i < 2; ++i) {
+    const std::string &path = o.distance[i];
+    if (isDatabase(path)) {
+      DatabaseLoadOptions load;
+      load.loadShifts = false;
+      std::unique_ptr<Database> db;
+      PetscCall(Database::load(comm, path, load, &db));
+      std::vector<double> zCog;
+      PetscCall(databaseBedCentres(*db, &zCog));
+      dyn[i] = bedDynamics(zCog);
+      samples[i] = zCog.size();
+    } else {
+      PetscCall(collectively(comm, [&] {
+        if (rank == 0) dyn[i] = bedDynamicsOfFile(CsvTable::read(path, "bed-dynamics file"));
+      }, PETSC_ERR_USER_INPUT));
+      PetscCallMPI(MPI_Bcast(&dyn[i], 1, MPI_DOUBLE, 0, comm));
+    }
+  }
+  PetscCall(collectively(comm, [&] {
+    if (rank != 0) return;
+    double distance = 0.0;
+    try {
+      distance = databaseDistance(dyn[0], dyn[1]);
+    } catch (const std::invalid_argument &) {
+      throw std::runtime_error("'" + o.distance[1] + "' has no bed dynamics (Delta z_CoG = 0), so it cannot be "
+                               "the denominator of the database distance.");
+    }
+    for (int i = 0; i < 2; ++i)
+      std::printf("Delta z_CoG %c = %.6g mm  (%s%s)\n", 'A' + i, 1e3 * dyn[i], o.distance[i].c_str(),
+                  samples[i] ? (", " + std::to_string(samples[i]) + " frames").c_str() : "");
+    std::printf("Delta DB = |A - B| / B = %.6g (%.4g %%)\n", distance, 100.0 * distance);
+    if (!o.scores.empty())
+      writeTextFile(o.scores, "# database distance: |Delta z_CoG,a - Delta z_CoG,b| / Delta z_CoG,b, b the "
+                              "second named\na,b,delta_z_cog_a_m,delta_z_cog_b_m,database_distance\n" +
+                                  o.distance[0] + "," + o.distance[1] + "," + csvNumber(dyn[0]) + "," +
+                                  csvNumber(dyn[1]) + "," + csvNumber(distance) + "\n");
+  }, PETSC_ERR_USER_INPUT));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
@@ -133,34 +306,47 @@ PetscErrorCode compareCommand(MPI_Comm comm) {
   PetscCall(readCompareOptions(comm, &o));
   if (helpRequested()) PetscFunctionReturn(PETSC_SUCCESS);
   PetscCall(rejectUnusedOptions(comm, "compare"));
-  std::vector<DeltaZScore> scores; // rank 0's
+  if (!o.distance.empty()) {
+    PetscCall(databaseDistanceCommand(comm, o));
+    PetscFunctionReturn(PETSC_SUCCESS);
+  }
+  int kind = 0; // AnswerFile, broadcast from rank 0
   PetscCall(collectively(comm, [&] {
     if (rank != 0) return;
-    const DeltaZSeries ref = readDeltaZCsv(o.reference);
-    std::vector<DeltaZSeries> runs;
-    for (const auto &path : o.runs) {
-      runs.push_back(readDeltaZCsv(path, o.offset));
-      scores.push_back(scoreDeltaZ(ref, runs.back(), o.windowBegin, o.windowEnd));
+    const AnswerFile k = answerFileKind(CsvTable::read(o.reference, "reference file"));
+    kind = static_cast<int>(k);
+    for (const auto &run : o.runs) { // one kind throughout
+      const AnswerFile r = answerFileKind(CsvTable::read(run, "run's file"));
+      if (r != k)
+        throw std::runtime_error("'" + run + "' is a " + describe(r) + " but the reference '" + o.reference +
+                                 "' is a " + describe(k) + ": compare files of one kind.");
     }
-    const DeltaZScore &s0 = scores.front();
-    std::printf("Delta z = z_cog(smallest) - z_cog(largest) against %s: mean %.4g mm over "
-                "[%g, %g] s (%zu samples), peak |Delta z| %.4g mm\n",
-                o.reference.c_str(), 1e3 * s0.meanRef, o.windowBegin, o.windowEnd,
-                s0.windowSamplesRef, 1e3 * s0.peakRef);
-    std::printf("%-28s %14s %14s %10s %10s %s\n", "run", "mean dz [mm]", "Delta_seg [%]",
-                "RMS [mm]", "RMS/peak", "curve");
-    for (std::size_t i = 0; i < runs.size(); ++i) {
-      const DeltaZScore &s = scores[i];
-      std::printf("%-28s %14.4f %14.1f %10.4f %10.3f %.3g-%.3g s, %zu samples\n",
-                  o.labels[i].c_str(), 1e3 * s.meanModel, s.segregationError, 1e3 * s.rms,
-                  s.rmsRelative, s.overlapBegin, s.overlapEnd, s.curveSamples);
-    }
-    if (!o.output.empty()) {
-      writeCurves(o.output, ref, runs, o.labels);
-      std::printf("Wrote %s\n", o.output.c_str());
-    }
-  }));
-  if (!o.png.empty()) PetscCall(drawCurves(comm, o, scores));
+    if (k == AnswerFile::bedDynamics)
+      throw std::runtime_error("'" + o.reference + "' holds a bed dynamics: compare it with -db_distance A,B.");
+    if ((k == AnswerFile::profiles || k == AnswerFile::halves) && !o.output.empty())
+      throw std::runtime_error("-o writes curves over time, which the " + describe(k) + " '" + o.reference +
+                               "' does not hold: use -scores.");
+    if (k == AnswerFile::bottomLayer && !o.png.empty())
+      throw std::runtime_error("-png draws Delta z, profiles and halves, not the bottom-layer file '" +
+                               o.reference + "': plot the -o CSV.");
+  }, PETSC_ERR_USER_INPUT));
+  PetscCallMPI(MPI_Bcast(&kind, 1, MPI_INT, 0, comm));
+  const AnswerFile k = static_cast<AnswerFile>(kind);
+  // The Delta z figure is drawn from the curves CSV: by default the PNG's name with .csv.
+  if (k == AnswerFile::centresOfGravity && o.output.empty() && !o.png.empty()) o.output = sibling(o.png, ".csv");
+  std::vector<CurveScore> scores; // rank 0's
+  PetscCall(collectively(comm, [&] {
+    if (rank != 0) return;
+    const CsvTable ref = CsvTable::read(o.reference, "reference file");
+    if (k == AnswerFile::centresOfGravity || k == AnswerFile::bottomLayer) compareCurves(o, ref, &scores);
+    if (k == AnswerFile::profiles) compareProfileFiles(o, ref);
+    if (k == AnswerFile::halves) compareHalvesFiles(o, ref);
+    if (!o.scores.empty()) std::printf("Wrote %s\n", o.scores.c_str());
+  }, PETSC_ERR_USER_INPUT));
+  if (o.png.empty()) PetscFunctionReturn(PETSC_SUCCESS);
+  if (k == AnswerFile::centresOfGravity) PetscCall(drawDeltaZ(comm, o, scores));
+  if (k == AnswerFile::profiles) PetscCall(drawFiles(comm, o, "compare_profiles.py"));
+  if (k == AnswerFile::halves) PetscCall(drawFiles(comm, o, "compare_halves.py"));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 

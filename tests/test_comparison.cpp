@@ -1,0 +1,237 @@
+// rcfd compare's scoring on hand-made files with hand-computed answers:
+// Delta z (Eq. 7) over two windows and the RMS over the reference's peak, an
+// ensemble scored by its mean, the bottom layer's d32 with a gap, profiles,
+// the halves' size distributions, the database distance, window labels that
+// read back exactly, and bad input refused naming the file.
+#include "analysis/bed_dynamics.hpp"
+#include "analysis/comparison.hpp"
+#include "analysis/halves_comparison.hpp"
+#include "analysis/profile_comparison.hpp"
+#include "check.hpp"
+
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <stdexcept>
+#include <string>
+
+using namespace rcfd;
+
+namespace {
+
+template <typename F> bool throwsWith(F &&f, const std::string &text) {
+  try {
+    f();
+  } catch (const std::exception &e) {
+    if (std::string(e.what()).find(text) != std::string::npos) return true;
+    std::fprintf(stderr, "unexpected message: %s\n", e.what());
+    return false;
+  }
+  std::fprintf(stderr, "no exception; expected: %s\n", text.c_str());
+  return false;
+}
+
+std::string write(const std::string &path, const std::string &text) {
+  std::ofstream(path) << text;
+  return path;
+}
+
+CsvTable table(const std::string &path) { return CsvTable::read(path); }
+
+/// Field `column` of data row `row` (after the header) of a CSV rcfd wrote.
+std::string field(const std::string &path, std::size_t row, const std::string &column) {
+  std::ifstream in(path);
+  std::string line, name;
+  std::vector<std::string> header;
+  std::size_t r = 0;
+  while (std::getline(in, line)) {
+    if (line.empty() || line[0] == '#') continue;
+    std::vector<std::string> fields;
+    std::stringstream ss(line);
+    while (std::getline(ss, name, ',')) fields.push_back(name);
+    if (header.empty()) {
+      header = fields;
+      continue;
+    }
+    if (r++ != row) continue;
+    for (std::size_t c = 0; c < header.size(); ++c)
+      if (header[c] == column) return c < fields.size() ? fields[c] : "";
+  }
+  return "<missing>";
+}
+
+// Reference Delta z = 0, 1, 2, 3, 4 mm at t = 0, 0.5, 1, 1.5, 2 s; the run is 2 mm at
+// t = 0.1, 1.1, 2.1 s of its own time, shifted by -0.1 s.  Windows [0, 1] and [1, 2]:
+// reference means 1 and 3 mm, run 2 mm: Eq. 7 +100 % and -33.3 %.  Curve at the run's
+// times 0, 1, 2 s: differences 2, 0, -2 mm, RMS sqrt(8/3) mm, peak 4 mm.
+void deltaZ(const std::string &dir) {
+  const std::string ref = write(dir + "/ref-cog.csv", "time_s,z_cog_bed_m,z_cog_d1.950mm_m,z_cog_d2.820mm_m,delta_z_m\n"
+                                                      "0,0.1,0.1,0.1,0\n0.5,0.1,0.1005,0.0995,0.001\n"
+                                                      "1,0.1,0.101,0.099,0.002\n1.5,0.1,0.1015,0.0985,0.003\n"
+                                                      "2,0.1,0.102,0.098,0.004\n");
+  const std::string run = write(dir + "/run-cog.csv", "time_s,z_cog_bed_m,z_cog_d1.950mm_m,z_cog_d2.820mm_m,delta_z_m,"
+                                                      "bulk_mismatch\n0.1,0.1,0.101,0.099,0.002,0\n"
+                                                      "1.1,0.1,0.101,0.099,0.002,0\n2.1,0.1,0.101,0.099,0.002,0\n");
+  const CurveSet r = readCurves(table(ref), 0.0), m = readCurves(table(run), -0.1);
+  const std::vector<TimeSpan> windows{{0.0, 1.0}, {1.0, 2.0}};
+  const auto s = scoreCurves(r, m, "two mm", windows);
+  RCFD_CHECK(s.size() == 2 && s[0].curve == "delta_z" && s[1].run == "two mm");
+  RCFD_CHECK(s[0].score.windowSamplesRef == 3 && s[0].score.windowSamplesModel == 2);
+  RCFD_CHECK_CLOSE(s[0].score.meanRef, 1e-3, 1e-15);
+  RCFD_CHECK_CLOSE(s[0].score.segregationError, 100.0, 1e-9);
+  RCFD_CHECK_CLOSE(s[1].score.meanRef, 3e-3, 1e-15);
+  RCFD_CHECK_CLOSE(s[1].score.segregationError, -100.0 / 3.0, 1e-9);
+  RCFD_CHECK(s[1].score.curveSamples == 3);
+  RCFD_CHECK_CLOSE(s[1].score.rms, std::sqrt(8.0 / 3.0) * 1e-3, 1e-15);
+  RCFD_CHECK_CLOSE(s[1].score.rmsRelative, std::sqrt(8.0 / 3.0) / 4.0, 1e-12);
+
+  // The scores CSV: one row per curve and window, the window and curve labels
+  // reading back as exactly the times used (2.1 - 0.1 is not 2 in binary).
+  const std::string scores = dir + "/scores.csv";
+  writeCurveScores(scores, ref, s);
+  RCFD_CHECK(field(scores, 1, "window_begin_s") == "1" && field(scores, 1, "unit") == "m");
+  RCFD_CHECK(std::strtod(field(scores, 1, "curve_end_s").c_str(), nullptr) == s[1].score.overlapEnd);
+  RCFD_CHECK(std::strtod(field(scores, 0, "curve_begin_s").c_str(), nullptr) == s[0].score.overlapBegin);
+  RCFD_CHECK_CLOSE(std::strtod(field(scores, 1, "relative_difference_percent").c_str(), nullptr), -100.0 / 3.0, 1e-6);
+  RCFD_CHECK_CLOSE(std::strtod(field(scores, 0, "mean_difference").c_str(), nullptr), 1e-3, 1e-12);
+  RCFD_CHECK(field(scores, 2, "run") == "<missing>");
+  RCFD_CHECK(exactNumber(0.1 + 0.2) == "0.30000000000000004" && exactNumber(3.04 + 0.005) == "3.045");
+  RCFD_CHECK(exactNumber(0.5) == "0.5" && exactNumber(0.205) == "0.205");
+  RCFD_CHECK(exactNumber(10) == "10" && exactNumber(1200) == "1200" && exactNumber(-3.5) == "-3.5");
+  RCFD_CHECK(exactNumber(1e-7) == "1e-07" && std::strtod(exactNumber(1.0 / 3.0).c_str(), nullptr) == 1.0 / 3.0);
+
+  // An ensemble summary is scored by its mean column: the same numbers.
+  const std::string ens = write(dir + "/ensemble.csv", "# mean and sample standard deviation over 2 ensemble members\n"
+                                                       "time_s,z_cog_bed_m_mean,z_cog_bed_m_std,delta_z_m_mean,"
+                                                       "delta_z_m_std\n0.1,0.1,0,0.002,0.001\n1.1,0.1,0,0.002,0.001\n"
+                                                       "2.1,0.1,0,0.002,0.001\n");
+  RCFD_CHECK(answerFileKind(table(ens)) == AnswerFile::centresOfGravity);
+  const auto e = scoreCurves(r, readCurves(table(ens), -0.1), "ensemble", windows);
+  RCFD_CHECK(e.size() == 2);
+  RCFD_CHECK_CLOSE(e[0].score.segregationError, 100.0, 1e-9);
+  RCFD_CHECK_CLOSE(e[1].score.rms, std::sqrt(8.0 / 3.0) * 1e-3, 1e-15);
+
+  // A window outside the data names the file that has no sample in it.
+  RCFD_CHECK(throwsWith([&] { scoreCurves(r, m, "x", {{5.0, 6.0}}); },
+                        "'" + ref + "', delta_z: the scoring window [5, 6] s holds no sample of the reference."));
+  RCFD_CHECK(throwsWith([&] { scoreCurves(r, readCurves(table(run), 3.0), "x", {{0.0, 1.0}}); },
+                        "'" + run + "', delta_z: the scoring window [0, 1] s holds no sample of the rcfd run."));
+}
+
+// Bottom-layer d32: reference 2.3, 2.4, (gap), 2.6 mm at t = 0, 1, 2, 3 s; run 2.2 mm
+// throughout.  Window [0, 3]: reference mean 7.3/3 mm.  Curve at the run's times, the
+// reference interpolated over its gap (2.5 mm at 2 s): differences -0.1, -0.2, -0.3,
+// -0.4 mm, RMS sqrt(0.075) mm.  The zone column d32_feed_m is a second curve.
+void bottomLayer(const std::string &dir) {
+  const std::string ref = write(dir + "/ref-bottom.csv", "time_s,d32_bottom_m,umf_m_s,usup_m_s,defluidized,d32_feed_m\n"
+                                                         "0,0.0023,0.9,1.1,0,0.002\n1,0.0024,0.9,1.1,0,0.002\n"
+                                                         "2,nan,nan,1.1,0,0.002\n3,0.0026,1,1.1,0,0.002\n");
+  const std::string run = write(dir + "/run-bottom.csv", "time_s,d32_bottom_m,umf_m_s,usup_m_s,defluidized,d32_feed_m\n"
+                                                         "0,0.0022,0.9,1.1,0,0.003\n1,0.0022,0.9,1.1,0,0.003\n"
+                                                         "2,0.0022,0.9,1.1,0,0.003\n3,0.0022,0.9,1.1,0,0.003\n");
+  RCFD_CHECK(answerFileKind(table(ref)) == AnswerFile::bottomLayer);
+  const CurveSet r = readCurves(table(ref), 0.0);
+  RCFD_CHECK((r.names == std::vector<std::string>{"d32_bottom", "d32_feed"}) && r.curves[0].time.size() == 3);
+  const auto s = scoreCurves(r, readCurves(table(run), 0.0), "run", {{0.0, 3.0}});
+  RCFD_CHECK(s.size() == 2);
+  RCFD_CHECK_CLOSE(s[0].score.meanRef, 7.3e-3 / 3.0, 1e-15);
+  RCFD_CHECK_CLOSE(s[0].score.meanModel - s[0].score.meanRef, 2.2e-3 - 7.3e-3 / 3.0, 1e-15);
+  RCFD_CHECK(s[0].score.curveSamples == 4);
+  RCFD_CHECK_CLOSE(s[0].score.rms, std::sqrt(0.075) * 1e-3, 1e-15);
+  RCFD_CHECK_CLOSE(s[1].score.rms, 1e-3, 1e-15);
+  RCFD_CHECK_CLOSE(s[1].score.segregationError, 50.0, 1e-9);
+  // A run file of the curves kind but without a curve of the reference.
+  const std::string other = write(dir + "/other-bottom.csv", "time_s,d32_bottom_m_x\n0,1\n");
+  RCFD_CHECK(throwsWith([&] { readCurves(table(other), 0.0); }, "'" + other + "' is none of the files"));
+}
+
+// Profiles on 4 layers, the top one empty in both: small class differences -0.05, 0,
+// 0.05 (RMS sqrt(0.005/3), peak 0.3), large 0.05, 0, 0.05, total 0, 0, 0.1 (RMS
+// sqrt(0.01/3), max 0.1, peak 0.5).  The run labels its small class d1.95mm.
+void profiles(const std::string &dir) {
+  const std::string ref = write(dir + "/ref-profiles.csv", "# SI units\nz,alpha_d1.950mm,alpha_d2.820mm,alpha_total\n"
+                                                           "0.0025,0.3,0.2,0.5\n0.0075,0.2,0.2,0.4\n"
+                                                           "0.0125,0.1,0,0.1\n0.0175,0,0,0\n");
+  const std::string run = write(dir + "/run-profiles.csv", "z,alpha_d1.95mm,alpha_d2.820mm,alpha_total\n"
+                                                           "0.0025,0.25,0.25,0.5\n0.0075,0.2,0.2,0.4\n"
+                                                           "0.0125,0.15,0.05,0.2\n0.0175,0,0,0\n");
+  const auto d = compareProfiles(readProfiles(table(ref)), readProfiles(table(run)), "run");
+  RCFD_CHECK(d.size() == 3 && d[0].curve == "alpha_d1.950mm" && d[2].curve == "alpha_total");
+  RCFD_CHECK(d[0].layers == 3 && d[0].zBegin == 0.0025 && d[0].zEnd == 0.0125);
+  RCFD_CHECK_CLOSE(d[0].rms, std::sqrt(0.005 / 3.0), 1e-15);
+  RCFD_CHECK_CLOSE(d[0].rmsRelative, std::sqrt(0.005 / 3.0) / 0.3, 1e-14);
+  RCFD_CHECK_CLOSE(d[1].rms, std::sqrt(0.005 / 3.0), 1e-15);
+  RCFD_CHECK_CLOSE(d[1].maxAbs, 0.05, 1e-15);
+  RCFD_CHECK_CLOSE(d[2].rms, std::sqrt(0.01 / 3.0), 1e-15);
+  RCFD_CHECK_CLOSE(d[2].maxAbs, 0.1, 1e-15);
+  RCFD_CHECK_CLOSE(d[2].peakRef, 0.5, 1e-15);
+  const std::string scores = dir + "/profile-scores.csv";
+  writeProfileScores(scores, ref, d);
+  RCFD_CHECK(field(scores, 2, "curve") == "alpha_total" && field(scores, 2, "layers") == "3");
+  RCFD_CHECK_CLOSE(std::strtod(field(scores, 2, "rms_difference").c_str(), nullptr), std::sqrt(0.01 / 3.0), 1e-9);
+  // Another mesh, another layout, a missing total.
+  const std::string coarse = write(dir + "/coarse.csv", "z,alpha_d1.950mm,alpha_total\n0.005,0.3,0.3\n0.015,0.1,0.1\n");
+  RCFD_CHECK(throwsWith([&] { compareProfiles(readProfiles(table(ref)), readProfiles(table(coarse)), "c"); },
+                        "'" + coarse + "' has other layers than the reference"));
+  const std::string noTotal = write(dir + "/nototal.csv", "z,alpha_d1.950mm\n0.005,0.3\n");
+  RCFD_CHECK(throwsWith([&] { readProfiles(table(noTotal)); }, "'" + noTotal + "' is not a profiles file"));
+}
+
+// Halves: reference bottom 0.4 / 0.6, top 0.6 / 0.4 (small / large); run bottom 0.3 / 0.7,
+// top 0.7 / 0.3.  Differences -0.1, +0.1 at the bottom, +0.1, -0.1 at the top; the d32
+// rows by hand: 1 / (0.4 / 1.95 + 0.6 / 2.82) mm = 2.392950 mm and so on.
+void halves(const std::string &dir) {
+  const std::string ref = write(dir + "/ref-halves.csv", "# mass fractions\nclass,diameter,bottom_mass_fraction,"
+                                                         "top_mass_fraction\nd1.950mm,0.00195,0.4,0.6\n"
+                                                         "d2.820mm,0.00282,0.6,0.4\n");
+  const std::string run = write(dir + "/run-halves.csv", "class,diameter,bottom_mass_fraction,top_mass_fraction,"
+                                                         "d_over_d32\nd2.820mm,0.00282,0.7,0.3,1.2\n"
+                                                         "d1.950mm,0.001951,0.3,0.7,0.8\n");
+  RCFD_CHECK(answerFileKind(table(ref)) == AnswerFile::halves);
+  const auto d = compareHalves(readHalves(table(ref)), readHalves(table(run)), "run");
+  RCFD_CHECK(d.size() == 3 && d[0].label == "d1.950mm" && d[2].label == "d32");
+  RCFD_CHECK_CLOSE(d[0].bottomRun - d[0].bottomRef, -0.1, 1e-15);
+  RCFD_CHECK_CLOSE(d[0].topRun - d[0].topRef, 0.1, 1e-15);
+  RCFD_CHECK_CLOSE(d[1].bottomRun - d[1].bottomRef, 0.1, 1e-15);
+  RCFD_CHECK_CLOSE(d[2].bottomRef, 2.392950391644909e-3, 1e-15);
+  RCFD_CHECK_CLOSE(d[2].topRef, 2.2245145631067964e-3, 1e-15);
+  RCFD_CHECK_CLOSE(d[2].bottomRun, 1.0 / (0.3 / 1.951e-3 + 0.7 / 2.82e-3), 1e-15);
+  const std::string scores = dir + "/halves-scores.csv";
+  writeHalvesScores(scores, ref, d);
+  RCFD_CHECK(field(scores, 2, "unit") == "m" && field(scores, 0, "unit") == "1");
+  RCFD_CHECK_CLOSE(std::strtod(field(scores, 1, "top_difference").c_str(), nullptr), -0.1, 1e-9);
+  const std::string text = write(dir + "/text.csv", "class,diameter,bottom_mass_fraction,top_mass_fraction\n"
+                                                    "d1.950mm,0.00195,0.4,lots\n");
+  RCFD_CHECK(throwsWith([&] { readHalves(table(text)); }, "'" + text + "', line 2, column 'top_mass_fraction': expected a number"));
+}
+
+// Bed dynamics: z_CoG = 0.10, 0.12, 0.10, 0.12 m, Delta z_CoG = 0.01 m; a bed_dynamics.csv
+// of 0.008 m; Delta DB = |0.01 - 0.008| / 0.008 = 0.25 (the second the denominator).
+void distance(const std::string &dir) {
+  const std::string cog = write(dir + "/bed-cog.csv", "time_s,z_cog_bed_m,delta_z_m\n0,0.1,0\n1,0.12,0\n"
+                                                      "2,0.1,0\n3,0.12,0\n");
+  const std::string bed = write(dir + "/bed_dynamics.csv", "samples,mean_z_cog_m,delta_z_cog_m\n4,0.1,0.008\n");
+  const double a = bedDynamicsOfFile(table(cog)), b = bedDynamicsOfFile(table(bed));
+  RCFD_CHECK_CLOSE(a, 0.01, 1e-15);
+  RCFD_CHECK_CLOSE(databaseDistance(a, b), 0.25, 1e-12);
+  RCFD_CHECK_CLOSE(databaseDistance(b, a), 0.2, 1e-12);
+  RCFD_CHECK(throwsWith([&] { bedDynamicsOfFile(table(dir + "/ensemble.csv")); }, "is an ensemble summary"));
+  RCFD_CHECK(throwsWith([&] { bedDynamicsOfFile(table(dir + "/ref-profiles.csv")); }, "has no z_cog_bed_m column"));
+}
+
+} // namespace
+
+int main() {
+  char tmpl[] = "/tmp/rcfd_test_comparison_XXXXXX";
+  const char *dir = mkdtemp(tmpl);
+  if (!dir) return 1;
+  deltaZ(dir);
+  bottomLayer(dir);
+  profiles(dir);
+  halves(dir);
+  distance(dir);
+  std::filesystem::remove_all(dir);
+  return RCFD_TEST_RESULT();
+}
