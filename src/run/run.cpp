@@ -161,6 +161,7 @@ PetscErrorCode Run::setFromOptions() {
   PetscCall(r.ledger.setFromOptions(r.comm));
   PetscCall(r.cog->setFromOptions(r.comm));
   r.monitors.front().every = r.cog->every();
+  PetscCall(r.answers.setFromOptions(r.comm));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
@@ -187,6 +188,9 @@ PetscErrorCode Run::setUp() {
     const long fieldSteps = r.fieldsEvery > 0 ? std::max(1L, std::lround(r.fieldsEvery / dt)) : 0L;
     r.monitors.insert(r.monitors.begin() + 1, {std::make_unique<FieldMonitor>(), fieldSteps, "fields"});
   }
+  std::vector<Answers::Named> asked; // none unless the case asks
+  PetscCall(r.answers.createMonitors(ctx, r.steps * dt, r.quiet == PETSC_TRUE, &asked));
+  for (auto &a : asked) r.monitors.push_back({std::move(a.monitor), a.every, a.name});
   for (auto &m : r.monitors) PetscCall(m.monitor->setUp(ctx, r.fstate, r.outputDir));
   r.isSetUp = true;
   if (r.restartFile.empty()) PetscCall(r.initialState());
@@ -316,6 +320,7 @@ PetscErrorCode Run::view(PetscViewer viewer) const {
                                    r.tEnd, r.steps, r.restartFile.empty() ? r.initKind.c_str() : r.restartFile.c_str(),
                                    r.outputDir.c_str()));
   PetscCall(r.path->view(viewer));
+  PetscCall(r.answers.view(viewer));
   std::string list;
   for (const auto &e : r.monitors)
     list += (list.empty() ? "" : ", ") + e.name + " (every " + std::to_string(e.every) + " steps)";
