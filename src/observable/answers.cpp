@@ -9,6 +9,12 @@
 
 namespace rcfd {
 
+std::string plain(double value) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%g", value);
+  return text;
+}
+
 void TimeWindow::resolve(double tEnd) {
   if (std::isnan(begin)) {
     begin = std::max(0.0, tEnd - 1.0);
@@ -143,12 +149,13 @@ PetscErrorCode Answers::createMonitors(const RunContext &run, double tEnd, bool 
     const bool given_ = !std::isnan(w->begin);
     w->resolve(tEnd);
     PetscCheck(!given_ || w->begin <= tEnd * (1 + 1e-12), comm, PETSC_ERR_USER_INPUT,
-               "The %s window %g,%g s begins after the run's end at %g s (-t_end)",
-               w == &profilesWindow ? "-profiles" : "-halves", w->begin, w->end, tEnd);
+               "The %s window %s,%s s begins after the run's end at %s s (-t_end)",
+               w == &profilesWindow ? "-profiles" : "-halves", plain(w->begin).c_str(), plain(w->end).c_str(),
+               plain(tEnd).c_str());
   }
   for (double t : snapshotTimes)
     PetscCheck(t <= tEnd * (1 + 1e-12), comm, PETSC_ERR_USER_INPUT,
-               "-snapshots_times: %g s is after the run's end at %g s (-t_end)", t, tEnd);
+               "-snapshots_times: %s s is after the run's end at %s s (-t_end)", plain(t).c_str(), plain(tEnd).c_str());
   if (!zones.all().empty()) PetscCall(zones.setUp(run.db.mesh(), run.db.layout(), run.db.metadata().gravity));
 
   std::shared_ptr<LayerSampler> sampler;
@@ -170,8 +177,8 @@ PetscErrorCode Answers::createMonitors(const RunContext &run, double tEnd, bool 
     gas.density = value[1];
     gas.kinematicViscosity = value[2];
     PetscCheck(run.solidDensity > gas.density, comm, PETSC_ERR_USER_INPUT,
-               "u_mf needs a particle density (%g kg/m^3) above the gas density (%g kg/m^3, -gas_density)",
-               run.solidDensity, gas.density);
+               "u_mf needs a particle density (%s kg/m^3) above the gas density (%s kg/m^3, -gas_density)",
+               plain(run.solidDensity).c_str(), plain(gas.density).c_str());
     out->push_back({std::make_unique<BottomLayerMonitor>(sampler, findUmfCorrelation(correlation), gas, value[0],
                                                          &zones, quiet),
                     every, "bottom.csv"});

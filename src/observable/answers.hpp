@@ -27,6 +27,9 @@
 
 namespace rcfd {
 
+/// %g as C prints it (PETSc's own %g adds a trailing dot to whole numbers), for messages.
+std::string plain(double value);
+
 /// A closed time interval [begin, end] in seconds; NaN ends mean "the last
 /// second of the run" until resolved.
 struct TimeWindow {

@@ -105,8 +105,8 @@ PetscErrorCode HalvesMonitor::setUp(const RunContext &run, const FractionState &
     const HorizontalLayers &g = sampler->geometry();
     const double low = g.height(0), high = g.height(g.numLayers() - 1);
     PetscCheck(splitHeight >= std::min(low, high) && splitHeight <= std::max(low, high), comm,
-               PETSC_ERR_USER_INPUT, "-halves_split %g m is outside the layer centres %g to %g m of the mesh",
-               splitHeight, std::min(low, high), std::max(low, high));
+               PETSC_ERR_USER_INPUT, "-halves_split %s m is outside the layer centres %s to %s m of the mesh",
+               plain(splitHeight).c_str(), plain(std::min(low, high)).c_str(), plain(std::max(low, high)).c_str());
     const bool upward = high > low;
     fixedSplit = -1;
     for (int l = 0; l < g.numLayers(); ++l)
