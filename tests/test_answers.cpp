@@ -8,6 +8,7 @@
 #include "state_access.hpp"
 
 #include "analysis/particle_reference.hpp"
+#include "base/h5.hpp"
 #include "observable/answers.hpp"
 
 #include <cmath>
@@ -321,6 +322,50 @@ PetscErrorCode sameAsReference(const std::string &dir) {
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
+// Format version 2 stores the conditions a database was recorded at; a
+// version 1 file (no conditions) is still read; a bad condition is refused.
+PetscErrorCode formatVersions(const std::string &dir) {
+  PetscFunctionBeginUser;
+  int size, rank;
+  MPI_Comm_size(PETSC_COMM_WORLD, &size);
+  MPI_Comm_rank(PETSC_COMM_WORLD, &rank);
+  BoxSpec s;
+  s.nx = s.ny = 1;
+  s.nz = 2;
+  s.length = {0.1, 0.1, 0.2};
+  DatabaseMetadata meta;
+  meta.conditions.superficialVelocity = 1.2;
+  meta.conditions.gasKinematicViscosity = 1.5e-5;
+  const std::string stem = dir + "/answers_version_np" + std::to_string(size);
+  test::writeIdentityDatabase(stem + "_2.h5", Mesh::box(s), {0.5, 0.5}, meta);
+  test::writeIdentityDatabase(stem + "_1.h5", Mesh::box(s), {0.5, 0.5}, meta);
+  test::writeIdentityDatabase(stem + "_bad.h5", Mesh::box(s), {0.5, 0.5}, meta);
+  if (rank == 0) { // as rcfd 1 wrote it: version 1, no conditions
+    h5::File one = h5::File::openReadWrite(stem + "_1.h5");
+    one.writeAttr("/", "format_version", 1LL);
+    H5Adelete_by_name(one.id(), "/metadata", "superficial_velocity", H5P_DEFAULT);
+    H5Adelete_by_name(one.id(), "/metadata", "gas_kinematic_viscosity", H5P_DEFAULT);
+    h5::File bad = h5::File::openReadWrite(stem + "_bad.h5");
+    bad.writeAttr("/metadata", "gas_density", -1.0);
+  }
+  PetscCallMPI(MPI_Barrier(PETSC_COMM_WORLD));
+  std::unique_ptr<Database> two, one, bad;
+  PetscCall(Database::load(PETSC_COMM_WORLD, stem + "_2.h5", DatabaseLoadOptions{}, &two));
+  const OperatingConditions &c = two->metadata().conditions;
+  RCFD_CHECK(c.superficialVelocity == 1.2 && c.gasKinematicViscosity == 1.5e-5 && std::isnan(c.gasDensity));
+  PetscCall(Database::load(PETSC_COMM_WORLD, stem + "_1.h5", DatabaseLoadOptions{}, &one));
+  RCFD_CHECK(std::isnan(one->metadata().conditions.superficialVelocity));
+  RCFD_CHECK(one->numFrames() == 1);
+  PetscCall(PetscPushErrorHandler(PetscReturnErrorHandler, nullptr));
+  const PetscErrorCode refused = Database::load(PETSC_COMM_WORLD, stem + "_bad.h5", DatabaseLoadOptions{}, &bad);
+  PetscCall(PetscPopErrorHandler());
+  char *text = nullptr;
+  PetscErrorMessage(refused, nullptr, &text);
+  RCFD_CHECK(refused != 0 && text && std::string(text).find("/metadata gas_density must be a positive number") !=
+                                         std::string::npos);
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
 } // namespace
 
 int main(int argc, char **argv) {
@@ -330,6 +375,7 @@ int main(int argc, char **argv) {
   RCFD_CHECK(layeredBed(dir) == 0);
   RCFD_CHECK(warningOnce(dir) == 0);
   RCFD_CHECK(sameAsReference(dir) == 0);
+  RCFD_CHECK(formatVersions(dir) == 0);
   const int failed = test::globalFailures();
   PetscCall(PetscFinalize());
   return failed == 0 ? 0 : 1;
