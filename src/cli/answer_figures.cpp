@@ -15,7 +15,10 @@ PetscErrorCode drawAnswerFigures(MPI_Comm comm, const std::string &dir, const st
   // Every rank sees the output directory (the run wrote it from rank 0).
   const auto withReference = [&](std::vector<std::string> args, const std::string &name) {
     const std::string ref = referenceDir + "/" + name;
-    if (!referenceDir.empty() && fs::exists(ref)) args.insert(args.end(), {"--reference", ref});
+    // The legend names the reference by its directory (e.g. "reference", or "bi" for another run).
+    const std::string label = fs::path(referenceDir).filename().string();
+    if (!referenceDir.empty() && fs::exists(ref))
+      args.insert(args.end(), {"--reference", ref, "--reference-label", label.empty() ? "reference" : label});
     return args;
   };
   if (fs::exists(dir + "/profiles.csv"))
@@ -34,7 +37,7 @@ PetscErrorCode drawAnswerFigures(MPI_Comm comm, const std::string &dir, const st
     const std::string name = entry.path().filename().string();
     if (name.rfind("snapshot_", 0) == 0 && entry.path().extension() == ".csv") snapshots.push_back(entry.path().string());
   }
-  std::sort(snapshots.begin(), snapshots.end()); // the times print with a fixed number of decimals
+  std::sort(snapshots.begin(), snapshots.end()); // snapshots.py puts them in time order
   if (!snapshots.empty()) {
     snapshots.insert(snapshots.end(), {"-o", dir + "/snapshots.png"});
     PetscCall(drawFigure(comm, "snapshots.py", snapshots));

@@ -20,22 +20,23 @@ def read_halves(path):
 
 def main():
     parser = rf.arguments(__doc__, "halves.csv of rcfd run -halves", ".png")
+    parser.add_argument("--reference-label", default="reference", help="legend name of the reference")
     parser.add_argument("--reference", help="halves.csv of rcfd reference")
     args = rf.parse(parser)
 
     labels, run = read_halves(args.csv)
     ratio = run["d_over_d32"]
     d32 = rf.np.median(run["diameter"] / ratio)
-    fig, ax = rf.plt.subplots(figsize=(7.0, 4.5))
+    fig, ax = rf.plt.subplots(figsize=(7.0, 5.0))
     ax.plot(ratio, run["bottom_mass_fraction"], "o-", color="tab:blue", label="bottom half")
     ax.plot(ratio, run["top_mass_fraction"], "s-", color="tab:red", label="top half")
     if args.reference:
         _, ref = read_halves(args.reference)
         ref_ratio = ref["d_over_d32"] if "d_over_d32" in ref else ref["diameter"] / d32
         ax.plot(ref_ratio, ref["bottom_mass_fraction"], "o--", color="tab:blue", mfc="none",
-                label="bottom half, reference")
+                label=f"bottom half, {args.reference_label}")
         ax.plot(ref_ratio, ref["top_mass_fraction"], "s--", color="tab:red", mfc="none",
-                label="top half, reference")
+                label=f"top half, {args.reference_label}")
     ax.axvline(1.0, color="gray", lw=0.8, ls=":")
     for x, text in zip(ratio, labels):
         ax.annotate(text[1:].replace("mm", " mm"), (x, 0), xytext=(0, 4), textcoords="offset points",
@@ -43,7 +44,8 @@ def main():
     ax.set_xlabel(f"$d_i / d_{{32}}$ [-]   ($d_{{32}}$ of the inventory = {1e3 * d32:.3f} mm)")
     ax.set_ylabel("mass fraction in the half [-]")
     ax.set_ylim(bottom=0)
-    ax.legend(loc="best", frameon=False)
+    ax.margins(x=0.08)
+    ax.legend(loc="upper center", bbox_to_anchor=(0.5, -0.14), ncol=2, frameon=False)
     ax.set_title(args.title or "size distribution of the bottom and top halves")
     rf.save(fig, args.output)
 

@@ -20,6 +20,7 @@ def label(column):
 
 def main():
     parser = rf.arguments(__doc__, "profiles.csv of rcfd run -profiles", ".png")
+    parser.add_argument("--reference-label", default="reference", help="legend name of the reference")
     parser.add_argument("--reference", help="profiles.csv of rcfd reference, drawn dashed")
     args = rf.parse(parser)
 
@@ -33,11 +34,18 @@ def main():
         ax.plot(run[column], 1e3 * run["z"], color=colour, lw=1.5, label=label(column))
         if reference is not None and column in reference:
             ax.plot(reference[column], 1e3 * reference["z"], color=colour, lw=1.2, ls="--")
-    total.plot(run["alpha_total"], 1e3 * run["z"], color="black", lw=1.5, label="rcfd")
+    total.plot(run["alpha_total"], 1e3 * run["z"], color="black", lw=1.5, label="this run")
     if reference is not None:
+        # Fractions of the reference that this run does not have (another inventory): grey shades.
+        others = [c for c in alpha_columns(reference) if c not in run]
+        for k, column in enumerate(others):
+            grey = str(0.25 + 0.45 * k / max(1, len(others) - 1))
+            ax.plot(reference[column], 1e3 * reference["z"], color=grey, lw=1.2, ls="--",
+                    label=f"{args.reference_label}: {label(column)}")
+        if len(others) < len(alpha_columns(reference)):
+            ax.plot([], [], color="gray", ls="--", label=f"{args.reference_label} (dashed)")
         total.plot(reference["alpha_total"], 1e3 * reference["z"], color="black", lw=1.2, ls="--",
-                   label="reference")
-        ax.plot([], [], color="gray", ls="--", label="reference (dashed)")
+                   label=args.reference_label)
     ax.set_xlabel("fraction's volume fraction $\\alpha_i$ [-]")
     ax.set_ylabel("height $z$ [mm]")
     total.set_xlabel("solid volume fraction $\\alpha_s$ [-]")
@@ -48,9 +56,9 @@ def main():
         highest = 1e3 * run["z"][top].max()
         spacing = 1e3 * (run["z"][1] - run["z"][0]) if len(run["z"]) > 1 else highest
         ax.set_ylim(0, highest + 3 * spacing)
-    ax.legend(loc="upper right", frameon=False)
+    ax.legend(loc="upper center", bbox_to_anchor=(0.5, -0.12), ncol=2, frameon=False)
     if reference is not None:
-        total.legend(loc="upper right", frameon=False)
+        total.legend(loc="upper center", bbox_to_anchor=(0.5, -0.12), frameon=False)
     fig.suptitle(args.title or "vertical profiles, mean over the window and the cross-section")
     rf.save(fig, args.output)
 

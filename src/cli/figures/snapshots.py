@@ -20,6 +20,7 @@ def main():
     parser.add_argument("--title", default="")
     args = parser.parse_args()
 
+    args.csv.sort(key=snapshot_time)  # in time order, whatever order the shell listed them in
     tables = [rf.read_csv(path) for path in args.csv]
     names = list(tables[0])
     across, up = names[0], names[1]
@@ -45,8 +46,8 @@ def main():
         image = ax.pcolormesh(1e3 * edges(xs), 1e3 * edges(zs), grid, cmap="viridis", vmin=0, vmax=vmax,
                               shading="flat")
         ax.set_aspect("equal")
-        match = re.search(r"snapshot_([0-9.]+)s", os.path.basename(path))
-        ax.set_title(f"$t$ = {float(match.group(1)):g} s" if match else os.path.basename(path))
+        t = snapshot_time(path)
+        ax.set_title(f"$t$ = {t:g} s" if t != float("inf") else os.path.basename(path))
         ax.set_xlabel(f"{across[:-2]} [mm]")
     axes[0][0].set_ylabel(f"{up[:-2]} [mm]")
     axes[0][0].set_ylim(0, 1e3 * top)
@@ -55,6 +56,12 @@ def main():
     fig.colorbar(image, ax=axes[0].tolist(), shrink=0.9, label=f"volume fraction $\\alpha$ of {pretty} [-]")
     fig.suptitle(args.title or "vertical mid-plane of the bed")
     rf.save(fig, args.output)
+
+
+def snapshot_time(path):
+    """The time in a snapshot_<t>s.csv name (infinity for another name)."""
+    match = re.search(r"snapshot_([0-9.]+)s", os.path.basename(path))
+    return float(match.group(1)) if match else float("inf")
 
 
 def edges(centres):
