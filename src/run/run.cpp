@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <sstream>
 #include <stdexcept>
 #include <sys/resource.h>
@@ -210,13 +211,21 @@ PetscErrorCode Run::Impl::callMonitors(long step, double time, int frame, bool l
   const RunContext ctx = context();
   const MonitorContext m{step, time, frame, last, fstate, ctx, outputDir};
   for (auto &e : monitors)
-    if (step == 0 || last || (e.every > 0 && step % e.every == 0)) PetscCall(e.monitor->sample(m));
+    if (step == 0 || last || (e.every > 0 && step % e.every == 0)) {
+      const double start = MPI_Wtime();
+      PetscCall(e.monitor->sample(m));
+      e.seconds += MPI_Wtime() - start;
+    }
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
 PetscErrorCode Run::Impl::flushMonitors() {
   PetscFunctionBeginUser;
-  for (auto &e : monitors) PetscCall(e.monitor->flush());
+  for (auto &e : monitors) {
+    const double start = MPI_Wtime();
+    PetscCall(e.monitor->flush());
+    e.seconds += MPI_Wtime() - start;
+  }
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
@@ -306,6 +315,16 @@ PetscErrorCode Run::solve() {
                           taken, taken * dt, wall, taken > 0 ? wall / (taken * dt) : 0.0, peakMb, worst,
                           r.ledger.largestCorrection(), low, r.outputDir.c_str(),
                           r.writeFields ? (", " + r.outputDir + "/fields.xmf").c_str() : ""));
+    // What each monitor cost (rank 0's wall time, sampling and writing).
+    std::string costs;
+    double total = 0.0;
+    char item[160];
+    for (const auto &e : r.monitors) {
+      std::snprintf(item, sizeof item, "%s%s %.3g s", costs.empty() ? "" : ", ", e.name.c_str(), e.seconds);
+      costs += item;
+      total += e.seconds;
+    }
+    PetscCall(PetscPrintf(r.comm, "  monitors: %.3g s of the wall (%s)\n", total, costs.c_str()));
   }
   PetscFunctionReturn(PETSC_SUCCESS);
 }

@@ -21,6 +21,7 @@ struct Run::Impl {
     std::unique_ptr<Monitor> monitor;
     long every;
     std::string name;
+    double seconds = 0.0; // wall time spent in the monitor while stepping
   };
 
   PetscErrorCode initialState();      // src/state/initial_state.cpp
