@@ -78,6 +78,18 @@ grep -q "u_sup = 1.1 m/s (default), gas density 1.189 kg/m^3 (default)" "$work/c
   fail "default conditions: $(cat "$work/cond2.txt")"
 awk -F, 'NR == 2 { exit !($4 == 1.1) }' "$work/cond2/bottom.csv" && ok || fail "u_sup column: $(head -2 "$work/cond2/bottom.csv")"
 
+# The figures, where python3 has matplotlib: PNG files for each answer.
+python=${RCFD_PYTHON:-/usr/bin/python3}
+if "$python" -c 'import matplotlib, numpy' 2>/dev/null; then
+  "$rcfd" run -db "$db" -fields 0 -quiet -t_end 0.3 "${answers[@]}" -snapshots_times 0,0.3 -plot 1 \
+    -output_dir "$work/plots" -plot_reference "$work/np1" >"$work/plots.txt" 2>&1 || fail "figures: $(cat "$work/plots.txt")"
+  for png in profiles halves bottom snapshots; do
+    if [ "$(od -An -tx1 -N8 "$work/plots/$png.png" 2>/dev/null | tr -d ' \n')" = 89504e470d0a1a0a ]; then ok; else
+      fail "no $png.png: $(cat "$work/plots.txt")"
+    fi
+  done
+fi
+
 # Bad options.
 base=(run -db "$db" -fields 0 -plot 0 -quiet -t_end 0.1 -output_dir "$work/bad")
 expect_error "-profiles_window takes two times t0,t1 in seconds with 0 <= t0 <= t1" "${base[@]}" -profiles -profiles_window 0.3,0.1
