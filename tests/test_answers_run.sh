@@ -40,6 +40,12 @@ for np in 1 2; do
   fi
 done
 
+# A restart that asks for a windowed answer the checkpoint did not keep is refused.
+plain=(-db "$db" -quiet -fields 0 -plot 0)
+"$rcfd" run "${plain[@]}" -t_end 0.4 -checkpoint_every 0.4 -output_dir "$work/plain"
+expect_error "holds no state of the monitor profiles.csv: ask for the same answers as the run that wrote the checkpoint" \
+  run "${plain[@]}" -t_end 0.8 -profiles -restart "$work/plain/checkpoint.h5" -output_dir "$work/other"
+
 # 1 and 2 ranks, replayed.
 for np in 1 2; do
   run "replay np$np" mpiexec -n $np "$rcfd" run "${common[@]}" -t_end 0.5 -init layered -output_dir "$work/np$np"

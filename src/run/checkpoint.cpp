@@ -38,7 +38,13 @@ PetscErrorCode Run::Impl::writeCheckpoint(long step) const {
     PetscCall(VecView(natural, v));
   }
   std::vector<std::pair<std::string, std::vector<double>>> states; // the same on every rank
-  for (const auto &e : monitors) states.emplace_back(e.name, e.monitor->saveState());
+  for (const auto &e : monitors) {
+    states.emplace_back(e.name, e.monitor->saveState());
+    for (std::size_t k = 0; k + 1 < states.size(); ++k)
+      PetscCheck(states.back().second.empty() || states[k].first != e.name || states[k].second.empty(), comm,
+                 PETSC_ERR_ARG_WRONG, "Two monitors named '%s' keep state for checkpoints; give them different names",
+                 e.name.c_str());
+  }
   PetscCall(collectively(comm, [&] {
     if (rank != 0) return;
     {
@@ -96,6 +102,9 @@ PetscErrorCode Run::Impl::readCheckpoint() {
         for (std::size_t m = 0; m < monitors.size(); ++m) {
           const std::string name = "/monitors/" + monitors[m].name;
           if (f.exists("/monitors") && f.exists(name)) states[m] = f.read<double>(name);
+          else if (!monitors[m].monitor->saveState().empty()) // e.g. window sums: they would start from nothing
+            throw h5::Error("-restart '" + restartFile + "' holds no state of the monitor " + monitors[m].name +
+                            ": ask for the same answers as the run that wrote the checkpoint");
         }
         if (step > steps)
           throw h5::Error("-restart '" + restartFile + "' is at step " + std::to_string(step) +
