@@ -12,9 +12,13 @@ PetscErrorCode OperatingConditions::fromOptions(MPI_Comm comm, OperatingConditio
     double *value;
   };
   const Entry entries[] = {
-      {"-superficial_velocity", "Superficial gas velocity u_sup [m/s]", &c->superficialVelocity},
-      {"-gas_density", "Gas density rho_g [kg/m^3]", &c->gasDensity},
-      {"-gas_kinematic_viscosity", "Gas kinematic viscosity nu [m^2/s] (mu = rho_g nu)", &c->gasKinematicViscosity},
+      {"-superficial_velocity", "Superficial gas velocity u_sup [m/s] (nan: not given; a run then uses the database's, else 1.1)",
+       &c->superficialVelocity},
+      {"-gas_density", "Gas density rho_g [kg/m^3] (nan: not given; a run then uses the database's, else 1.189)",
+       &c->gasDensity},
+      {"-gas_kinematic_viscosity",
+       "Gas kinematic viscosity nu [m^2/s], mu = rho_g nu (nan: not given; a run then uses the database's, else 1e-5)",
+       &c->gasKinematicViscosity},
   };
   PetscFunctionBeginUser;
   PetscOptionsBegin(comm, nullptr, "Operating conditions of the bed", "rcfd");

@@ -63,7 +63,7 @@ namespace {
 // Inside a PetscOptionsBegin block, whose PetscOptionsObject it takes.
 PetscErrorCode windowOption(PetscOptionItems *PetscOptionsObject, MPI_Comm comm, const char *name, const char *help,
                             TimeWindow *w) {
-  PetscReal v[2];
+  PetscReal v[2] = {0.0, 0.0};
   PetscInt n = 2;
   PetscBool set = PETSC_FALSE;
   PetscFunctionBeginUser;
@@ -112,7 +112,7 @@ PetscErrorCode Answers::setFromOptions(MPI_Comm c) {
                              &mixing, nullptr));
   PetscCall(PetscOptionsBool("-bed_dynamics", "Write bed_dynamics.csv: mean z_CoG and Delta z_CoG", "", dynamics,
                              &dynamics, nullptr));
-  PetscReal times[64];
+  PetscReal times[64] = {0.0};
   PetscInt nt = 64;
   PetscBool snapshots = PETSC_FALSE;
   PetscCall(PetscOptionsRealArray("-snapshots_times", "Times [s] of mid-plane snapshots", "", times, &nt, &snapshots));
