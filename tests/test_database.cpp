@@ -161,7 +161,7 @@ void brokenFiles() {
   expectRefusal("format", [](const h5::File &f) { f.writeAttr("/", "format", std::string("other")); },
                 "is not an rcfd database");
   expectRefusal("version", [](const h5::File &f) { f.writeAttr("/", "format_version", 99LL); },
-                "has format version 99, this rcfd reads version 1");
+                "has format version 99, this rcfd reads versions 1 and 2");
   expectRefusal("metadata", [](const h5::File &f) { H5Ldelete(f.id(), "/metadata", H5P_DEFAULT); },
                 "has no group '/metadata'");
   expectRefusal("frame_missing",

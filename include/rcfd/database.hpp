@@ -8,13 +8,30 @@
 #include "rcfd/layout.hpp"
 #include "rcfd/mesh.hpp"
 
+#include <limits>
 #include <memory>
 #include <string>
 #include <vector>
 
 namespace rcfd {
 
-inline constexpr long long kDatabaseFormatVersion = 1;
+/// Version written; version 1 files (without operating conditions) are still read.
+inline constexpr long long kDatabaseFormatVersion = 2;
+
+/// The operating conditions of a fluidized bed: what a database was recorded
+/// at (format version 2, attributes on /metadata) or what a case runs at.
+/// NaN means "not given".  mu = rho_g nu.
+struct OperatingConditions {
+  double superficialVelocity = std::numeric_limits<double>::quiet_NaN();   ///< u_sup [m/s]
+  double gasDensity = std::numeric_limits<double>::quiet_NaN();            ///< rho_g [kg/m^3]
+  double gasKinematicViscosity = std::numeric_limits<double>::quiet_NaN(); ///< nu [m^2/s]
+
+  /// Collective.  Reads -superficial_velocity [m/s], -gas_density [kg/m^3] and
+  /// -gas_kinematic_viscosity [m^2/s]; those not given stay NaN.  Refuses a
+  /// value that is not positive and finite, naming the option.
+  /// src/database/operating_conditions.cpp
+  static PetscErrorCode fromOptions(MPI_Comm comm, OperatingConditions *conditions);
+};
 
 struct DatabaseMetadata {
   double dtRec = 5e-3;          // time between frames [s]
@@ -22,6 +39,7 @@ struct DatabaseMetadata {
   Vec3 gravity{0.0, 0.0, -9.81}; // [m/s^2]
   std::string source;           // how the database was made, for humans
   std::string units = "SI";
+  OperatingConditions conditions; // format version 2; NaN: not recorded
 };
 
 /// Writes a database file from one process, frame by frame.  The file is

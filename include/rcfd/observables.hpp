@@ -3,6 +3,11 @@
 // `every` steps and at the end; its time loop knows nothing else about them.
 // Built in: the centres of gravity and masses per fraction over time
 // (cog.csv, -monitor_every) and fields for ParaView (HDF5 + XDMF, -fields).
+// Asked for by a case (docs/answers.md): vertical profiles (-profiles), the
+// halves' size distributions (-halves), the bottom layer's Sauter diameter,
+// u_mf and the de-fluidization warning (-bottom_layer), Lacey's mixing index
+// (-mixing_index), bed dynamics (-bed_dynamics), mid-plane snapshots
+// (-snapshots_times); src/observable/answers.hpp.
 //
 // A new observable is a Monitor (or, for a quick one, a MonitorFn):
 //
@@ -48,6 +53,17 @@ public:
   virtual PetscErrorCode sample(const MonitorContext &ctx) = 0;
   /// The default does nothing.
   virtual PetscErrorCode flush();
+
+  /// Checkpoint contract.  What the monitor needs to continue a run exactly
+  /// (sums over a time window, a detector's state, the rows written so far),
+  /// the same on every rank; the run stores it in the checkpoint under the
+  /// monitor's name and hands it back to restoreState() after setUp() when it
+  /// restarts, so that a restarted run writes the same numbers bit for bit.
+  /// The default saves nothing.
+  virtual std::vector<double> saveState() const;
+  /// Collective.  The default refuses a non-empty state (a monitor that saves
+  /// state must restore it).
+  virtual PetscErrorCode restoreState(const std::vector<double> &state);
 };
 
 /// A monitor given as a function.

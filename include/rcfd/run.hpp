@@ -41,7 +41,8 @@ public:
   /// the mass ledger and the built-in monitors read theirs.  Collective.
   /// Options: -db, -t_end, -output_dir, -pipeline, -init, -init_file, -fields,
   /// -fields_every, -checkpoint_every, -checkpoint_file, -restart,
-  /// -solid_density, -quiet, -progress_interval, -run_view [viewer].
+  /// -solid_density, -quiet, -progress_interval, -run_view [viewer]; the answers'
+  /// monitors (-profiles, -halves, -bottom_layer, ... src/observable/answers.hpp).
   PetscErrorCode setFromOptions();
 
   /// Setters applied after setFromOptions and before setUp; they override the options.
@@ -55,7 +56,8 @@ public:
   /// Adds an observable to the list the time loop calls: at the initial
   /// state (not after a restart), after every step whose number is a multiple
   /// of `every` (0: none), and after the last step.  Before solve().
-  /// Monitors do not take part in checkpoints: after a restart they see the
+  /// A checkpoint stores each monitor's Monitor::saveState() under its name
+  /// and a restart hands it back (restoreState) before the monitor sees the
   /// steps from the restart on.  Collective when called after setUp().
   PetscErrorCode addMonitor(MonitorFn fn, long every, const std::string &name = "monitor");
   PetscErrorCode addMonitor(std::unique_ptr<Monitor> monitor, long every,

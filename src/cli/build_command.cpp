@@ -97,6 +97,8 @@ PetscErrorCode buildCommand(MPI_Comm comm) {
   PetscCallMPI(MPI_Comm_rank(comm, &rank));
   PetscCall(readBuildOptions(comm, &out));
   PetscCall(readParticleInputOptions(comm, &in));
+  OperatingConditions conditions; // recorded in the file when given (format version 2)
+  PetscCall(OperatingConditions::fromOptions(comm, &conditions));
   if (helpRequested()) PetscFunctionReturn(PETSC_SUCCESS);
   PetscCall(rejectUnusedOptions(comm, "build"));
 
@@ -121,6 +123,7 @@ PetscErrorCode buildCommand(MPI_Comm comm) {
     meta.dtRec = dtRec;
     meta.solidDensity = in.solidDensity;
     meta.gravity = {0.0, 0.0, -out.gravity};
+    meta.conditions = conditions;
     {
       std::ostringstream s;
       s.precision(9);

@@ -149,6 +149,8 @@ PetscErrorCode buildEulerianCommand(MPI_Comm comm) {
   PetscFunctionBeginUser;
   PetscCallMPI(MPI_Comm_rank(comm, &rank));
   PetscCall(readEulerianOptions(comm, &in));
+  OperatingConditions conditions; // recorded in the file when given (format version 2)
+  PetscCall(OperatingConditions::fromOptions(comm, &conditions));
   if (helpRequested()) PetscFunctionReturn(PETSC_SUCCESS);
   PetscCall(rejectUnusedOptions(comm, "build"));
 
@@ -171,6 +173,7 @@ PetscErrorCode buildEulerianCommand(MPI_Comm comm) {
     meta.dtRec = opt.dtRec;
     meta.solidDensity = in.solidDensity;
     meta.gravity = {0.0, 0.0, -in.gravity};
+    meta.conditions = conditions;
     {
       std::ostringstream s;
       s.precision(9);

@@ -1,3 +1,4 @@
+#include "cli/answer_figures.hpp"
 #include "cli/commands.hpp"
 #include "base/checked_options.hpp"
 #include "base/petsc_compat.hpp"
@@ -58,11 +59,14 @@ PetscErrorCode runCommand(MPI_Comm comm) {
   const OperatorRegistry registry = OperatorRegistry::withBuiltins();
   Run run(comm, registry);
   PetscCall(run.setFromOptions());
+  char reference[PETSC_MAX_PATH_LEN] = "";
   PetscOptionsBegin(comm, nullptr, "rcfd run: ensembles and figures", "rcfd");
   PetscCall(checkedInt(PetscOptionsObject, "-ensemble",
                        "Run this many stitched paths (seeds path_seed, path_seed+1, ...)",
                        &members, 1, 100000));
   PetscCall(PetscOptionsBool("-plot", "Draw figures of the results at the end", "", plot, &plot, nullptr));
+  PetscCall(PetscOptionsString("-plot_reference", "Directory of rcfd reference whose profiles.csv and halves.csv "
+                               "the figures show alongside the run's", "", reference, reference, sizeof reference, nullptr));
   PetscOptionsEnd();
   if (helpRequested()) PetscFunctionReturn(PETSC_SUCCESS);
   PetscCall(rejectUnusedOptions(comm, "run"));
@@ -78,6 +82,7 @@ PetscErrorCode runCommand(MPI_Comm comm) {
   PetscCall(run.solve());
   const std::string dir = run.outputDirectory();
   if (plot) PetscCall(drawCogFigures(comm, dir + "/cog.csv", dir + "/cog.png", dir));
+  if (plot) PetscCall(drawAnswerFigures(comm, dir, reference));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 

@@ -71,6 +71,8 @@ PetscErrorCode synthCommand(MPI_Comm comm) {
   PetscFunctionBeginUser;
   PetscCallMPI(MPI_Comm_rank(comm, &rank));
   PetscCall(readSynthOptions(comm, &options, &path, &quiet));
+  OperatingConditions conditions; // recorded in the file when given (format version 2)
+  PetscCall(OperatingConditions::fromOptions(comm, &conditions));
   if (helpRequested()) PetscFunctionReturn(PETSC_SUCCESS);
   PetscCall(rejectUnusedOptions(comm, "synth"));
   PetscCall(collectively(comm, [&] { validateSyntheticBedOptions(options); }, PETSC_ERR_USER_INPUT));
@@ -82,6 +84,7 @@ PetscErrorCode synthCommand(MPI_Comm comm) {
     DatabaseMetadata meta;
     meta.dtRec = options.dtRec;
     meta.gravity = {0.0, 0.0, -options.gravity};
+    meta.conditions = conditions;
     meta.source = "rcfd synth: kinematic stand-in for a bubbling bed (not physics), seed " +
                   std::to_string(options.seed);
     DatabaseWriter writer(path, Mesh::box(options.box), meta);

@@ -90,14 +90,34 @@ Mesh readMesh(const h5::File &f) {
   return mesh;
 }
 
+// Operating conditions (format version 2): optional attributes on /metadata.
+constexpr const char *kConditionNames[3] = {"superficial_velocity", "gas_density", "gas_kinematic_viscosity"};
+
+void readConditions(const h5::File &f, OperatingConditions *c) {
+  double *value[3] = {&c->superficialVelocity, &c->gasDensity, &c->gasKinematicViscosity};
+  for (int i = 0; i < 3; ++i) {
+    if (!f.hasAttribute("/metadata", kConditionNames[i])) continue;
+    *value[i] = f.readAttrDouble("/metadata", kConditionNames[i]);
+    if (!(*value[i] > 0) || !std::isfinite(*value[i]))
+      throw h5::Error("database '" + f.path() + "': /metadata " + kConditionNames[i] +
+                      " must be a positive number");
+  }
+}
+
+void writeConditions(const h5::File &f, const OperatingConditions &c) {
+  const double value[3] = {c.superficialVelocity, c.gasDensity, c.gasKinematicViscosity};
+  for (int i = 0; i < 3; ++i)
+    if (std::isfinite(value[i])) f.writeAttr("/metadata", kConditionNames[i], value[i]);
+}
+
 void checkFormat(const h5::File &f) {
   if (!f.hasAttribute("/", "format") || f.readAttrString("/", "format") != kFormatName)
     throw h5::Error("'" + f.path() + "' is not an rcfd database (its root has no attribute format = \"" +
                     kFormatName + "\")");
   const long long version = f.readAttrInt("/", "format_version");
-  if (version != kDatabaseFormatVersion)
+  if (version != 1 && version != kDatabaseFormatVersion)
     throw h5::Error("database '" + f.path() + "' has format version " + std::to_string(version) +
-                    ", this rcfd reads version " + std::to_string(kDatabaseFormatVersion));
+                    ", this rcfd reads versions 1 and " + std::to_string(kDatabaseFormatVersion));
 }
 
 DatabaseMetadata readMetadata(const h5::File &f) {
@@ -110,6 +130,7 @@ DatabaseMetadata readMetadata(const h5::File &f) {
   std::copy(g.begin(), g.end(), m.gravity.begin());
   if (f.hasAttribute("/metadata", "source")) m.source = f.readAttrString("/metadata", "source");
   if (f.hasAttribute("/metadata", "units")) m.units = f.readAttrString("/metadata", "units");
+  readConditions(f, &m.conditions); // version 2; absent in version 1
   if (!(m.dtRec > 0) || !std::isfinite(m.dtRec))
     throw h5::Error("database '" + f.path() + "': dt_rec must be a positive number of seconds");
   if (!(m.solidDensity > 0))
@@ -238,6 +259,7 @@ DatabaseWriter::DatabaseWriter(const std::string &path, const Mesh &mesh,
   f.writeAttr("/metadata", "gravity", std::vector<double>(meta.gravity.begin(), meta.gravity.end()));
   f.writeAttr("/metadata", "source", meta.source);
   f.writeAttr("/metadata", "units", meta.units);
+  writeConditions(f, meta.conditions);
   f.createGroup("/frames");
 }
 
@@ -266,7 +288,8 @@ void DatabaseWriter::writeMatrix(const std::string &name, const std::vector<doub
 }
 
 void DatabaseWriter::setNote(const std::string &key, const std::string &text) {
-  for (const char *reserved : {"dt_rec", "solid_density", "gravity", "source", "units"})
+  for (const char *reserved : {"dt_rec", "solid_density", "gravity", "source", "units",
+                               "superficial_velocity", "gas_density", "gas_kinematic_viscosity"})
     if (key == reserved)
       throw std::invalid_argument("DatabaseWriter::setNote: '" + key +
                                   "' is a metadata attribute of the format");
@@ -521,6 +544,10 @@ PetscErrorCode Database::view(PetscViewer viewer) const {
                                    meta.solidDensity, meta.gravity[0], meta.gravity[1],
                                    meta.gravity[2]));
   PetscCall(PetscViewerASCIIPrintf(viewer, "source: %s\n", meta.source.c_str()));
+  const OperatingConditions &c = meta.conditions;
+  if (std::isfinite(c.superficialVelocity) || std::isfinite(c.gasDensity) || std::isfinite(c.gasKinematicViscosity))
+    PetscCall(PetscViewerASCIIPrintf(viewer, "recorded at: u_sup %g m/s, gas density %g kg/m^3, gas kinematic viscosity %g m^2/s (nan: not recorded)\n",
+                                     c.superficialVelocity, c.gasDensity, c.gasKinematicViscosity));
   if (hasShifts()) {
     PetscInt nnz = 0;
     for (const auto &T : shifts) {

@@ -8,5 +8,13 @@ PetscErrorCode Monitor::setUp(const RunContext &, const FractionState &, const s
   return PETSC_SUCCESS;
 }
 PetscErrorCode Monitor::flush() { return PETSC_SUCCESS; }
+std::vector<double> Monitor::saveState() const { return {}; }
+
+PetscErrorCode Monitor::restoreState(const std::vector<double> &state) {
+  PetscFunctionBeginUser;
+  PetscCheck(state.empty(), PETSC_COMM_SELF, PETSC_ERR_ARG_WRONG,
+             "A monitor that saves no state was given %zu numbers from a checkpoint", state.size());
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
 
 } // namespace rcfd

@@ -7,6 +7,7 @@
 //   /frames_used       frame of every step so far
 //   /samples           [rows, 2 nf + 5]    the monitor's samples so far
 //   /ledger_reference  the mass ledger's reference totals
+//   /monitors/<name>   each monitor's saved state (Monitor::saveState), when not empty
 //   root attributes    format = "rcfd-checkpoint", step, num_fractions, num_cells, database
 #include "path/frame_path.hpp"
 #include "base/petsc_compat.hpp"
@@ -44,6 +45,14 @@ PetscErrorCode Run::Impl::writeCheckpoint(long step) const {
     PetscCall(PetscViewerDestroy(&v)); // closes the file, with its status checked
     PetscCall(viewed);
   }
+  std::vector<std::pair<std::string, std::vector<double>>> states; // the same on every rank
+  for (const auto &e : monitors) {
+    states.emplace_back(e.name, e.monitor->saveState());
+    for (std::size_t k = 0; k + 1 < states.size(); ++k)
+      PetscCheck(states.back().second.empty() || states[k].first != e.name || states[k].second.empty(), comm,
+                 PETSC_ERR_ARG_WRONG, "Two monitors named '%s' keep state for checkpoints; give them different names",
+                 e.name.c_str());
+  }
   PetscCall(collectively(comm, [&] {
     if (rank != 0) return;
     {
@@ -63,6 +72,9 @@ PetscErrorCode Run::Impl::writeCheckpoint(long step) const {
       }
       f.write("/samples", flat, static_cast<hsize_t>(BedSample::flatSize(nf)));
       f.write("/ledger_reference", ledger.reference());
+      f.createGroup("/monitors");
+      for (const auto &e : states)
+        if (!e.second.empty()) f.write("/monitors/" + e.first, e.second);
       f.close();
     }
     out->commit();
@@ -76,6 +88,7 @@ PetscErrorCode Run::Impl::readCheckpoint() {
   std::vector<int64_t> words;
   std::vector<int32_t> used;
   std::vector<double> flat, reference;
+  std::vector<std::vector<double>> states(monitors.size());
   PetscFunctionBeginUser;
   PetscCall(collectively(
       comm,
@@ -94,6 +107,13 @@ PetscErrorCode Run::Impl::readCheckpoint() {
         flat = f.read<double>("/samples");
         reference = f.read<double>("/ledger_reference", nf);
         path->restoreState(std::vector<std::uint64_t>(words.begin(), words.end()));
+        for (std::size_t m = 0; m < monitors.size(); ++m) {
+          const std::string name = "/monitors/" + monitors[m].name;
+          if (f.exists("/monitors") && f.exists(name)) states[m] = f.read<double>(name);
+          else if (!monitors[m].monitor->saveState().empty()) // e.g. window sums: they would start from nothing
+            throw h5::Error("-restart '" + restartFile + "' holds no state of the monitor " + monitors[m].name +
+                            ": ask for the same answers as the run that wrote the checkpoint");
+        }
         if (step > steps)
           throw h5::Error("-restart '" + restartFile + "' is at step " + std::to_string(step) +
                           ", beyond this run's " + std::to_string(steps) + " steps (-t_end)");
@@ -116,6 +136,7 @@ PetscErrorCode Run::Impl::readCheckpoint() {
     samples.push_back(BedSample::unflatten(flat.data() + r, nf));
   cog->restore(std::move(samples));
   ledger.restore(reference);
+  for (std::size_t m = 0; m < monitors.size(); ++m) PetscCall(monitors[m].monitor->restoreState(states[m]));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 

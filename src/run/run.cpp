@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <filesystem>
 #include <cmath>
+#include <cstdio>
 #include <sstream>
 #include <stdexcept>
 #include <sys/resource.h>
@@ -174,6 +175,7 @@ PetscErrorCode Run::setFromOptions() {
   PetscCall(r.ledger.setFromOptions(r.comm));
   PetscCall(r.cog->setFromOptions(r.comm));
   r.monitors.front().every = r.cog->every();
+  PetscCall(r.answers.setFromOptions(r.comm));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
@@ -210,6 +212,9 @@ PetscErrorCode Run::setUp() {
     const long fieldSteps = r.fieldsEvery > 0 ? std::max(1L, std::lround(r.fieldsEvery / dt)) : 0L;
     r.monitors.insert(r.monitors.begin() + 1, {std::make_unique<FieldMonitor>(), fieldSteps, "fields"});
   }
+  std::vector<Answers::Named> asked; // none unless the case asks
+  PetscCall(r.answers.createMonitors(ctx, r.steps * dt, r.quiet == PETSC_TRUE, &asked));
+  for (auto &a : asked) r.monitors.push_back({std::move(a.monitor), a.every, a.name});
   for (auto &m : r.monitors) PetscCall(m.monitor->setUp(ctx, r.fstate, r.outputDir));
   r.isSetUp = true;
   if (r.restartFile.empty())
@@ -230,13 +235,21 @@ PetscErrorCode Run::Impl::callMonitors(long step, double time, int frame, bool l
   const RunContext ctx = context();
   const MonitorContext m{step, time, frame, last, fstate, ctx, outputDir};
   for (auto &e : monitors)
-    if (step == 0 || last || (e.every > 0 && step % e.every == 0)) PetscCall(e.monitor->sample(m));
+    if (step == 0 || last || (e.every > 0 && step % e.every == 0)) {
+      const double start = MPI_Wtime();
+      PetscCall(e.monitor->sample(m));
+      e.seconds += MPI_Wtime() - start;
+    }
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
 PetscErrorCode Run::Impl::flushMonitors() {
   PetscFunctionBeginUser;
-  for (auto &e : monitors) PetscCall(e.monitor->flush());
+  for (auto &e : monitors) {
+    const double start = MPI_Wtime();
+    PetscCall(e.monitor->flush());
+    e.seconds += MPI_Wtime() - start;
+  }
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
@@ -326,6 +339,16 @@ PetscErrorCode Run::solve() {
                           taken, taken * dt, wall, taken > 0 ? wall / (taken * dt) : 0.0, peakMb, worst,
                           r.ledger.largestCorrection(), low, r.outputDir.c_str(),
                           r.writeFields ? (", " + r.outputDir + "/fields.xmf").c_str() : ""));
+    // What each monitor cost (rank 0's wall time, sampling and writing).
+    std::string costs;
+    double total = 0.0;
+    char item[160];
+    for (const auto &e : r.monitors) {
+      std::snprintf(item, sizeof item, "%s%s %.3g s", costs.empty() ? "" : ", ", e.name.c_str(), e.seconds);
+      costs += item;
+      total += e.seconds;
+    }
+    PetscCall(PetscPrintf(r.comm, "  monitors: %.3g s of the wall (%s)\n", total, costs.c_str()));
   }
   PetscFunctionReturn(PETSC_SUCCESS);
 }
@@ -340,6 +363,7 @@ PetscErrorCode Run::view(PetscViewer viewer) const {
                                    r.tEnd, r.steps, r.restartFile.empty() ? r.initKind.c_str() : r.restartFile.c_str(),
                                    r.outputDir.c_str()));
   PetscCall(r.path->view(viewer));
+  PetscCall(r.answers.view(viewer));
   std::string list;
   for (const auto &e : r.monitors)
     list += (list.empty() ? "" : ", ") + e.name + " (every " + std::to_string(e.every) + " steps)";

@@ -4,6 +4,7 @@
 #include "rcfd/mass_ledger.hpp"
 #include "rcfd/run.hpp"
 
+#include "observable/answers.hpp"
 #include "observable/cog_monitor.hpp"
 
 namespace rcfd {
@@ -20,6 +21,7 @@ struct Run::Impl {
     std::unique_ptr<Monitor> monitor;
     long every;
     std::string name;
+    double seconds = 0.0; // wall time spent in the monitor while stepping
   };
 
   PetscErrorCode callMonitors(long step, double time, int frame, bool last);
@@ -42,6 +44,7 @@ struct Run::Impl {
   std::unique_ptr<FramePath> path;
   CogMonitor *cog = nullptr; // the first entry of `monitors`
   std::vector<Entry> monitors;
+  Answers answers; // the monitors a case asks for by option (profiles, halves, ...)
   std::vector<int> frames;
   long startStep = 0;
   bool isSetUp = false, solved = false;

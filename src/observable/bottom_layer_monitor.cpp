@@ -1,0 +1,91 @@
+// The bottom cell layer's Sauter diameter over time, u_mf from it, and the
+// de-fluidization warning (paper Sec. 3.2, Fig. 5).
+#include "observable/answers.hpp"
+#include "base/petsc_compat.hpp"
+
+#include "base/collective.hpp"
+
+#include <cmath>
+#include <limits>
+
+namespace rcfd {
+
+PetscErrorCode BottomLayerMonitor::setUp(const RunContext &run, const FractionState &, const std::string &dir) {
+  PetscFunctionBeginUser;
+  comm = run.db.layout().comm();
+  fractions = &run.fractions;
+  rhoP = run.solidDensity;
+  const Vec3 &g = run.db.metadata().gravity;
+  gravity = std::hypot(g[0], g[1], g[2]);
+  path = dir + "/bottom.csv";
+  header = "time_s,d32_bottom_m,umf_m_s,usup_m_s,defluidized";
+  for (const Zone &z : zones->all()) header += ",d32_" + z.name() + "_m";
+  rows = NumberRows(5 + static_cast<int>(zones->all().size()));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode BottomLayerMonitor::sample(const MonitorContext &ctx) {
+  PetscFunctionBeginUser;
+  const std::vector<double> *perLayer;
+  PetscCall(sampler->masses(ctx, &perLayer));
+  const int nf = fractions->size();
+  const double d32 = layers::sauterDiameter(*perLayer, 0, *fractions);
+  // An empty bottom layer has no diameter and no u_mf (NaN): it cannot warn.
+  const double umf = std::isfinite(d32) ? minFluidizationVelocity(correlation, d32, rhoP, gas, gravity)
+                                        : std::numeric_limits<double>::quiet_NaN();
+  if (detector.update(ctx.time, umf))
+    PetscCall(PetscPrintf(comm,
+                          "WARNING: de-fluidization at t = %.6g s: u_mf of the bottom layer (d32 = %.4g mm, %s) "
+                          "= %.4g m/s reached the superficial velocity %.4g m/s\n",
+                          ctx.time, 1e3 * d32, correlation.name.c_str(), umf, detector.superficialVelocity()));
+  std::vector<double> row{ctx.time, d32, umf, detector.superficialVelocity(), umf >= detector.superficialVelocity() ? 1.0 : 0.0};
+  if (!zones->all().empty()) { // each zone's mass per fraction, one reduction for all zones
+    std::vector<double> local(zones->all().size() * nf, 0.0), global(local.size());
+    const PetscScalar *m;
+    PetscCall(VecGetArrayRead(ctx.state.masses(), &m));
+    for (std::size_t z = 0; z < zones->all().size(); ++z)
+      for (PetscInt c : zones->all()[z].localCells())
+        for (int i = 0; i < nf; ++i) local[z * nf + i] += m[c * nf + i];
+    PetscCall(VecRestoreArrayRead(ctx.state.masses(), &m));
+    PetscCallMPI(MPI_Allreduce(local.data(), global.data(), static_cast<int>(local.size()), MPI_DOUBLE, MPI_SUM, comm));
+    for (std::size_t z = 0; z < zones->all().size(); ++z) // a zone is one "layer" of nf masses
+      row.push_back(layers::sauterDiameter(global, static_cast<int>(z), *fractions));
+  }
+  rows.add(row);
+  if (ctx.last && !quiet) {
+    if (detector.fired())
+      PetscCall(PetscPrintf(comm, "  bottom layer: de-fluidized from t = %.6g s on (%s)\n", detector.firstTime(),
+                            correlation.name.c_str()));
+    else
+      PetscCall(PetscPrintf(comm, "  bottom layer: u_mf (%s) stayed below u_sup = %g m/s; last d32 %.4g mm, u_mf %.4g m/s\n",
+                            correlation.name.c_str(), detector.superficialVelocity(), 1e3 * d32, umf));
+  }
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode BottomLayerMonitor::flush() {
+  PetscMPIInt rank;
+  PetscFunctionBeginUser;
+  PetscCallMPI(MPI_Comm_rank(comm, &rank));
+  if (rank == 0) PetscCall(writeFileAtomically(path, rows.csv(header)));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+// State: {fired, first time, rows...}.
+std::vector<double> BottomLayerMonitor::saveState() const {
+  std::vector<double> state = detector.saveState();
+  state.insert(state.end(), rows.flat().begin(), rows.flat().end());
+  return state;
+}
+
+PetscErrorCode BottomLayerMonitor::restoreState(const std::vector<double> &state) {
+  PetscFunctionBeginUser;
+  PetscCheck(state.size() >= 2 && rows.restore(state.data() + 2, state.size() - 2), PETSC_COMM_SELF,
+             PETSC_ERR_FILE_UNEXPECTED,
+             "The checkpoint's bottom.csv state does not fit this run's columns (other zones?)");
+  PetscCall(collectively(PETSC_COMM_SELF, [&] { detector.restoreState({state[0], state[1]}); },
+                         PETSC_ERR_FILE_UNEXPECTED));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+} // namespace rcfd

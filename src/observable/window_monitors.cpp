@@ -1,0 +1,169 @@
+// Monitors averaged over a time window: vertical profiles and the halves'
+// size distributions, written in the layout of rcfd reference's files
+// (src/analysis/particle_reference.cpp) so that rcfd compare can diff them.
+#include "observable/answers.hpp"
+#include "base/petsc_compat.hpp"
+
+#include <cmath>
+#include <cstdio>
+
+namespace rcfd {
+namespace {
+
+std::string formatNumber(double v) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%.9g", v);
+  return text;
+}
+
+// State layout of both: {count, sums...}.
+PetscErrorCode restoreSums(const std::vector<double> &state, const char *name, double *count,
+                           std::vector<std::vector<double> *> sums) {
+  std::size_t n = 1;
+  for (auto *s : sums) n += s->size();
+  PetscFunctionBeginUser;
+  PetscCheck(state.size() == n, PETSC_COMM_SELF, PETSC_ERR_FILE_UNEXPECTED,
+             "The checkpoint's %s state holds %zu numbers, this run needs %zu (another mesh or fractions?)", name,
+             state.size(), n);
+  *count = state[0];
+  std::size_t at = 1;
+  for (auto *s : sums)
+    for (double &v : *s) v = state[at++];
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+} // namespace
+
+PetscErrorCode ProfilesMonitor::setUp(const RunContext &run, const FractionState &, const std::string &dir) {
+  PetscFunctionBeginUser;
+  comm = run.db.layout().comm();
+  fractions = &run.fractions;
+  rho = run.solidDensity;
+  path = dir + "/profiles.csv";
+  sums.assign(static_cast<std::size_t>(sampler->geometry().numLayers()) * fractions->size(), 0.0);
+  count = 0.0;
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode ProfilesMonitor::sample(const MonitorContext &ctx) {
+  PetscFunctionBeginUser;
+  if (!window.contains(ctx.time)) PetscFunctionReturn(PETSC_SUCCESS);
+  const std::vector<double> *perLayer;
+  PetscCall(sampler->masses(ctx, &perLayer));
+  for (std::size_t k = 0; k < sums.size(); ++k) sums[k] += (*perLayer)[k];
+  count += 1.0;
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode ProfilesMonitor::flush() {
+  PetscMPIInt rank;
+  PetscFunctionBeginUser;
+  PetscCallMPI(MPI_Comm_rank(comm, &rank));
+  if (rank != 0 || count == 0.0) PetscFunctionReturn(PETSC_SUCCESS);
+  const int nf = fractions->size();
+  const HorizontalLayers &g = sampler->geometry();
+  char line[256];
+  std::snprintf(line, sizeof line,
+                "# SI units: z [m] layer centre; alpha = solid volume of the fraction in the layer / layer volume, "
+                "mean over %.0f samples in [%g, %g] s\nz",
+                count, window.begin, window.end);
+  std::string text = line;
+  for (int i = 0; i < nf; ++i) text += ",alpha_" + fractions->label(i);
+  text += ",alpha_total\n";
+  for (int l = 0; l < g.numLayers(); ++l) {
+    text += formatNumber(g.height(l));
+    double total = 0.0;
+    for (int i = 0; i < nf; ++i) {
+      const double alpha = sums[static_cast<std::size_t>(l) * nf + i] / count / (rho * g.volume(l));
+      total += alpha;
+      text += "," + formatNumber(alpha);
+    }
+    text += "," + formatNumber(total) + "\n";
+  }
+  PetscCall(writeFileAtomically(path, text));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+std::vector<double> ProfilesMonitor::saveState() const {
+  std::vector<double> state{count};
+  state.insert(state.end(), sums.begin(), sums.end());
+  return state;
+}
+
+PetscErrorCode ProfilesMonitor::restoreState(const std::vector<double> &state) {
+  return restoreSums(state, "profiles.csv", &count, {&sums});
+}
+
+PetscErrorCode HalvesMonitor::setUp(const RunContext &run, const FractionState &, const std::string &dir) {
+  PetscFunctionBeginUser;
+  comm = run.db.layout().comm();
+  fractions = &run.fractions;
+  path = dir + "/halves.csv";
+  bottomSum.assign(fractions->size(), 0.0);
+  topSum.assign(fractions->size(), 0.0);
+  count = 0.0;
+  if (!std::isnan(splitHeight)) { // the last layer whose centre is at or below the height
+    const HorizontalLayers &g = sampler->geometry();
+    const double low = g.height(0), high = g.height(g.numLayers() - 1);
+    PetscCheck(splitHeight >= std::min(low, high) && splitHeight <= std::max(low, high), comm,
+               PETSC_ERR_USER_INPUT, "-halves_split %s m is outside the layer centres %s to %s m of the mesh",
+               plain(splitHeight).c_str(), plain(std::min(low, high)).c_str(), plain(std::max(low, high)).c_str());
+    const bool upward = high > low;
+    fixedSplit = -1;
+    for (int l = 0; l < g.numLayers(); ++l)
+      if (upward ? g.height(l) <= splitHeight : g.height(l) >= splitHeight) fixedSplit = l;
+  }
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode HalvesMonitor::sample(const MonitorContext &ctx) {
+  PetscFunctionBeginUser;
+  if (!window.contains(ctx.time)) PetscFunctionReturn(PETSC_SUCCESS);
+  const std::vector<double> *perLayer;
+  PetscCall(sampler->masses(ctx, &perLayer));
+  const int nf = fractions->size();
+  const int split = std::isnan(splitHeight) ? layers::medianLayer(*perLayer, nf) : fixedSplit;
+  std::vector<double> bottom, top;
+  layers::halves(*perLayer, nf, split, &bottom, &top);
+  // As rcfd reference: an empty half adds nothing, the sample still counts.
+  for (int i = 0; i < nf; ++i) {
+    if (std::isfinite(bottom[i])) bottomSum[i] += bottom[i];
+    if (std::isfinite(top[i])) topSum[i] += top[i];
+  }
+  count += 1.0;
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode HalvesMonitor::flush() {
+  PetscMPIInt rank;
+  PetscFunctionBeginUser;
+  PetscCallMPI(MPI_Comm_rank(comm, &rank));
+  if (rank != 0 || count == 0.0) PetscFunctionReturn(PETSC_SUCCESS);
+  const double d32 = fractions->inventorySauterDiameter();
+  char line[320];
+  std::snprintf(line, sizeof line,
+                "# mass fractions of each size class below (up to and with the split layer) / above the %s, "
+                "mean over %.0f samples in [%g, %g] s; diameter [m]; d_over_d32: diameter / inventory d32 = %.6g m\n",
+                std::isnan(splitHeight) ? "bed's mass-median layer" : "layer of -halves_split", count, window.begin,
+                window.end, d32);
+  std::string text = std::string(line) + "class,diameter,bottom_mass_fraction,top_mass_fraction,d_over_d32\n";
+  for (int i = 0; i < fractions->size(); ++i)
+    text += fractions->label(i) + "," + formatNumber(fractions->diameter(i)) + "," +
+            formatNumber(bottomSum[i] / count) + "," + formatNumber(topSum[i] / count) + "," +
+            formatNumber(fractions->diameter(i) / d32) + "\n";
+  PetscCall(writeFileAtomically(path, text));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+std::vector<double> HalvesMonitor::saveState() const {
+  std::vector<double> state{count};
+  state.insert(state.end(), bottomSum.begin(), bottomSum.end());
+  state.insert(state.end(), topSum.begin(), topSum.end());
+  return state;
+}
+
+PetscErrorCode HalvesMonitor::restoreState(const std::vector<double> &state) {
+  return restoreSums(state, "halves.csv", &count, {&bottomSum, &topSum});
+}
+
+} // namespace rcfd
