@@ -9,26 +9,34 @@ std::string recurrenceDatasetName(RecurrenceNorm norm) {
   return std::string("recurrence_") + recurrenceNormName(norm);
 }
 
+// Rank 0 computes the matrix from the frames in natural cell order, exactly as
+// one rank does, and broadcasts it: partial sums per rank would change its last
+// bits with the number of ranks, and a stitching path, which ranks candidates
+// by these values, would then differ between 1 and 2 ranks.  The price is
+// K x cells doubles on rank 0 while the matrix is computed.
 PetscErrorCode computeRecurrence(const Database &db, RecurrenceNorm norm, std::vector<double> *R) {
   const int K = db.numFrames();
+  const MPI_Comm comm = db.layout().comm();
   PetscMPIInt rank;
   PetscFunctionBeginUser;
-  PetscCallMPI(MPI_Comm_rank(db.layout().comm(), &rank));
-  std::vector<const double *> frames(K);
-  for (int k = 0; k < K; ++k) PetscCall(VecGetArrayRead(db.alphaS(k), &frames[k]));
-  std::vector<double> partial;
-  PetscCall(collectively(db.layout().comm(), [&] {
-    recurrencePartial(norm, frames, db.localVolumes().data(), db.localVolumes().size(), partial);
-  }));
-  for (int k = 0; k < K; ++k) PetscCall(VecRestoreArrayRead(db.alphaS(k), &frames[k]));
+  PetscCallMPI(MPI_Comm_rank(comm, &rank));
+  std::vector<std::vector<double>> natural(K);
+  for (int k = 0; k < K; ++k) {
+    PetscCall(db.layout().gatherToAll(1, db.alphaS(k), &natural[k]));
+    if (rank != 0) std::vector<double>().swap(natural[k]);
+  }
   R->assign(static_cast<size_t>(K) * K, 0.0);
-  PetscCallMPI(MPI_Reduce(partial.data(), R->data(), K * K, MPI_DOUBLE,
-                          recurrenceNeedsMaxReduction(norm) ? MPI_MAX : MPI_SUM, 0,
-                          db.layout().comm()));
-  PetscCall(collectively(db.layout().comm(), [&] {
-    if (rank == 0) recurrenceFinish(norm, K, *R);
+  PetscCall(collectively(comm, [&] {
+    if (rank != 0) return;
+    std::vector<const double *> frames(K);
+    for (int k = 0; k < K; ++k) frames[k] = natural[k].data();
+    const auto &volume = db.mesh().cellVolume;
+    std::vector<double> partial;
+    recurrencePartial(norm, frames, volume.data(), volume.size(), partial);
+    *R = std::move(partial);
+    recurrenceFinish(norm, K, *R);
   }));
-  PetscCallMPI(MPI_Bcast(R->data(), K * K, MPI_DOUBLE, 0, db.layout().comm()));
+  PetscCallMPI(MPI_Bcast(R->data(), K * K, MPI_DOUBLE, 0, comm));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
