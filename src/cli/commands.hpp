@@ -9,6 +9,7 @@ namespace rcfd::cli {
 PetscErrorCode runCommand(MPI_Comm comm);
 PetscErrorCode synthCommand(MPI_Comm comm);
 PetscErrorCode infoCommand(MPI_Comm comm, const char *positional);
+PetscErrorCode coarsenCommand(MPI_Comm comm, const char *positional);
 PetscErrorCode buildCommand(MPI_Comm comm);
 /// rcfd build -eulerian PATTERN (buildCommand hands over when -eulerian is given).
 PetscErrorCode buildEulerianCommand(MPI_Comm comm);

@@ -2,6 +2,7 @@
 #include "cli/argument_check.hpp"
 #include "cli/commands.hpp"
 
+#include <csignal>
 #include <cstdio>
 #include <cstring>
 #include <string>
@@ -19,6 +20,8 @@ const Command commands[] = {
     {"synth", false, "write the embedded default database (a kinematic bubbling bed)",
      "rcfd synth -o FILE", [](MPI_Comm c, const char *) { return rcfd::cli::synthCommand(c); }},
     {"info", true, "print what a database holds", "rcfd info FILE", rcfd::cli::infoCommand},
+    {"coarsen", true, "an exactly coarsened copy of a database (space and time)",
+     "rcfd coarsen FILE -factor 2,1,2 [-time_factor 2] -o OUT", rcfd::cli::coarsenCommand},
     {"recurrence", true, "compute, store and draw the recurrence matrix of a database",
      "rcfd recurrence FILE", rcfd::cli::recurrenceCommand},
     {"plot", true, "PNG figures of a run's cog.csv", "rcfd plot RUN/cog.csv", rcfd::cli::plotCommand},
@@ -103,6 +106,9 @@ int main(int argc, char **argv) {
   }
   const std::string help = usage();
   if (PetscInitialize(&pargc, &pargv, nullptr, help.c_str()) != 0) return 1;
+  // `rcfd info DB | head` ends quietly, as any command-line tool does, instead
+  // of PETSc reporting the broken pipe as a crash.
+  std::signal(SIGPIPE, SIG_DFL);
   // Errors travel up as codes; this program prints one sentence for the user
   // instead of PETSc's traceback (-rcfd_traceback restores it for debugging).
   PetscBool traceback = PETSC_FALSE;

@@ -1,0 +1,98 @@
+// rcfd coarsen: an exactly coarsened copy of a database (src/database/coarsen.hpp).
+#include "cli/commands.hpp"
+#include "base/petsc_compat.hpp"
+
+#include "base/collective.hpp"
+#include "base/h5.hpp"
+#include "database/coarsen.hpp"
+#include "rcfd/database.hpp"
+
+#include <cstdio>
+
+namespace rcfd::cli {
+namespace {
+
+// Frame k as the file stores it: read directly, not through Database::load,
+// which rescales columns to sum to one (so that factor 1 copies the bits).
+FrameRecord frameOf(const h5::File &f, int k, int cells) {
+  char group[32];
+  std::snprintf(group, sizeof group, "/frames/%06d", k);
+  const std::string g = group;
+  FrameRecord r;
+  r.alphaS = f.read<double>(g + "/alpha_s");
+  r.shift.n = cells;
+  r.shift.rowPtr = f.read<int64_t>(g + "/shift_row_ptr");
+  r.shift.col = f.read<int32_t>(g + "/shift_col");
+  r.shift.val = f.read<double>(g + "/shift_val");
+  return r;
+}
+
+} // namespace
+
+PetscErrorCode coarsenCommand(MPI_Comm comm, const char *positional) {
+  char in[PETSC_MAX_PATH_LEN] = "", out[PETSC_MAX_PATH_LEN] = "";
+  PetscInt factor[3] = {1, 1, 1}, nfactor = 3, timeFactor = 1;
+  PetscBool setIn = PETSC_FALSE, setOut = PETSC_FALSE, setFactor = PETSC_FALSE, quiet = PETSC_FALSE;
+  PetscMPIInt size;
+  PetscFunctionBeginUser;
+  PetscOptionsBegin(comm, nullptr, "rcfd coarsen: an exactly coarsened copy of a database", "rcfd");
+  PetscCall(PetscOptionsString("-db", "Database file (or give it as the first argument)", "", "", in, sizeof in,
+                               &setIn));
+  PetscCall(PetscOptionsString("-o", "Coarsened database file", "", "", out, sizeof out, &setOut));
+  PetscCall(PetscOptionsIntArray("-factor", "Fine cells per coarse cell along x,y,z (each divides the cell count)",
+                                 "", factor, &nfactor, &setFactor));
+  PetscCall(PetscOptionsInt("-time_factor", "Frames per coarse frame: 1, or 2 (each pair composed, dt_rec doubled)",
+                            "", timeFactor, &timeFactor, nullptr));
+  PetscCall(PetscOptionsBool("-quiet", "No report", "", quiet, &quiet, nullptr));
+  PetscOptionsEnd();
+  if (helpRequested()) PetscFunctionReturn(PETSC_SUCCESS);
+  PetscCall(rejectUnusedOptions(comm, "coarsen"));
+  const std::string file = positional ? positional : in;
+  PetscCallMPI(MPI_Comm_size(comm, &size));
+  PetscCheck(size == 1, comm, PETSC_ERR_SUP, "rcfd coarsen runs on one rank (it reads the whole database)");
+  PetscCheck(!file.empty(), comm, PETSC_ERR_USER_INPUT, "No database given: rcfd coarsen FILE -factor 2,1,2 -o OUT");
+  PetscCheck(setOut && out[0], comm, PETSC_ERR_USER_INPUT, "rcfd coarsen needs -o FILE for the coarsened database");
+  PetscCheck(!setFactor || nfactor == 3, comm, PETSC_ERR_USER_INPUT, "-factor takes three counts fx,fy,fz");
+  PetscCheck(timeFactor == 1 || timeFactor == 2, comm, PETSC_ERR_USER_INPUT,
+             "-time_factor %d: expected 1 or 2 (compose twice for 4)", (int)timeFactor);
+  PetscCheck(file != out, comm, PETSC_ERR_USER_INPUT, "-o names the input database; give another file");
+  // The loader checks the file (format, sizes, columns) and gives mesh and metadata.
+  std::unique_ptr<Database> db;
+  PetscCall(Database::load(comm, file, DatabaseLoadOptions{}, &db));
+  const int cells = db->mesh().numCells();
+  PetscCheck(db->mesh().isBox(), comm, PETSC_ERR_SUP, "Database '%s': rcfd coarsen needs a box mesh", file.c_str());
+  const int K = db->numFrames() / static_cast<int>(timeFactor);
+  PetscCheck(K >= 1, comm, PETSC_ERR_USER_INPUT, "Database '%s' has too few frames for -time_factor %d",
+             file.c_str(), (int)timeFactor);
+  CoarseBox coarse;
+  PetscCall(collectively(comm, [&] {
+    coarse = coarsenBox(db->mesh().boxSpec(), {(int)factor[0], (int)factor[1], (int)factor[2]});
+  }, PETSC_ERR_USER_INPUT));
+  DatabaseMetadata meta = db->metadata();
+  meta.dtRec *= static_cast<double>(timeFactor);
+  meta.source = "rcfd coarsen " + file + " -factor " + std::to_string(factor[0]) + "," + std::to_string(factor[1]) +
+                "," + std::to_string(factor[2]) + " -time_factor " + std::to_string(timeFactor) + " (" +
+                db->metadata().source + ")";
+  std::unique_ptr<DatabaseWriter> writer;
+  PetscCall(collectively(comm, [&] { writer = std::make_unique<DatabaseWriter>(out, Mesh::box(coarse.box), meta); }));
+  const std::vector<double> &volume = db->mesh().cellVolume;
+  int64_t nnz = 0;
+  PetscCall(collectively(comm, [&] {
+    const h5::File f = h5::File::openRead(file, MPI_COMM_NULL);
+    for (int k = 0; k < K; ++k) {
+      FrameRecord a = frameOf(f, static_cast<int>(timeFactor) * k, cells);
+      if (timeFactor == 2) a = composeFrames(a, frameOf(f, 2 * k + 1, cells));
+      const FrameRecord c = coarsenFrame(a, volume, coarse);
+      nnz += c.shift.nnz();
+      writer->append(c);
+    }
+  }));
+  PetscCall(collectively(comm, [&] { writer->finish(); }));
+  if (!quiet)
+    PetscCall(PetscPrintf(comm, "Wrote %s: %d x %d x %d cells, %d frames every %g s, %.3g shift nonzeros per column\n",
+                          out, coarse.box.nx, coarse.box.ny, coarse.box.nz, K, meta.dtRec,
+                          static_cast<double>(nnz) / (static_cast<double>(K) * coarse.box.numCells())));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+} // namespace rcfd::cli
