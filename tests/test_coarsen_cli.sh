@@ -38,6 +38,20 @@ run "run on the coarse database" "$rcfd" run -db "$work/c.h5" -t_end 0.3 -quiet 
 awk -F, 'NR == 2 { a = $6; b = $7 } END { d1 = ($6 - a) / a; d2 = ($7 - b) / b
   exit !(d1 < 1e-12 && d1 > -1e-12 && d2 < 1e-12 && d2 > -1e-12) }' "$work/out/cog.csv" && ok ||
   fail "masses changed on the coarse database"
+# An initial composition from rcfd build -init_out, coarsened with its database: the one coarse
+# cell holds the two particles' masses.
+write_two_particle_dumps
+h5print=$(dirname "$2")/h5_print
+if "$rcfd" build "${common[@]}" -o "$work/p.h5" -init_out "$work/p-init.h5" -quiet &&
+  "$rcfd" coarsen "$work/p.h5" -factor 2,1,2 -o "$work/pc.h5" -init_file "$work/p-init.h5" \
+    -init_out "$work/pc-init.h5" -quiet; then
+  fine=$("$h5print" "$work/p-init.h5" /masses | awk '{ s += $1 } END { printf "%.17g", s }')
+  coarse=$("$h5print" "$work/pc-init.h5" /masses | tr '\n' ' ')
+  same "coarse initial masses" "$(echo $coarse | awk '{ printf "%.17g", $1 + $2 }')" "$fine" 1e-15
+  [ "$(echo $coarse | wc -w)" -eq 2 ] && ok || fail "coarse /masses: $coarse"
+else
+  fail "coarsening a built database and its initial composition"
+fi
 expect_error "the coarsening factor along x is 3" coarsen "$db" -factor 3,1,1 -o "$work/x.h5"
 expect_error "-time_factor 3: expected 1 or 2" coarsen "$db" -time_factor 3 -o "$work/x.h5"
 expect_error "rcfd coarsen needs -o FILE" coarsen "$db" -factor 2,1,2

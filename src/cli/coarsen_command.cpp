@@ -2,12 +2,14 @@
 #include "cli/commands.hpp"
 #include "base/petsc_compat.hpp"
 
+#include "base/atomic_file.hpp"
 #include "base/collective.hpp"
 #include "base/h5.hpp"
 #include "database/coarsen.hpp"
 #include "rcfd/database.hpp"
 
 #include <cstdio>
+#include <stdexcept>
 
 namespace rcfd::cli {
 namespace {
@@ -27,10 +29,34 @@ FrameRecord frameOf(const h5::File &f, int k, int cells) {
   return r;
 }
 
+// An initial composition (/masses [cells x fractions], as rcfd build -init_out
+// writes it) summed into the coarse cells, with its attributes.
+void coarsenInitialMasses(const std::string &in, const std::string &out, const CoarseBox &coarse, int fineCells) {
+  const h5::File f = h5::File::openRead(in, MPI_COMM_NULL);
+  const auto dims = f.extents("/masses");
+  if (dims.size() != 2 || dims[0] != static_cast<hsize_t>(fineCells))
+    throw std::runtime_error("-init_file '" + in + "': /masses should be " + std::to_string(fineCells) +
+                             " cells x fractions to match the database");
+  const std::size_t nf = dims[1];
+  const auto fine = f.read<double>("/masses");
+  std::vector<double> masses(static_cast<std::size_t>(coarse.box.numCells()) * nf, 0.0);
+  for (int c = 0; c < fineCells; ++c)
+    for (std::size_t i = 0; i < nf; ++i) masses[coarse.coarseOf[c] * nf + i] += fine[c * nf + i];
+  AtomicFile file(out);
+  h5::File g = h5::File::create(file.temporaryPath());
+  g.write("/masses", masses, static_cast<hsize_t>(nf));
+  for (const char *a : {"diameters", "mass_shares"})
+    if (f.hasAttribute("/masses", a)) g.writeAttr("/masses", a, f.readAttrDoubles("/masses", a));
+  g.writeAttr("/masses", "note", std::string("summed into coarse cells by rcfd coarsen from ") + in);
+  g.close();
+  file.commit();
+}
+
 } // namespace
 
 PetscErrorCode coarsenCommand(MPI_Comm comm, const char *positional) {
-  char in[PETSC_MAX_PATH_LEN] = "", out[PETSC_MAX_PATH_LEN] = "";
+  char in[PETSC_MAX_PATH_LEN] = "", out[PETSC_MAX_PATH_LEN] = "", initIn[PETSC_MAX_PATH_LEN] = "",
+       initOut[PETSC_MAX_PATH_LEN] = "";
   PetscInt factor[3] = {1, 1, 1}, nfactor = 3, timeFactor = 1;
   PetscBool setIn = PETSC_FALSE, setOut = PETSC_FALSE, setFactor = PETSC_FALSE, quiet = PETSC_FALSE;
   PetscMPIInt size;
@@ -43,6 +69,10 @@ PetscErrorCode coarsenCommand(MPI_Comm comm, const char *positional) {
                                  "", factor, &nfactor, &setFactor));
   PetscCall(PetscOptionsInt("-time_factor", "Frames per coarse frame: 1, or 2 (each pair composed, dt_rec doubled)",
                             "", timeFactor, &timeFactor, nullptr));
+  PetscCall(PetscOptionsString("-init_file", "Also coarsen this initial composition (HDF5 /masses, e.g. from rcfd build -init_out)",
+                               "", "", initIn, sizeof initIn, nullptr));
+  PetscCall(PetscOptionsString("-init_out", "Where the coarsened initial composition goes", "", "", initOut,
+                               sizeof initOut, nullptr));
   PetscCall(PetscOptionsBool("-quiet", "No report", "", quiet, &quiet, nullptr));
   PetscOptionsEnd();
   if (helpRequested()) PetscFunctionReturn(PETSC_SUCCESS);
@@ -55,6 +85,7 @@ PetscErrorCode coarsenCommand(MPI_Comm comm, const char *positional) {
   PetscCheck(!setFactor || nfactor == 3, comm, PETSC_ERR_USER_INPUT, "-factor takes three counts fx,fy,fz");
   PetscCheck(timeFactor == 1 || timeFactor == 2, comm, PETSC_ERR_USER_INPUT,
              "-time_factor %d: expected 1 or 2 (compose twice for 4)", (int)timeFactor);
+  PetscCheck(!initIn[0] == !initOut[0], comm, PETSC_ERR_USER_INPUT, "-init_file and -init_out go together");
   PetscCheck(file != out, comm, PETSC_ERR_USER_INPUT, "-o names the input database; give another file");
   // The loader checks the file (format, sizes, columns) and gives mesh and metadata.
   std::unique_ptr<Database> db;
@@ -88,6 +119,8 @@ PetscErrorCode coarsenCommand(MPI_Comm comm, const char *positional) {
     }
   }));
   PetscCall(collectively(comm, [&] { writer->finish(); }));
+  if (initIn[0])
+    PetscCall(collectively(comm, [&] { coarsenInitialMasses(initIn, initOut, coarse, cells); }, PETSC_ERR_USER_INPUT));
   if (!quiet)
     PetscCall(PetscPrintf(comm, "Wrote %s: %d x %d x %d cells, %d frames every %g s, %.3g shift nonzeros per column\n",
                           out, coarse.box.nx, coarse.box.ny, coarse.box.nz, K, meta.dtRec,
