@@ -35,6 +35,7 @@ template <typename F> bool throwsWith(F &&f, const std::string &text) {
     std::fprintf(stderr, "unexpected message: %s\n", e.what());
     return false;
   }
+  std::fprintf(stderr, "no exception; expected: %s\n", text.c_str());
   return false;
 }
 

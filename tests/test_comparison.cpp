@@ -18,20 +18,9 @@
 #include <string>
 
 using namespace rcfd;
+using rcfd::test::throwsWith;
 
 namespace {
-
-template <typename F> bool throwsWith(F &&f, const std::string &text) {
-  try {
-    f();
-  } catch (const std::exception &e) {
-    if (std::string(e.what()).find(text) != std::string::npos) return true;
-    std::fprintf(stderr, "unexpected message: %s\n", e.what());
-    return false;
-  }
-  std::fprintf(stderr, "no exception; expected: %s\n", text.c_str());
-  return false;
-}
 
 std::string write(const std::string &path, const std::string &text) {
   std::ofstream(path) << text;
