@@ -6,6 +6,8 @@
 //  - feed split by shares and by cell solid, held back while its zone is
 //    empty and delivered whole later; discharge at local concentrations,
 //    never more than the zone holds (emptied to exactly 0, the rest owed);
+//    with -keep_bulk, the zone's cells keep their bulk and the change is
+//    spread over the bed by one factor per fraction;
 //  - a zone without solid in every frame is refused naming it;
 //  - whole runs on small.h5: the per-class mass account closes to round-off
 //    every step with growth, feed and discharge together (the ledger checks
@@ -143,7 +145,7 @@ void feedByHand() {
   Bed bed = makeBed();
   setNatural(*bed.db, bed.state, {0.5, 0.25, 0.25, 1, 1, 1, 1, 1, 1, 0, 0, 0});
   FeedOperator feed;
-  setUp(feed, "feed_", bed, "-feed_zone bottom -feed_rate 4 -feed_mass_shares 0.2,0.3,0.5");
+  setUp(feed, "feed_", bed, "-feed_zone bottom -feed_rate 4 -feed_mass_shares 0.2,0.3,0.5 -feed_keep_bulk 0");
   step(feed, bed);
   checkMasses(bed,
               {0.5 + 0.25 * 0.004, 0.25 + 0.25 * 0.006, 0.25 + 0.25 * 0.01, 1 + 0.75 * 0.004, 1 + 0.75 * 0.006,
@@ -163,7 +165,7 @@ void feedByHand() {
   // Discharge from cell 1 (0.1, 0.2, 0.7 kg): 20 kg/s takes 0.1 kg, a tenth of each class.
   setNatural(*bed.db, bed.state, {1, 1, 1, 0.1, 0.2, 0.7, 1, 1, 1, 0, 0, 0});
   DischargeOperator discharge;
-  setUp(discharge, "discharge_", bed, "-discharge_zone outlet -discharge_rate 20");
+  setUp(discharge, "discharge_", bed, "-discharge_zone outlet -discharge_rate 20 -discharge_keep_bulk 0");
   step(discharge, bed);
   checkMasses(bed, {1, 1, 1, 0.09, 0.18, 0.63, 1, 1, 1, 0, 0, 0}, 1e-15, "discharge");
   RCFD_CHECK(rcfd::test::close(discharge.discharged()[2], 0.07, 1e-15) && discharge.limitedSteps() == 0);
@@ -176,6 +178,44 @@ void feedByHand() {
   step(discharge, bed); // an empty zone: the owed mass grows, nothing changes
   checkMasses(bed, {1, 1, 1, 0, 0, 0, 1, 1, 1, 0, 0, 0}, 0.0, "discharge from an empty zone");
   RCFD_CHECK(rcfd::test::close(discharge.owed(), 2.1, 1e-14));
+}
+
+// With -keep_bulk (the default) the zone's cells keep their bulk and the
+// change is spread by one factor per fraction: a discharge of 0.1 kg from
+// cell 1 (0.1, 0.2, 0.7 kg) takes 0.01, 0.02, 0.07 kg, cell 1 is scaled back
+// to its 1 kg, so every cell ends at s_i m_i with s_i = 1 - P_i / T_i over the
+// totals T = (1.1, 1.2, 1.7); a feed of 0.02 kg (0.2/0.3/0.5) into the bottom
+// layer (cells 0 and 1) changes their composition, keeps their bulk, and
+// brings every fraction's total to T_i + F_i.
+void keepBulkByHand() {
+  const std::vector<double> start{0.5, 0.5, 0.0, 0.1, 0.2, 0.7, 0.5, 0.5, 1.0, 0, 0, 0};
+  const auto scaled = [&](const std::vector<double> &s) {
+    std::vector<double> m = start;
+    for (std::size_t k = 0; k < m.size(); ++k) m[k] *= s[k % 3];
+    return m;
+  };
+  Bed bed = makeBed();
+  setNatural(*bed.db, bed.state, start);
+  DischargeOperator discharge;
+  setUp(discharge, "discharge_", bed, "-discharge_zone outlet -discharge_rate 20");
+  step(discharge, bed);
+  checkMasses(bed, scaled({1 - 0.01 / 1.1, 1 - 0.02 / 1.2, 1 - 0.07 / 1.7}), 1e-15, "discharge keeping the bulk");
+  // The feed changes the composition of cells 0 and 1 (1 kg each: half the feed,
+  // 0.002/0.003/0.005 kg, each), which are scaled back to 1 kg by 1/1.01; then
+  // s_i = (T_i + F_i) / (total now) over the whole bed.
+  setNatural(*bed.db, bed.state, start);
+  FeedOperator feed;
+  setUp(feed, "feed_", bed, "-feed_zone bottom -feed_rate 4 -feed_mass_shares 0.2,0.3,0.5");
+  step(feed, bed);
+  std::vector<double> m = start;
+  const double fed[3] = {0.002, 0.003, 0.005}, total[3] = {1.1, 1.2, 1.7}, feedTotal[3] = {0.004, 0.006, 0.01};
+  for (int c : {0, 1})
+    for (int i = 0; i < 3; ++i) m[3 * c + i] = (m[3 * c + i] + fed[i]) / 1.01;
+  for (int i = 0; i < 3; ++i) {
+    const double now = m[i] + m[3 + i] + m[6 + i] + m[9 + i];
+    for (int c = 0; c < 4; ++c) m[3 * c + i] *= (total[i] + feedTotal[i]) / now;
+  }
+  checkMasses(bed, m, 1e-14, "feed keeping the bulk");
 }
 
 void zonesRefused() {
@@ -313,6 +353,7 @@ int main(int argc, char **argv) {
   if (dir.empty()) return 1;
   growthByHand();
   feedByHand();
+  keepBulkByHand();
   zonesRefused();
   OperatorRegistry registry = OperatorRegistry::withBuiltins();
   accountCloses(registry);

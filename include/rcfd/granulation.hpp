@@ -43,6 +43,18 @@ protected:
   PetscErrorCode zoneMasses(Vec masses, std::vector<double> *perFraction, double *total) const;
   /// One line: the zone and its cells, and the frames in which it is empty.
   PetscErrorCode viewZone(PetscViewer viewer) const;
+  /// Reads -<prefix>keep_bulk inside the options block.
+  PetscErrorCode readKeepBulk(PetscOptionItems *PetscOptionsObject);
+  /// Collective.  Before the operator changes its zone's cells (with -keep_bulk):
+  /// remembers every fraction's total and each zone cell's bulk.
+  PetscErrorCode rememberBulk(const FractionState &state);
+  /// Collective.  After it added `change` to the fractions (kg, per fraction)
+  /// in its zone: each zone cell that holds mass is scaled back to its bulk
+  /// before (composition kept), then every fraction in the whole bed by one
+  /// factor, s_i = (total_i before + change_i) / total_i now, so the totals
+  /// are what the ledger expects and every cell keeps its bulk (the
+  /// database's) up to the factors' spread, second order in the change.
+  PetscErrorCode restoreBulk(FractionState &state, const std::vector<double> &change) const;
 
   MPI_Comm comm = MPI_COMM_NULL;
   int nf = 0;
@@ -50,6 +62,8 @@ protected:
   std::unique_ptr<Zone> zone;
   int emptyFrames_ = 0, frames = 0;
   std::vector<double> added; // [kg] per fraction since the start (removed: negative)
+  PetscBool keepBulk = PETSC_TRUE;
+  std::vector<double> totalsBefore, cellBulkBefore; // scratch of rememberBulk
 };
 
 /// Growth in the spray zone (-growth_zone, default "spray").  A global

@@ -14,6 +14,7 @@ PetscErrorCode DischargeOperator::setFromOptions(MPI_Comm c) {
   PetscFunctionBeginUser;
   PetscOptionsBegin(c, prefix.c_str(), "Discharge from the discharge zone (granulation)", "rcfd");
   PetscCall(readZone(PetscOptionsObject, c));
+  PetscCall(readKeepBulk(PetscOptionsObject));
   PetscCall(checkedReal(PetscOptionsObject, "-rate", "Discharge rate [kg/s] (the feed's for a steady holdup)", &rate,
                         kNonNegative));
   PetscCall(checkedReal(PetscOptionsObject, "-sample_interval", "Simulated time between rows of product.csv [s]",
@@ -49,6 +50,7 @@ PetscErrorCode DischargeOperator::apply(const StepInfo &step, FractionState &sta
   owedMass = all ? wanted - solid : 0.0;
   limitedCount += all;
   std::vector<double> out(nf, 0.0);
+  if (keepBulk) PetscCall(rememberBulk(state));
   PetscScalar *m;
   PetscCall(VecGetArray(state.masses(), &m));
   for (PetscInt c : zone->localCells())
@@ -60,6 +62,11 @@ PetscErrorCode DischargeOperator::apply(const StepInfo &step, FractionState &sta
     }
   PetscCall(VecRestoreArray(state.masses(), &m));
   PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, out.data(), nf, MPI_DOUBLE, MPI_SUM, comm));
+  if (keepBulk) {
+    std::vector<double> change(nf);
+    for (int i = 0; i < nf; ++i) change[i] = -out[i];
+    PetscCall(restoreBulk(state, change));
+  }
   for (int i = 0; i < nf; ++i) added[i] -= out[i];
   PetscFunctionReturn(PETSC_SUCCESS);
 }

@@ -14,6 +14,7 @@ PetscErrorCode FeedOperator::setFromOptions(MPI_Comm c) {
   PetscFunctionBeginUser;
   PetscOptionsBegin(c, prefix.c_str(), "Feed into the feed zone (granulation)", "rcfd");
   PetscCall(readZone(PetscOptionsObject, c));
+  PetscCall(readKeepBulk(PetscOptionsObject));
   PetscCall(checkedReal(PetscOptionsObject, "-rate", "Feed rate m_f [kg/s]", &rate, kNonNegative));
   PetscCall(PetscOptionsRealArray("-mass_shares", "Mass shares of the feed per fraction (default: the inventory's)",
                                   "", values, &n, &set));
@@ -52,6 +53,7 @@ PetscErrorCode FeedOperator::apply(const StepInfo &step, FractionState &state) {
     PetscFunctionReturn(PETSC_SUCCESS);
   }
   // Each cell of the zone takes its share of the zone's solid; empty cells take none.
+  if (keepBulk) PetscCall(rememberBulk(state));
   PetscScalar *m;
   PetscCall(VecGetArray(state.masses(), &m));
   for (PetscInt c : zone->localCells()) {
@@ -61,6 +63,7 @@ PetscErrorCode FeedOperator::apply(const StepInfo &step, FractionState &state) {
     for (int i = 0; i < nf; ++i) m[c * nf + i] += held[i] * share;
   }
   PetscCall(VecRestoreArray(state.masses(), &m));
+  if (keepBulk) PetscCall(restoreBulk(state, held));
   for (int i = 0; i < nf; ++i) {
     added[i] += held[i];
     held[i] = 0.0;

@@ -3,6 +3,7 @@
 #include "rcfd/granulation.hpp"
 #include "base/petsc_compat.hpp"
 
+#include <algorithm>
 #include <numeric>
 
 namespace rcfd {
@@ -71,11 +72,60 @@ PetscErrorCode ZoneOperator::zoneMasses(Vec masses, std::vector<double> *perFrac
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
+PetscErrorCode ZoneOperator::readKeepBulk(PetscOptionItems *PetscOptionsObject) {
+  PetscFunctionBeginUser;
+  PetscCall(PetscOptionsBool("-keep_bulk",
+                             "Keep each zone cell's bulk and spread the change over the bed by one factor per "
+                             "fraction (0: the zone's cells gain or lose the mass)",
+                             "", keepBulk, &keepBulk, nullptr));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode ZoneOperator::rememberBulk(const FractionState &state) {
+  const PetscScalar *m;
+  PetscFunctionBeginUser;
+  PetscCall(state.totals(&totalsBefore));
+  cellBulkBefore.assign(zone->localCells().size(), 0.0);
+  PetscCall(VecGetArrayRead(state.masses(), &m));
+  for (std::size_t k = 0; k < zone->localCells().size(); ++k)
+    for (int i = 0; i < nf; ++i) cellBulkBefore[k] += m[zone->localCells()[k] * nf + i];
+  PetscCall(VecRestoreArrayRead(state.masses(), &m));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode ZoneOperator::restoreBulk(FractionState &state, const std::vector<double> &change) const {
+  PetscScalar *m;
+  PetscInt n;
+  std::vector<double> now;
+  PetscFunctionBeginUser;
+  PetscCall(VecGetArray(state.masses(), &m));
+  for (std::size_t k = 0; k < zone->localCells().size(); ++k) {
+    PetscScalar *cell = m + zone->localCells()[k] * nf;
+    double bulk = 0.0;
+    for (int i = 0; i < nf; ++i) bulk += cell[i];
+    if (bulk > 0.0)
+      for (int i = 0; i < nf; ++i) cell[i] *= cellBulkBefore[k] / bulk;
+  }
+  PetscCall(VecRestoreArray(state.masses(), &m));
+  PetscCall(state.totals(&now));
+  std::vector<double> factor(nf, 1.0);
+  for (int i = 0; i < nf; ++i)
+    if (now[i] > 0.0) factor[i] = std::max(0.0, totalsBefore[i] + change[i]) / now[i];
+  PetscCall(VecGetLocalSize(state.masses(), &n));
+  PetscCall(VecGetArray(state.masses(), &m));
+  for (PetscInt c = 0; c < n; c += nf)
+    for (int i = 0; i < nf; ++i) m[c + i] *= factor[i];
+  PetscCall(VecRestoreArray(state.masses(), &m));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
 PetscErrorCode ZoneOperator::viewZone(PetscViewer viewer) const {
   PetscFunctionBeginUser;
   if (zone)
-    PetscCall(PetscViewerASCIIPrintf(viewer, "  zone %s; without solid in %d of %d frames\n", zone->describe().c_str(),
-                                     emptyFrames_, frames));
+    PetscCall(PetscViewerASCIIPrintf(viewer, "  zone %s; without solid in %d of %d frames; %s\n",
+                                     zone->describe().c_str(), emptyFrames_, frames,
+                                     keepBulk ? "cells keep their bulk, the change spread over the bed by fraction"
+                                              : "the zone's cells take the change"));
   else PetscCall(PetscViewerASCIIPrintf(viewer, "  zone %s (not set up)\n", zoneName_.c_str()));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
