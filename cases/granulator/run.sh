@@ -28,7 +28,7 @@ echo "== growth with through-flow"
 python=${RCFD_PYTHON:-/usr/bin/python3}
 if "$python" -c "import matplotlib" 2>/dev/null; then
   "$python" "$root/src/cli/figures/granulation_halves.py" "$out"/{still,growth,granulator}/halves.csv \
-    --labels "no growth, no through-flow,growth only,growth with through-flow" -o "$out/fig7-halves.png" \
+    --labels "no growth, no through-flow;growth only;growth with through-flow" -o "$out/fig7-halves.png" \
     --title "bottom and top halves, mean over 50-60 s"
 fi
 echo "Wrote $out/{still,growth,granulator}/ (halves, cog, product, mass_account) and $out/fig7-halves.png"

@@ -41,8 +41,9 @@ protected:
   /// Collective.  Mass of each fraction in the zone's cells (global) into
   /// `perFraction` (nf numbers); returns their sum in *total.
   PetscErrorCode zoneMasses(Vec masses, std::vector<double> *perFraction, double *total) const;
-  /// One line: the zone and its cells, and the frames in which it is empty.
-  PetscErrorCode viewZone(PetscViewer viewer) const;
+  /// One line: the zone and its cells, the frames in which it is empty, and
+  /// (`bulkNote`, for feed and discharge) whether its cells keep their bulk.
+  PetscErrorCode viewZone(PetscViewer viewer, bool bulkNote) const;
   /// Reads -<prefix>keep_bulk inside the options block.
   PetscErrorCode readKeepBulk(PetscOptionItems *PetscOptionsObject);
   /// Collective.  Before the operator changes its zone's cells (with -keep_bulk):

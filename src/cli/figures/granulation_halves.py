@@ -3,7 +3,7 @@
 in several granulator situations (e.g. no growth and no through-flow, growth
 only, growth with through-flow), one panel per run, from each run's halves.csv.
 
-    python3 granulation_halves.py A/halves.csv B/halves.csv ... --labels "a,b,..." -o fig.png
+    python3 granulation_halves.py A/halves.csv B/halves.csv ... --labels "a;b;..." -o fig.png
 """
 import argparse
 
@@ -14,11 +14,11 @@ from halves import read_halves
 def main():
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("csv", nargs="+", help="halves.csv of each run")
-    parser.add_argument("--labels", default="", help="comma-separated panel titles (default: the directories)")
+    parser.add_argument("--labels", default="", help="panel titles separated by ; (default: the directories)")
     parser.add_argument("-o", "--output", required=True, help="PNG file")
     parser.add_argument("--title", default="", help="figure title")
     args = parser.parse_args()
-    titles = args.labels.split(",") if args.labels else [p.rsplit("/", 2)[-2] for p in args.csv]
+    titles = args.labels.split(";") if args.labels else [p.rsplit("/", 2)[-2] for p in args.csv]
     fig, axes = rf.plt.subplots(1, len(args.csv), figsize=(3.6 * len(args.csv), 4.2), sharey=True, squeeze=False)
     for ax, path, title in zip(axes[0], args.csv, titles):
         labels, run = read_halves(path)
@@ -29,7 +29,7 @@ def main():
         ax.set_xlabel("class: diameter [mm]")
         ax.set_title(title, fontsize=10)
     axes[0][0].set_ylabel("mass fraction in the half [-]")
-    axes[0][0].legend(loc="upper left", frameon=False)
+    axes[0][0].legend(loc="upper right", frameon=False)
     if args.title:
         fig.suptitle(args.title)
     rf.save(fig, args.output)

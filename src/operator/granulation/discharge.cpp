@@ -89,7 +89,7 @@ PetscErrorCode DischargeOperator::view(PetscViewer viewer) const {
   PetscCall(PetscViewerASCIIPrintf(viewer, "discharge: %g kg/s at the zone's local concentrations; product.csv every "
                                            "%g s, steady below an L1 change of %g per residence time\n",
                                    rate, interval, tolerance));
-  PetscCall(viewZone(viewer));
+  PetscCall(viewZone(viewer, true));
   if (added.empty()) PetscFunctionReturn(PETSC_SUCCESS);
   double out = 0.0;
   for (double a : added) out -= a;

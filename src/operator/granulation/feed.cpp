@@ -80,7 +80,7 @@ PetscErrorCode FeedOperator::view(PetscViewer viewer) const {
     list += item;
   }
   PetscCall(PetscViewerASCIIPrintf(viewer, "feed: %g kg/s, mass shares %s\n", rate, list.c_str()));
-  PetscCall(viewZone(viewer));
+  PetscCall(viewZone(viewer, true));
   if (added.empty()) PetscFunctionReturn(PETSC_SUCCESS);
   double in = 0.0, back = 0.0;
   for (int i = 0; i < nf; ++i) in += added[i], back += held[i];

@@ -103,7 +103,7 @@ PetscErrorCode GrowthOperator::view(PetscViewer viewer) const {
                                    rate, fraction, mass == Mass::Number ? "number kept" : "mass kept",
                                    mass == Mass::Number ? "coating added: the bulk departs from the database"
                                                         : "the bulk is the database's"));
-  PetscCall(viewZone(viewer));
+  PetscCall(viewZone(viewer, false));
   if (moved.empty()) PetscFunctionReturn(PETSC_SUCCESS);
   double total = 0.0;
   for (double v : moved) total += v;

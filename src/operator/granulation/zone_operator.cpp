@@ -119,13 +119,14 @@ PetscErrorCode ZoneOperator::restoreBulk(FractionState &state, const std::vector
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
-PetscErrorCode ZoneOperator::viewZone(PetscViewer viewer) const {
+PetscErrorCode ZoneOperator::viewZone(PetscViewer viewer, bool bulkNote) const {
   PetscFunctionBeginUser;
   if (zone)
-    PetscCall(PetscViewerASCIIPrintf(viewer, "  zone %s; without solid in %d of %d frames; %s\n",
+    PetscCall(PetscViewerASCIIPrintf(viewer, "  zone %s; without solid in %d of %d frames%s\n",
                                      zone->describe().c_str(), emptyFrames_, frames,
-                                     keepBulk ? "cells keep their bulk, the change spread over the bed by fraction"
-                                              : "the zone's cells take the change"));
+                                     !bulkNote ? ""
+                                     : keepBulk ? "; cells keep their bulk, the change spread over the bed by fraction"
+                                                : "; the zone's cells take the change"));
   else PetscCall(PetscViewerASCIIPrintf(viewer, "  zone %s (not set up)\n", zoneName_.c_str()));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
