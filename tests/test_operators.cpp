@@ -14,6 +14,7 @@
 #include "check.hpp"
 #include "rcfd/run.hpp"
 #include "rcfd/swaps.hpp"
+#include "scoped_options.hpp"
 #include "state_access.hpp"
 #include "base/petsc_compat.hpp"
 
@@ -30,43 +31,6 @@ namespace {
 
 std::string dir;
 constexpr double kRho = 1440.0;
-
-// Options inserted for one check and removed again, so that checks do not
-// see each other's options.
-class ScopedOptions {
-public:
-  explicit ScopedOptions(const std::string &options) {
-    PetscCallAbort(PETSC_COMM_WORLD, PetscOptionsInsertString(nullptr, options.c_str()));
-    std::istringstream words(options);
-    for (std::string w; words >> w;)
-      if (w.size() > 1 && w[0] == '-' && !std::isdigit(static_cast<unsigned char>(w[1])))
-        names.push_back(w);
-  }
-  ~ScopedOptions() {
-    for (const auto &n : names) (void)PetscOptionsClearValue(nullptr, n.c_str());
-  }
-
-private:
-  std::vector<std::string> names;
-};
-
-// Records the first message of PETSc errors raised while it lives, instead
-// of printing tracebacks: for checks that an error is raised with its sentence.
-class ErrorCapture {
-public:
-  ErrorCapture() { PetscCallAbort(PETSC_COMM_WORLD, PetscPushErrorHandler(handler, this)); }
-  ~ErrorCapture() { (void)PetscPopErrorHandler(); }
-  const std::string &message() const { return first; }
-
-private:
-  static PetscErrorCode handler(MPI_Comm, int, const char *, const char *, PetscErrorCode n,
-                                PetscErrorType p, const char *mess, void *ctx) {
-    auto *self = static_cast<ErrorCapture *>(ctx);
-    if (p == PETSC_ERROR_INITIAL && self->first.empty() && mess) self->first = mess;
-    return n;
-  }
-  std::string first;
-};
 
 bool contains(const std::string &text, const std::string &part) {
   return text.find(part) != std::string::npos;

@@ -8,6 +8,9 @@
 // conservative and stops the run with an error; a smaller one is round-off
 // and is removed by scaling the fraction by M0 / M.  So a leak is never
 // hidden, and round-off never accumulates, however long the run.
+// Operators that add or remove mass on purpose (feed, discharge, growth
+// between classes) report how much (Operator::addedMass); the expected total
+// is then M0 + added, checked the same way.
 #pragma once
 
 #include "rcfd/fractions.hpp"
@@ -26,7 +29,10 @@ public:
   /// `endOfRun` it also refuses a leak at a step between two checks (the end of a
   /// run), without removing round-off there, so that a run stopped and restarted
   /// gives the same bits as one that went on.
-  PetscErrorCode check(long step, FractionState &state, bool endOfRun = false);
+  /// `added`: mass added on purpose to each fraction since the start (see
+  /// Operator::addedMass), or nullptr for none.
+  PetscErrorCode check(long step, FractionState &state, bool endOfRun = false,
+                       const std::vector<double> *added = nullptr);
   PetscInt interval() const { return checkEvery; }
   /// Reference totals, and setting them again on restart.
   const std::vector<double> &reference() const { return totals; }

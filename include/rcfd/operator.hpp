@@ -18,6 +18,16 @@
 
 namespace rcfd {
 
+class Monitor; // rcfd/observables.hpp
+
+/// A monitor an operator brings along (Operator::monitors), e.g. the
+/// discharge's product size distribution; `every` in steps as Run::addMonitor.
+struct OperatorMonitor {
+  std::unique_ptr<Monitor> monitor;
+  long every = 1;
+  std::string name;
+};
+
 class Operator {
 public:
   virtual ~Operator() = default;
@@ -41,6 +51,24 @@ public:
   /// discharge, growth between classes); the run's mass ledger then only
   /// checks the conservative parts.
   virtual bool conservesMass() const { return true; }
+  /// For an operator that changes mass on purpose (conservesMass() false):
+  /// the mass [kg] it has added to each fraction since the run started
+  /// (removed: negative), the same on every rank, kept across restarts by
+  /// saveState().  The run's mass ledger adds it to its reference totals, so
+  /// it keeps checking every fraction (-mass_check_every) and writes the
+  /// balance per fraction to mass_account.csv.  nullptr (the default): the
+  /// change is not accounted, and the run's mass ledger is off.
+  virtual const std::vector<double> *addedMass() const { return nullptr; }
+  /// Checkpoint contract, as Monitor's: what the operator needs to continue a
+  /// run exactly (its ledger, mass held back), the same on every rank; the
+  /// run stores it under /operators/<type> and hands it back to
+  /// restoreState() after setUp() on a restart.  The default saves nothing.
+  virtual std::vector<double> saveState() const { return {}; }
+  /// Collective.  The default refuses a non-empty state.
+  virtual PetscErrorCode restoreState(const std::vector<double> &state);
+  /// Collective, after setUp().  Appends the monitors this operator brings
+  /// along to the run's list (the default brings none).
+  virtual PetscErrorCode monitors(const RunContext &ctx, std::vector<OperatorMonitor> *list);
 
 protected:
   std::string prefix;
@@ -111,6 +139,11 @@ public:
   PetscErrorCode apply(const StepInfo &step, FractionState &state) override;
   PetscErrorCode view(PetscViewer viewer) const override;
   bool conservesMass() const override;
+  /// Whether every operator that changes mass says how much (addedMass()),
+  /// so that the run's ledger can keep checking.
+  bool accountsMass() const;
+  /// Sum over the operators of addedMass(), per fraction (empty: none reports).
+  void addedMass(std::vector<double> *perFraction) const;
   const std::vector<std::unique_ptr<Operator>> &operators() const { return ops; }
   const std::vector<std::string> &skipped() const { return left; }
   /// Collective.  Views every operator given -<prefix>view in the viewer

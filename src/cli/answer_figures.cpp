@@ -33,6 +33,8 @@ PetscErrorCode drawAnswerFigures(MPI_Comm comm, const std::string &dir, const st
     PetscCall(drawFigure(comm, "bottom_layer.py",
                          {dir + "/bottom.csv", "-o", dir + "/bottom.png", "--correlation", correlation}));
   }
+  if (fs::exists(dir + "/product.csv")) // a granulator: product and holdup size distributions over time
+    PetscCall(drawFigure(comm, "granulation.py", {dir + "/product.csv", "-o", dir + "/granulation.png"}));
   std::vector<std::string> snapshots;
   for (const auto &entry : fs::directory_iterator(dir)) {
     const std::string name = entry.path().filename().string();

@@ -1,3 +1,4 @@
+#include "rcfd/granulation.hpp"
 #include "rcfd/operator.hpp"
 #include "rcfd/swaps.hpp"
 
@@ -14,6 +15,12 @@ OperatorRegistry OperatorRegistry::withBuiltins() {
   r.makers.add("carry",
                [](const OperatorRegistry &self) { return std::make_unique<CarryOperator>(self.carryKinds()); },
                "carries the state across a jump between frames (-carry_type)");
+  r.add("growth", [] { return std::make_unique<GrowthOperator>(); },
+        "granulation: mass moves to the next larger class in the spray zone (-growth_zone, -growth_rate)");
+  r.add("feed", [] { return std::make_unique<FeedOperator>(); },
+        "granulation: continuous feed into the feed zone (-feed_zone, -feed_rate)");
+  r.add("discharge", [] { return std::make_unique<DischargeOperator>(); },
+        "granulation: discharge at local concentrations from the discharge zone (-discharge_rate)");
   return r;
 }
 

@@ -1,5 +1,6 @@
 #include "rcfd/operator.hpp"
 #include "base/petsc_compat.hpp"
+#include "rcfd/observables.hpp"
 
 namespace rcfd {
 
@@ -10,6 +11,15 @@ PetscErrorCode Operator::view(PetscViewer viewer) const {
 }
 
 PetscErrorCode Operator::setFromOptions(MPI_Comm) { return PETSC_SUCCESS; }
+
+PetscErrorCode Operator::restoreState(const std::vector<double> &state) {
+  PetscFunctionBeginUser;
+  PetscCheck(state.empty(), PETSC_COMM_SELF, PETSC_ERR_ARG_WRONG,
+             "The checkpoint holds state of the operator %s, which keeps none", type().c_str());
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode Operator::monitors(const RunContext &, std::vector<OperatorMonitor> *) { return PETSC_SUCCESS; }
 
 PetscErrorCode ShellOperator::setUp(const RunContext &) { return PETSC_SUCCESS; }
 
@@ -95,6 +105,22 @@ bool Pipeline::conservesMass() const {
   for (const auto &op : ops)
     if (!op->conservesMass()) return false;
   return true;
+}
+
+bool Pipeline::accountsMass() const {
+  for (const auto &op : ops)
+    if (!op->conservesMass() && !op->addedMass()) return false;
+  return true;
+}
+
+void Pipeline::addedMass(std::vector<double> *perFraction) const {
+  perFraction->clear();
+  for (const auto &op : ops) {
+    const std::vector<double> *added = op->addedMass();
+    if (!added) continue;
+    perFraction->resize(added->size(), 0.0);
+    for (std::size_t i = 0; i < added->size(); ++i) (*perFraction)[i] += (*added)[i];
+  }
 }
 
 PetscErrorCode Pipeline::view(PetscViewer viewer) const {

@@ -8,6 +8,7 @@
 //   /samples           [rows, 2 nf + 5]    the monitor's samples so far
 //   /ledger_reference  the mass ledger's reference totals
 //   /monitors/<name>   each monitor's saved state (Monitor::saveState), when not empty
+//   /operators/<type>  each operator's saved state (Operator::saveState), when not empty
 //   root attributes    format = "rcfd-checkpoint", step, num_fractions, num_cells, database
 #include "path/frame_path.hpp"
 #include "base/petsc_compat.hpp"
@@ -53,6 +54,8 @@ PetscErrorCode Run::Impl::writeCheckpoint(long step) const {
                  PETSC_ERR_ARG_WRONG, "Two monitors named '%s' keep state for checkpoints; give them different names",
                  e.name.c_str());
   }
+  std::vector<std::pair<std::string, std::vector<double>>> operatorStates;
+  for (const auto &op : ops.operators()) operatorStates.emplace_back(op->type(), op->saveState());
   PetscCall(collectively(comm, [&] {
     if (rank != 0) return;
     {
@@ -75,6 +78,9 @@ PetscErrorCode Run::Impl::writeCheckpoint(long step) const {
       f.createGroup("/monitors");
       for (const auto &e : states)
         if (!e.second.empty()) f.write("/monitors/" + e.first, e.second);
+      f.createGroup("/operators");
+      for (const auto &e : operatorStates)
+        if (!e.second.empty()) f.write("/operators/" + e.first, e.second);
       f.close();
     }
     out->commit();
@@ -88,7 +94,7 @@ PetscErrorCode Run::Impl::readCheckpoint() {
   std::vector<int64_t> words;
   std::vector<int32_t> used;
   std::vector<double> flat, reference;
-  std::vector<std::vector<double>> states(monitors.size());
+  std::vector<std::vector<double>> states(monitors.size()), operatorStates(ops.operators().size());
   PetscFunctionBeginUser;
   PetscCall(collectively(
       comm,
@@ -114,6 +120,14 @@ PetscErrorCode Run::Impl::readCheckpoint() {
             throw h5::Error("-restart '" + restartFile + "' holds no state of the monitor " + monitors[m].name +
                             ": ask for the same answers as the run that wrote the checkpoint");
         }
+        for (std::size_t k = 0; k < ops.operators().size(); ++k) {
+          const Operator &op = *ops.operators()[k];
+          const std::string name = "/operators/" + op.type();
+          if (f.exists("/operators") && f.exists(name)) operatorStates[k] = f.read<double>(name);
+          else if (!op.saveState().empty()) // e.g. a feed's ledger: the balance would start over
+            throw h5::Error("-restart '" + restartFile + "' holds no state of the operator " + op.type() +
+                            ": use the same -pipeline as the run that wrote the checkpoint");
+        }
         if (step > steps)
           throw h5::Error("-restart '" + restartFile + "' is at step " + std::to_string(step) +
                           ", beyond this run's " + std::to_string(steps) + " steps (-t_end)");
@@ -137,6 +151,7 @@ PetscErrorCode Run::Impl::readCheckpoint() {
   cog->restore(std::move(samples));
   ledger.restore(reference);
   for (std::size_t m = 0; m < monitors.size(); ++m) PetscCall(monitors[m].monitor->restoreState(states[m]));
+  for (std::size_t k = 0; k < ops.operators().size(); ++k) PetscCall(ops.operators()[k]->restoreState(operatorStates[k]));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 

@@ -215,6 +215,11 @@ PetscErrorCode Run::setUp() {
   std::vector<Answers::Named> asked; // none unless the case asks
   PetscCall(r.answers.createMonitors(ctx, r.steps * dt, r.quiet == PETSC_TRUE, &asked));
   for (auto &a : asked) r.monitors.push_back({std::move(a.monitor), a.every, a.name});
+  if (!r.ops.conservesMass() && r.ops.accountsMass()) // the balance per fraction of what operators add
+    r.monitors.push_back({std::make_unique<MassAccountMonitor>(r.ops), r.cog->every(), "mass_account.csv"});
+  std::vector<OperatorMonitor> brought; // e.g. the discharge's product size distribution
+  for (const auto &op : r.ops.operators()) PetscCall(op->monitors(ctx, &brought));
+  for (auto &b : brought) r.monitors.push_back({std::move(b.monitor), b.every, b.name});
   for (auto &m : r.monitors) PetscCall(m.monitor->setUp(ctx, r.fstate, r.outputDir));
   r.isSetUp = true;
   if (r.restartFile.empty())
@@ -276,8 +281,10 @@ PetscErrorCode Run::solve() {
   const double dt = r.db->metadata().dtRec;
   std::vector<double> initialMass;
   PetscCall(r.fstate.totals(&initialMass));
-  const bool ledgerOn = r.ops.conservesMass();
+  const bool conservative = r.ops.conservesMass();
+  const bool ledgerOn = conservative || r.ops.accountsMass(); // mass changed on purpose is accounted
   if (ledgerOn && r.startStep == 0) PetscCall(r.ledger.start(r.fstate));
+  std::vector<double> added; // by the operators that change mass on purpose, since the start
   // The frame of the next step; after a restart the path stands on it.
   int frame = r.startStep == 0 ? r.path->next() : r.path->frame();
   if (r.startStep == 0) PetscCall(r.callMonitors(0, 0.0, frame, r.steps == 0));
@@ -300,7 +307,8 @@ PetscErrorCode Run::solve() {
     }
     r.frames.push_back(frame);
     PetscCall(r.ops.apply(info, r.fstate));
-    if (ledgerOn) PetscCall(r.ledger.check(s + 1, r.fstate, s + 1 == r.steps));
+    if (ledgerOn && !conservative) r.ops.addedMass(&added);
+    if (ledgerOn) PetscCall(r.ledger.check(s + 1, r.fstate, s + 1 == r.steps, conservative ? nullptr : &added));
     frame = info.nextFrame;
     const double t = (s + 1) * dt;
     PetscCall(r.callMonitors(s + 1, t, frame, s + 1 == r.steps));

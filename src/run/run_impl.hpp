@@ -6,6 +6,7 @@
 
 #include "observable/answers.hpp"
 #include "observable/cog_monitor.hpp"
+#include "observable/mass_account_monitor.hpp"
 
 namespace rcfd {
 

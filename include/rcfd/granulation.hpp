@@ -1,0 +1,190 @@
+// A granulation chamber (paper Sec. 3.4, Fig. 7): growth in a spray zone and
+// a continuous through-flow, fed into one zone and discharged from another.
+// Three operators, registered as `growth`, `feed` and `discharge`:
+//   -pipeline shift,drift,carry,growth,feed,discharge
+// Each acts in a named zone (rcfd/zone.hpp: -zones spray,feed,discharge with
+// -zone_<name>_box ...), reads its own options (prefixes growth_, feed_,
+// discharge_) and keeps an exact ledger: the mass it has added to each
+// fraction (Operator::addedMass), so that the run's mass ledger keeps
+// checking every fraction and mass_account.csv closes per fraction to
+// round-off.  Their state (ledgers, mass held back) is in checkpoints.
+// docs/granulation.md has the model, its reading of the paper and the files.
+#pragma once
+
+#include "rcfd/operator.hpp"
+#include "rcfd/zone.hpp"
+
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace rcfd {
+
+/// What the three granulation operators share: a zone given by name
+/// (-<prefix>zone NAME) and resolved at set-up, and the ledger of the mass
+/// added to each fraction.  A zone that holds no solid in any frame of the
+/// database is refused at set-up, naming the zone.
+class ZoneOperator : public Operator {
+public:
+  bool conservesMass() const override { return false; }
+  const std::vector<double> *addedMass() const override { return &added; }
+  const std::string &zoneName() const { return zoneName_; }
+  /// Frames of the database in which the zone holds no solid.
+  int emptyFrames() const { return emptyFrames_; }
+
+protected:
+  explicit ZoneOperator(std::string defaultZone) : zoneName_(std::move(defaultZone)) {}
+  /// Inside the operator's options block: reads -<prefix>zone and -zones.
+  PetscErrorCode readZone(PetscOptionItems *PetscOptionsObject, MPI_Comm comm);
+  /// Resolves the zone on the mesh and checks it holds solid in some frame.
+  PetscErrorCode setUpZone(const RunContext &ctx);
+  /// Collective.  Mass of each fraction in the zone's cells (global) into
+  /// `perFraction` (nf numbers); returns their sum in *total.
+  PetscErrorCode zoneMasses(Vec masses, std::vector<double> *perFraction, double *total) const;
+  /// One line: the zone and its cells, the frames in which it is empty, and
+  /// (`bulkNote`, for feed and discharge) whether its cells keep their bulk.
+  PetscErrorCode viewZone(PetscViewer viewer, bool bulkNote) const;
+  /// Reads -<prefix>keep_bulk inside the options block.
+  PetscErrorCode readKeepBulk(PetscOptionItems *PetscOptionsObject);
+  /// Collective.  Before the operator changes its zone's cells (with -keep_bulk):
+  /// remembers every fraction's total and each zone cell's bulk.
+  PetscErrorCode rememberBulk(const FractionState &state);
+  /// Collective.  After it added `change` to the fractions (kg, per fraction)
+  /// in its zone: each zone cell that holds mass is scaled back to its bulk
+  /// before (composition kept), then every fraction in the whole bed by one
+  /// factor, s_i = (total_i before + change_i) / total_i now, so the totals
+  /// are what the ledger expects and every cell keeps its bulk (the
+  /// database's) up to the factors' spread, second order in the change.
+  PetscErrorCode restoreBulk(FractionState &state, const std::vector<double> &change) const;
+
+  MPI_Comm comm = MPI_COMM_NULL;
+  int nf = 0;
+  std::string zoneName_;
+  std::unique_ptr<Zone> zone;
+  int emptyFrames_ = 0, frames = 0;
+  std::vector<double> added; // [kg] per fraction since the start (removed: negative)
+  PetscBool keepBulk = PETSC_TRUE;
+  std::vector<double> totalsBefore, cellBulkBefore; // scratch of rememberBulk
+};
+
+/// Growth in the spray zone (-growth_zone, default "spray").  A global
+/// granulation rate m_g (-growth_rate, kg/s) is shared by projected area:
+/// cell c and class i get m_g,i,c = m_g N_i,c d_i^2 / sum_zone N d^2, i.e.
+/// in proportion to m_i,c / d_i.  A fraction c_g (-growth_transfer_fraction,
+/// 0.01) of it moves mass from class i to the next larger class each step:
+/// T = c_g m_g,i,c dt, never more than the cell's class i holds.  The largest
+/// class keeps what it receives (nothing leaves it).  -growth_mass says what
+/// the moved particles weigh in the larger class:
+///  - transfer (default, the paper): class i+1 receives T; the bed's mass and
+///    each cell's bulk are kept (they are the database's); the particles
+///    moved are fewer in number by (d_i/d_i+1)^3: the coating they would have
+///    gained, T ((d_i+1/d_i)^3 - 1), is counted (impliedCoating()) but not added;
+///  - number: class i+1 receives T (d_i+1/d_i)^3 (the particles keep their
+///    number and gain that coating); the bed's mass grows and the bulk departs
+///    from the database's alpha_s.
+/// A step whose spray zone holds no solid grows nothing; the rate it would
+/// have moved, c_g m_g dt, is counted as missed.
+class GrowthOperator : public ZoneOperator {
+public:
+  enum class Mass { Transfer, Number };
+  GrowthOperator() : ZoneOperator("spray") {}
+  std::string type() const override { return "growth"; }
+  PetscErrorCode setFromOptions(MPI_Comm comm) override;
+  PetscErrorCode setUp(const RunContext &ctx) override;
+  PetscErrorCode apply(const StepInfo &step, FractionState &state) override;
+  PetscErrorCode view(PetscViewer viewer) const override;
+  std::vector<double> saveState() const override;
+  PetscErrorCode restoreState(const std::vector<double> &state) override;
+
+  void setRate(double kgPerSecond, double transferFraction) { rate = kgPerSecond, fraction = transferFraction; }
+  void setMass(Mass m) { mass = m; }
+  /// Mass moved out of each class so far [kg] (the largest: 0).
+  const std::vector<double> &movedOut() const { return moved; }
+  /// Mass that could not move because a cell's class held less [kg], and the
+  /// mass that did not move because the spray zone was empty [kg].
+  double limited() const { return limitedMass; }
+  double missed() const { return missedMass; }
+  /// Transfer mode: the coating the moved particles would carry [kg].
+  double impliedCoating() const { return coating; }
+
+private:
+  double rate = 0.0, fraction = 0.01;
+  Mass mass = Mass::Transfer;
+  std::vector<double> diameter;
+  std::vector<int> next; // next larger class of each, -1 for the largest
+  std::vector<double> moved;
+  double limitedMass = 0.0, missedMass = 0.0, coating = 0.0;
+  long emptySteps = 0;
+};
+
+/// Feed into the feed zone (-feed_zone, default "feed"): m_f (-feed_rate,
+/// kg/s) split between the classes by -feed_mass_shares (default: the
+/// inventory's mass shares, -fractions_mass_shares), and between the zone's
+/// cells in proportion to the solid each holds.  A step whose feed zone holds
+/// no solid holds the feed back (heldBack()); it is delivered, all of it, at
+/// the next step whose zone holds solid.  Nothing is lost: delivered +
+/// held back = m_f t for each class.
+class FeedOperator : public ZoneOperator {
+public:
+  FeedOperator() : ZoneOperator("feed") {}
+  std::string type() const override { return "feed"; }
+  PetscErrorCode setFromOptions(MPI_Comm comm) override;
+  PetscErrorCode setUp(const RunContext &ctx) override;
+  PetscErrorCode apply(const StepInfo &step, FractionState &state) override;
+  PetscErrorCode view(PetscViewer viewer) const override;
+  std::vector<double> saveState() const override;
+  PetscErrorCode restoreState(const std::vector<double> &state) override;
+
+  /// Rate [kg/s] and shares (empty: the inventory's), before setUp.
+  void setFeed(double kgPerSecond, std::vector<double> massShares = {}) {
+    rate = kgPerSecond, shares = std::move(massShares);
+  }
+  const std::vector<double> &feedShares() const { return shares; }
+  /// Feed not yet delivered, per class [kg].
+  const std::vector<double> &heldBack() const { return held; }
+
+private:
+  double rate = 0.0;
+  std::vector<double> shares, held;
+  long heldSteps = 0;
+};
+
+/// Discharge from the discharge zone (-discharge_zone, default
+/// "discharge"): m_d (-discharge_rate, kg/s; for a steady holdup the feed's)
+/// taken from the zone's cells in proportion to the mass of each class in
+/// each (the local concentrations).  Never more than the zone holds: a step
+/// that asks for more takes all of it, and the rest is owed (taken at the
+/// next steps, counted in owed() and limitedSteps()).  The product leaving
+/// is written by its monitor, product.csv (discharged mass per class, the
+/// product and holdup size distributions, the steady-state criterion) and
+/// steady_state.csv.
+class DischargeOperator : public ZoneOperator {
+public:
+  DischargeOperator() : ZoneOperator("discharge") {}
+  std::string type() const override { return "discharge"; }
+  PetscErrorCode setFromOptions(MPI_Comm comm) override;
+  PetscErrorCode setUp(const RunContext &ctx) override;
+  PetscErrorCode apply(const StepInfo &step, FractionState &state) override;
+  PetscErrorCode view(PetscViewer viewer) const override;
+  std::vector<double> saveState() const override;
+  PetscErrorCode restoreState(const std::vector<double> &state) override;
+  PetscErrorCode monitors(const RunContext &ctx, std::vector<OperatorMonitor> *list) override;
+
+  void setRate(double kgPerSecond) { rate = kgPerSecond; }
+  double dischargeRate() const { return rate; }
+  /// Discharged so far, per class [kg] (= -addedMass()).
+  std::vector<double> discharged() const;
+  /// Mass asked for but not yet taken because the zone held less [kg].
+  double owed() const { return owedMass; }
+  long limitedSteps() const { return limitedCount; }
+  /// The product monitor's settings: seconds between rows, tolerance of the
+  /// steady-state criterion.
+  double sampleInterval() const { return interval; }
+  double steadyTolerance() const { return tolerance; }
+
+private:
+  double rate = 0.0, owedMass = 0.0, interval = 1.0, tolerance = 0.02;
+  long limitedCount = 0, emptySteps = 0;
+};
+
+} // namespace rcfd

@@ -1,0 +1,120 @@
+// Continuous discharge from the discharge zone at its local concentrations;
+// never more than the zone holds.
+#include "rcfd/granulation.hpp"
+#include "base/checked_options.hpp"
+#include "base/petsc_compat.hpp"
+#include "operator/granulation/product_monitor.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace rcfd {
+
+PetscErrorCode DischargeOperator::setFromOptions(MPI_Comm c) {
+  PetscFunctionBeginUser;
+  PetscOptionsBegin(c, prefix.c_str(), "Discharge from the discharge zone (granulation)", "rcfd");
+  PetscCall(readZone(PetscOptionsObject, c));
+  PetscCall(readKeepBulk(PetscOptionsObject));
+  PetscCall(checkedReal(PetscOptionsObject, "-rate", "Discharge rate [kg/s] (the feed's for a steady holdup)", &rate,
+                        kNonNegative));
+  PetscCall(checkedReal(PetscOptionsObject, "-sample_interval", "Simulated time between rows of product.csv [s]",
+                        &interval, kPositive));
+  PetscCall(checkedReal(PetscOptionsObject, "-steady_tolerance",
+                        "Steady product: L1 change of its size distribution per residence time below this",
+                        &tolerance, kPositive));
+  PetscOptionsEnd();
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode DischargeOperator::setUp(const RunContext &ctx) {
+  PetscFunctionBeginUser;
+  PetscCall(setUpZone(ctx));
+  owedMass = 0.0;
+  limitedCount = emptySteps = 0;
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode DischargeOperator::apply(const StepInfo &step, FractionState &state) {
+  std::vector<double> inZone;
+  double solid;
+  PetscFunctionBeginUser;
+  const double wanted = rate * step.dt + owedMass;
+  PetscCall(zoneMasses(state.masses(), &inZone, &solid));
+  if (!(solid > 0.0)) { // nothing to take: owed
+    owedMass = wanted;
+    ++emptySteps;
+    PetscFunctionReturn(PETSC_SUCCESS);
+  }
+  const bool all = wanted >= solid; // the limit: the zone is emptied, the rest owed
+  const double share = all ? 1.0 : wanted / solid;
+  owedMass = all ? wanted - solid : 0.0;
+  limitedCount += all;
+  std::vector<double> out(nf, 0.0);
+  if (keepBulk) PetscCall(rememberBulk(state));
+  PetscScalar *m;
+  PetscCall(VecGetArray(state.masses(), &m));
+  for (PetscInt c : zone->localCells())
+    for (int i = 0; i < nf; ++i) {
+      PetscScalar &mass = m[c * nf + i];
+      const double taken = all ? mass : mass * share; // <= mass: never negative
+      out[i] += taken;
+      mass = all ? 0.0 : mass - taken;
+    }
+  PetscCall(VecRestoreArray(state.masses(), &m));
+  PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, out.data(), nf, MPI_DOUBLE, MPI_SUM, comm));
+  if (keepBulk) {
+    std::vector<double> change(nf);
+    for (int i = 0; i < nf; ++i) change[i] = -out[i];
+    PetscCall(restoreBulk(state, change));
+  }
+  for (int i = 0; i < nf; ++i) added[i] -= out[i];
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+std::vector<double> DischargeOperator::discharged() const {
+  std::vector<double> out(added.size());
+  std::transform(added.begin(), added.end(), out.begin(), [](double a) { return -a; });
+  return out;
+}
+
+PetscErrorCode DischargeOperator::monitors(const RunContext &ctx, std::vector<OperatorMonitor> *list) {
+  PetscFunctionBeginUser;
+  const long every = std::max(1L, std::lround(interval / ctx.db.metadata().dtRec));
+  list->push_back({std::make_unique<ProductMonitor>(*this), every, "product.csv"});
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode DischargeOperator::view(PetscViewer viewer) const {
+  PetscFunctionBeginUser;
+  PetscCall(PetscViewerASCIIPrintf(viewer, "discharge: %g kg/s at the zone's local concentrations; product.csv every "
+                                           "%g s, steady below an L1 change of %g per residence time\n",
+                                   rate, interval, tolerance));
+  PetscCall(viewZone(viewer, true));
+  if (added.empty()) PetscFunctionReturn(PETSC_SUCCESS);
+  double out = 0.0;
+  for (double a : added) out -= a;
+  PetscCall(PetscViewerASCIIPrintf(viewer, "  discharged %.6g kg; the zone held less than asked in %ld steps and "
+                                           "nothing in %ld; %.3g kg still owed\n",
+                                   out, limitedCount, emptySteps, owedMass));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+// State: {added..., owed, limited steps, empty steps}.
+std::vector<double> DischargeOperator::saveState() const {
+  std::vector<double> s = added;
+  s.insert(s.end(), {owedMass, static_cast<double>(limitedCount), static_cast<double>(emptySteps)});
+  return s;
+}
+
+PetscErrorCode DischargeOperator::restoreState(const std::vector<double> &s) {
+  PetscFunctionBeginUser;
+  PetscCheck(s.size() == static_cast<std::size_t>(nf + 3), comm, PETSC_ERR_USER_INPUT,
+             "The checkpoint's discharge state has %zu numbers, this run needs %d (other fractions?)", s.size(), nf + 3);
+  added.assign(s.begin(), s.begin() + nf);
+  owedMass = s[nf];
+  limitedCount = static_cast<long>(s[nf + 1]);
+  emptySteps = static_cast<long>(s[nf + 2]);
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+} // namespace rcfd

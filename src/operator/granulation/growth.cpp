@@ -1,0 +1,140 @@
+// Growth in the spray zone: mass moves from each class to the next larger
+// one, shared by projected area (paper Sec. 3.4).
+#include "rcfd/granulation.hpp"
+#include "base/checked_options.hpp"
+#include "base/petsc_compat.hpp"
+
+#include <algorithm>
+#include <numeric>
+
+namespace rcfd {
+
+PetscErrorCode GrowthOperator::setFromOptions(MPI_Comm c) {
+  PetscBool set = PETSC_FALSE;
+  char text[32] = "transfer";
+  PetscFunctionBeginUser;
+  PetscOptionsBegin(c, prefix.c_str(), "Growth in the spray zone (granulation)", "rcfd");
+  PetscCall(readZone(PetscOptionsObject, c));
+  PetscCall(checkedReal(PetscOptionsObject, "-rate", "Granulation rate m_g over the spray zone [kg/s]", &rate,
+                        kNonNegative));
+  PetscCall(checkedReal(PetscOptionsObject, "-transfer_fraction",
+                        "Share c of each class's growth rate that moves its mass to the next larger class",
+                        &fraction, kUnitInterval));
+  PetscCall(PetscOptionsString("-mass", "What moved particles weigh in the larger class: transfer (mass kept) or "
+                               "number (number kept, coating added)", "", text, text, sizeof text, &set));
+  PetscOptionsEnd();
+  const std::string m = text;
+  PetscCheck(m == "transfer" || m == "number", c, PETSC_ERR_USER_INPUT,
+             "-%smass %s is not known; use transfer (the paper: mass moves, the bulk is the database's) or number",
+             prefix.c_str(), text);
+  mass = m == "number" ? Mass::Number : Mass::Transfer;
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode GrowthOperator::setUp(const RunContext &ctx) {
+  PetscFunctionBeginUser;
+  PetscCall(setUpZone(ctx));
+  diameter.resize(nf);
+  for (int i = 0; i < nf; ++i) diameter[i] = ctx.fractions.diameter(i);
+  std::vector<int> order(nf);
+  std::iota(order.begin(), order.end(), 0);
+  std::sort(order.begin(), order.end(), [&](int a, int b) { return diameter[a] < diameter[b]; });
+  next.assign(nf, -1);
+  for (int k = 0; k + 1 < nf; ++k) next[order[k]] = order[k + 1];
+  moved.assign(nf, 0.0);
+  limitedMass = missedMass = coating = 0.0;
+  emptySteps = 0;
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode GrowthOperator::apply(const StepInfo &step, FractionState &state) {
+  PetscScalar *m;
+  PetscFunctionBeginUser;
+  PetscCall(VecGetArray(state.masses(), &m));
+  double area = 0.0; // sum over the zone of m_i / d_i, proportional to N_i d_i^2
+  for (PetscInt c : zone->localCells())
+    for (int i = 0; i < nf; ++i) area += m[c * nf + i] / diameter[i];
+  PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, &area, 1, MPI_DOUBLE, MPI_SUM, comm));
+  const double toMove = fraction * rate * step.dt;
+  if (!(area > 0.0)) { // nothing in the spray zone: nothing grows this step
+    PetscCall(VecRestoreArray(state.masses(), &m));
+    missedMass += toMove;
+    ++emptySteps;
+    PetscFunctionReturn(PETSC_SUCCESS);
+  }
+  const double k = toMove / area;
+  std::vector<double> sums(nf + 1, 0.0), out(nf); // moved per class, then the limited mass
+  for (PetscInt c : zone->localCells()) {
+    PetscScalar *cell = m + c * nf;
+    for (int i = 0; i < nf; ++i) { // from the cell's masses before this step's transfers
+      const double wanted = next[i] < 0 ? 0.0 : k * cell[i] / diameter[i];
+      out[i] = std::min(wanted, static_cast<double>(cell[i]));
+      sums[nf] += wanted - out[i];
+    }
+    for (int i = 0; i < nf; ++i) {
+      if (next[i] < 0) continue;
+      const double ratio = diameter[next[i]] / diameter[i];
+      cell[i] -= out[i];
+      cell[next[i]] += mass == Mass::Number ? out[i] * ratio * ratio * ratio : out[i];
+      sums[i] += out[i];
+    }
+  }
+  PetscCall(VecRestoreArray(state.masses(), &m));
+  PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, sums.data(), nf + 1, MPI_DOUBLE, MPI_SUM, comm));
+  for (int i = 0; i < nf; ++i) {
+    if (next[i] < 0) continue;
+    const double ratio = diameter[next[i]] / diameter[i], gain = ratio * ratio * ratio;
+    moved[i] += sums[i];
+    added[i] -= sums[i];
+    if (mass == Mass::Number) added[next[i]] += sums[i] * gain;
+    else {
+      added[next[i]] += sums[i];
+      coating += sums[i] * (gain - 1.0);
+    }
+  }
+  limitedMass += sums[nf];
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode GrowthOperator::view(PetscViewer viewer) const {
+  PetscFunctionBeginUser;
+  PetscCall(PetscViewerASCIIPrintf(viewer,
+                                   "growth: rate %g kg/s, transfer fraction %g to the next larger class, %s (%s)\n",
+                                   rate, fraction, mass == Mass::Number ? "number kept" : "mass kept",
+                                   mass == Mass::Number ? "coating added: the bulk departs from the database"
+                                                        : "the bulk is the database's"));
+  PetscCall(viewZone(viewer, false));
+  if (moved.empty()) PetscFunctionReturn(PETSC_SUCCESS);
+  double total = 0.0;
+  for (double v : moved) total += v;
+  PetscCall(PetscViewerASCIIPrintf(viewer,
+                                   "  moved %.6g kg to larger classes; limited by a class's mass %.3g kg; missed in "
+                                   "%ld steps with an empty spray zone %.3g kg; coating the moved particles imply "
+                                   "%.6g kg (%s)\n",
+                                   total, limitedMass, emptySteps, missedMass, coating,
+                                   mass == Mass::Number ? "added" : "not added"));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+// State: {added..., moved..., limited, missed, coating, empty steps}.
+std::vector<double> GrowthOperator::saveState() const {
+  std::vector<double> s = added;
+  s.insert(s.end(), moved.begin(), moved.end());
+  s.insert(s.end(), {limitedMass, missedMass, coating, static_cast<double>(emptySteps)});
+  return s;
+}
+
+PetscErrorCode GrowthOperator::restoreState(const std::vector<double> &s) {
+  PetscFunctionBeginUser;
+  PetscCheck(s.size() == static_cast<std::size_t>(2 * nf + 4), comm, PETSC_ERR_USER_INPUT,
+             "The checkpoint's growth state has %zu numbers, this run needs %d (other fractions?)", s.size(), 2 * nf + 4);
+  added.assign(s.begin(), s.begin() + nf);
+  moved.assign(s.begin() + nf, s.begin() + 2 * nf);
+  limitedMass = s[2 * nf];
+  missedMass = s[2 * nf + 1];
+  coating = s[2 * nf + 2];
+  emptySteps = static_cast<long>(s[2 * nf + 3]);
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+} // namespace rcfd
