@@ -105,22 +105,30 @@ private:
 
 /// A text time series -- a header line, then one line per row -- written by
 /// rank 0 and appended to as the run goes: rows wait in memory only until the
-/// next flush() (every few wall seconds and at every checkpoint), so memory
-/// does not grow with the run's length.  The file is complete up to its last
-/// flush: the first flush of a new run writes it atomically (header and the
-/// rows so far, replacing any older file); later flushes append whole rows
-/// and sync them to disk, and a failed append is an error naming the file.
+/// next flush() (every few wall seconds and at every checkpoint) or until
+/// 64 kB wait, so memory does not grow with the run's length.  The file is
+/// complete up to its last write: the first write of a new run makes it
+/// atomically (header and the rows so far, replacing any older file); later
+/// writes append whole rows (flush() also syncs them to disk), and a failed
+/// write is an error naming the file.  A file cut by a crash between two
+/// writes ends at a row boundary only if the crash was not in the middle of
+/// an append; the checkpoint's length is what a restart trusts.
 /// On restart, resume() cuts the file back to the length it had at the
 /// checkpoint (mark()), and the run appends from there.
 class CsvSeries {
 public:
   CsvSeries(MPI_Comm comm, std::string path, std::string header);
-  /// One line, without its newline (the same on every rank).
-  void add(const std::string &row);
-  /// Collective: writes the waiting rows; errors reach every rank.
-  PetscErrorCode flush();
+  /// Collective: one line, without its newline (the same on every rank);
+  /// writes the waiting rows (without syncing them to disk) when 64 kB wait.
+  PetscErrorCode add(const std::string &row);
+  /// Collective: writes the waiting rows and syncs them to disk; errors reach every rank.
+  PetscErrorCode flush() { return write(true); }
   /// Bytes in the file after the last flush (the same on every rank), for a checkpoint.
   double mark() const { return static_cast<double>(written); }
+  /// A monitor's state when the series is all it keeps: {mark()}, or nothing
+  /// before the file is written, so that a restart adding the monitor starts
+  /// its file anew (restoreState with an empty state).
+  std::vector<double> state() const { return started ? std::vector<double>{mark()} : std::vector<double>{}; }
   /// Collective: continue a file that held `mark` bytes at the checkpoint:
   /// cuts it back to them; refuses, naming the file, one that is missing or shorter.
   PetscErrorCode resume(double mark);
@@ -128,6 +136,7 @@ public:
   long rows() const { return count; }
 
 private:
+  PetscErrorCode write(bool sync);
   MPI_Comm comm;
   std::string path, header;
   std::string waiting; // rows not yet in the file

@@ -145,7 +145,7 @@ public:
   PetscErrorCode sample(const MonitorContext &ctx) override;
   PetscErrorCode flush() override;
   /// State: the length of mixing.csv.
-  std::vector<double> saveState() const override { return {csv->mark()}; }
+  std::vector<double> saveState() const override { return csv->state(); }
   PetscErrorCode restoreState(const std::vector<double> &state) override;
 
 private:

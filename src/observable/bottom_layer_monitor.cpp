@@ -50,7 +50,7 @@ PetscErrorCode BottomLayerMonitor::sample(const MonitorContext &ctx) {
     for (std::size_t z = 0; z < zones->all().size(); ++z) // a zone is one "layer" of nf masses
       row.push_back(layers::sauterDiameter(global, static_cast<int>(z), *fractions));
   }
-  csv->add(formatNumberRow(row));
+  PetscCall(csv->add(formatNumberRow(row)));
   if (ctx.last && !quiet) {
     if (detector.fired())
       PetscCall(PetscPrintf(comm, "  bottom layer: de-fluidized from t = %.6g s on (%s)\n", detector.firstTime(),

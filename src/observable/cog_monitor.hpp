@@ -19,7 +19,7 @@ public:
   PetscErrorCode sample(const MonitorContext &ctx) override;
   PetscErrorCode flush() override { return csv->flush(); }
   /// State: the length of cog.csv (CsvSeries::mark).
-  std::vector<double> saveState() const override { return {csv->mark()}; }
+  std::vector<double> saveState() const override { return csv->state(); }
   PetscErrorCode restoreState(const std::vector<double> &state) override;
 
   /// Keep every sample in memory as well (samples()); off by default, since

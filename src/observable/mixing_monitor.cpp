@@ -51,7 +51,7 @@ PetscErrorCode MixingMonitor::sample(const MonitorContext &ctx) {
     const double p = total.data()[0] > 0.0 ? total.data()[1] / total.data()[0] : 0.0; // the fraction's share
     row.push_back(total.index(p));
   }
-  csv->add(formatNumberRow(row));
+  PetscCall(csv->add(formatNumberRow(row)));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
@@ -59,6 +59,7 @@ PetscErrorCode MixingMonitor::flush() { return csv->flush(); }
 
 PetscErrorCode MixingMonitor::restoreState(const std::vector<double> &state) {
   PetscFunctionBeginUser;
+  if (state.empty()) PetscFunctionReturn(PETSC_SUCCESS); // not in the checkpoint's run: starts anew
   PetscCheck(state.size() == 1, PETSC_COMM_SELF, PETSC_ERR_FILE_UNEXPECTED,
              "The checkpoint's mixing.csv state holds %zu numbers, expected 1 (the file's length)", state.size());
   PetscCall(csv->resume(state[0]));

@@ -42,16 +42,23 @@ PetscErrorCode makeDirectories(MPI_Comm comm, const std::string &path) {
 CsvSeries::CsvSeries(MPI_Comm comm, std::string path, std::string header)
     : comm(comm), path(std::move(path)), header(std::move(header)) {}
 
-void CsvSeries::add(const std::string &row) {
+namespace {
+constexpr std::size_t kSpillBytes = 1u << 16; // rows waiting before they are written unasked
+}
+
+PetscErrorCode CsvSeries::add(const std::string &row) {
+  PetscFunctionBeginUser;
   waiting += row;
   waiting += '\n';
   ++count;
+  if (waiting.size() >= kSpillBytes) PetscCall(write(false)); // bounded by a size, not by the run's length
+  PetscFunctionReturn(PETSC_SUCCESS);
 }
 
 namespace {
 
-/// Appends `text` to `path` and syncs it to disk; throws naming the file.
-void appendText(const std::string &path, const std::string &text) {
+/// Appends `text` to `path`, synced to disk when asked; throws naming the file.
+void appendText(const std::string &path, const std::string &text, bool sync) {
   const int fd = open(path.c_str(), O_WRONLY | O_APPEND);
   if (fd < 0) throw std::runtime_error("Cannot append to '" + path + "': " + std::strerror(errno));
   std::size_t done = 0;
@@ -65,7 +72,7 @@ void appendText(const std::string &path, const std::string &text) {
     }
     done += static_cast<std::size_t>(n);
   }
-  const bool synced = fsync(fd) == 0;
+  const bool synced = !sync || fsync(fd) == 0;
   const int why = errno;
   if (close(fd) != 0 || !synced)
     throw std::runtime_error("Appending to '" + path + "' failed: " + std::strerror(synced ? errno : why));
@@ -73,19 +80,18 @@ void appendText(const std::string &path, const std::string &text) {
 
 } // namespace
 
-PetscErrorCode CsvSeries::flush() {
+PetscErrorCode CsvSeries::write(bool sync) {
   PetscMPIInt rank;
   PetscFunctionBeginUser;
   if (started && waiting.empty()) PetscFunctionReturn(PETSC_SUCCESS);
   PetscCallMPI(MPI_Comm_rank(comm, &rank));
-  std::string text = started ? std::string() : header + "\n";
-  text += waiting;
+  if (!started) waiting.insert(0, header + "\n");
   PetscCall(collectively(comm, [&] {
     if (rank != 0) return;
-    if (started) appendText(path, text);
-    else writeTextAtomically(path, text); // a new run: no older file shows through
+    if (started) appendText(path, waiting, sync);
+    else writeTextAtomically(path, waiting); // a new run: no older file shows through
   }, PETSC_ERR_FILE_WRITE));
-  written += text.size();
+  written += waiting.size();
   waiting.clear();
   started = true;
   PetscFunctionReturn(PETSC_SUCCESS);

@@ -305,7 +305,7 @@ PetscErrorCode Run::solve() {
       info.nextFrame = (frame + 1) % r.db->numFrames();
       info.jump = info.nextFrame != frame + 1;
     }
-    r.pathFile->add(std::to_string(frame));
+    PetscCall(r.pathFile->add(std::to_string(frame)));
     if (r.keepHistory) r.frames.push_back(frame);
     PetscCall(r.ops.apply(info, r.fstate));
     if (ledgerOn) PetscCall(r.ledger.check(s + 1, r.fstate, s + 1 == r.steps));
