@@ -72,7 +72,11 @@ public:
   void useDatabase(std::shared_ptr<Database> database);
   /// Loads the database (unless one was given), sets up the operators, the
   /// path, the monitors and the initial state (or the state of -restart
-  /// FILE); views the run given -run_view.  Collective.
+  /// FILE); views the run given -run_view.  Collective.  A restart refuses a
+  /// checkpoint made with other physics (database, diameters, mass shares,
+  /// solid density, pipeline, path, an operator's options) with a sentence
+  /// naming it, and cuts the time series in the output directory back to the
+  /// checkpoint's step (docs/method.md, "Checkpoints and restarts").
   PetscErrorCode setUp();
   /// Steps to the end time, calling the monitors and writing checkpoints (collective).
   PetscErrorCode solve();

@@ -26,6 +26,7 @@
 #include <petscviewerhdf5.h>
 
 #include <algorithm>
+#include <cctype>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
@@ -75,6 +76,15 @@ std::string optionsUnder(const std::string &prefix) {
   return text.empty() ? "(defaults)" : text;
 }
 
+/// "another database", "other options of the drift operator", ... for an entry of the physics record.
+std::string differenceIn(const std::string &entry) {
+  if (entry.rfind("options_", 0) == 0) return "other options of the " + entry.substr(8) + " operator";
+  if (entry == "diameters") return "another set of diameters";
+  if (entry == "mass_shares") return "another set of mass shares";
+  if (entry == "solid_density") return "another solid density";
+  return "another " + entry;
+}
+
 } // namespace
 
 // What the physics of this run was made with, as (name, text) pairs; a
@@ -86,18 +96,18 @@ std::vector<std::pair<std::string, std::string>> Run::Impl::physicsRecord() cons
     diameters.push_back(set.diameter(i));
     shares.push_back(set.massShare(i));
   }
+  std::string pipeline;
+  for (const auto &op : ops.operators()) pipeline += (pipeline.empty() ? "" : ",") + op->type();
   std::vector<std::pair<std::string, std::string>> record{
       {"database", db->identity() + ", frames " + std::to_string(loadOptions.firstFrame) + " to " +
                        std::to_string(loadOptions.firstFrame + db->numFrames() - 1)},
       {"diameters", joinNumbers(diameters)},
       {"mass_shares", joinNumbers(shares)},
       {"solid_density", joinNumbers({solidDensity})},
-      {"pipeline", ""},
+      {"pipeline", pipeline},
       {"path", path->describe()}};
-  for (const auto &op : ops.operators()) {
-    record[4].second += (record[4].second.empty() ? "" : ",") + op->type();
+  for (const auto &op : ops.operators())
     record.emplace_back("options_" + op->type(), optionsUnder(op->optionsPrefix()));
-  }
   return record;
 }
 
@@ -179,19 +189,17 @@ PetscErrorCode Run::Impl::readCheckpoint() {
           throw h5::Error("-restart '" + restartFile + "' holds " + std::to_string(cells) + " cells x " +
                           std::to_string(fr) + " fractions, but this run has " +
                           std::to_string(db->mesh().numCells()) + " x " + std::to_string(nf));
-        if (!f.hasAttribute("/", "version") || f.readAttrInt("/", "version") != kCheckpointVersion)
+        if (!f.hasAttribute("/", "version"))
           throw h5::Error("-restart '" + restartFile + "' was written by an older rcfd (checkpoint version 1, which "
                           "holds the time series but no record of the physics); rerun from the start");
+        if (f.readAttrInt("/", "version") != kCheckpointVersion)
+          throw h5::Error("-restart '" + restartFile + "' has checkpoint version " +
+                          std::to_string(f.readAttrInt("/", "version")) + ", this rcfd reads version " +
+                          std::to_string(kCheckpointVersion));
         for (const auto &[name, text] : physicsRecord()) {
           const std::string saved = f.hasAttribute("/physics", name) ? f.readAttrString("/physics", name) : "(none)";
           if (saved != text) {
-            const std::string what = name.rfind("options_", 0) == 0
-                                         ? "other options of the " + name.substr(8) + " operator"
-                                         : "another " + std::string(name == "mass_shares" ? "set of mass shares"
-                                                                    : name == "solid_density" ? "solid density"
-                                                                    : name == "diameters" ? "set of diameters"
-                                                                                          : name.c_str());
-            throw h5::Error("-restart '" + restartFile + "' continues a run made with " + what + " (" + saved +
+            throw h5::Error("-restart '" + restartFile + "' continues a run made with " + differenceIn(name) + " (" + saved +
                             " there, " + text + " here); a restart may change only run control such as -t_end, "
                             "the outputs and progress");
           }
