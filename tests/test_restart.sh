@@ -59,9 +59,11 @@ expect_error "continues a run made with other options of the drift operator ((de
 expect_error "continues a run made with another pipeline (shift,drift,carry there, shift,carry here)" \
   "${restart[@]}" -db "$work/a.h5" -pipeline shift,carry
 [ ! -e "$work/refused/cog.csv" ] && ok || fail "a refused restart wrote $work/refused/cog.csv"
-# Run control may change: another -t_end, the progress and the viewers.
+# Run control may change: another -t_end, the progress and the viewers; and the same database made
+# again is the same database (its identity is a hash of its contents).
+"$rcfd" synth -o "$work/a_again.h5" -synth_cells 10,2,20 -synth_frames 60 -quiet
 "$rcfd" run -db "$work/a.h5" "${small[@]}" -t_end 0.3 -output_dir "$work/s_full"
-"$rcfd" run -db "$work/a.h5" "${small[@]}" -t_end 0.3 -progress_interval 5 -drift_view \
+"$rcfd" run -db "$work/a_again.h5" "${small[@]}" -t_end 0.3 -progress_interval 5 -drift_view \
   -restart "$work/s/checkpoint.h5" -output_dir "$work/s" >/dev/null
 cmp -s "$work/s_full/cog.csv" "$work/s/cog.csv" && ok || fail "a restart with another -t_end differs"
 # Restarting with another number of fractions is refused with a sentence.
