@@ -54,6 +54,7 @@ int main(int argc, char **argv) {
     Run run(PETSC_COMM_WORLD, registry);
     PetscCall(run.setFromOptions());
     run.setQuiet(true);
+    run.keepHistory(true); // history() and framesUsed() below
     run.setWriteFields(false);
     PetscMPIInt size;
     PetscCallMPI(MPI_Comm_size(PETSC_COMM_WORLD, &size));

@@ -65,6 +65,7 @@ int main(int argc, char **argv) {
     Run run(PETSC_COMM_WORLD, operators, paths);
     PetscCall(run.setFromOptions());
     run.setQuiet(true);
+    run.keepHistory(true); // history() and framesUsed() below
     run.setWriteFields(false);
     run.setOutputDirectory(dir);
     PetscCall(run.setUp());

@@ -93,6 +93,10 @@ public:
   static PetscErrorCode optionsFromCommandLine(DatabaseLoadOptions *options);
 
   const std::string &path() const { return path_; }
+  /// What identifies the database's contents (docs/database-format.md,
+  /// "Identity"): "content <hash>" from the content_hash its writer stored, or
+  /// for an older file "made <hash>" of when and how it was made.
+  const std::string &identity() const { return identity_; }
   const Mesh &mesh() const { return mesh_; }
   const Layout &layout() const { return layout_; }
   const DatabaseMetadata &metadata() const { return meta; }
@@ -114,7 +118,7 @@ public:
   PetscErrorCode view(PetscViewer viewer) const;
 
 private:
-  std::string path_;
+  std::string path_, identity_;
   Mesh mesh_;
   Layout layout_;
   DatabaseMetadata meta;

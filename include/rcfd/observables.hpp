@@ -54,11 +54,18 @@ public:
   /// The default does nothing.
   virtual PetscErrorCode flush();
 
-  /// Checkpoint contract.  What the monitor needs to continue a run exactly
-  /// (sums over a time window, a detector's state, the rows written so far),
-  /// the same on every rank; the run stores it in the checkpoint under the
-  /// monitor's name and hands it back to restoreState() after setUp() when it
-  /// restarts, so that a restarted run writes the same numbers bit for bit.
+  /// Checkpoint contract.  saveState() returns what the monitor needs to
+  /// continue a run exactly -- its own small state: sums over a time window,
+  /// a detector's flags, the length of each file it appends to
+  /// (CsvSeries::mark()) -- never its time series, so that a checkpoint's
+  /// size does not grow with the run's length.  It is the same on every rank.
+  /// The run calls flush() on every monitor right before saveState(), so the
+  /// files a monitor appends to are complete up to the checkpoint's step.
+  /// The run stores the state in the checkpoint under the monitor's name and,
+  /// on restart, hands it back to restoreState() after setUp() and before
+  /// the monitor sees the steps from the restart on; a monitor that appends
+  /// to a file cuts it back there (CsvSeries::resume), so that a restarted
+  /// run writes the same file, byte for byte, as an uninterrupted one.
   /// The default saves nothing.
   virtual std::vector<double> saveState() const;
   /// Collective.  The default refuses a non-empty state (a monitor that saves
@@ -79,11 +86,6 @@ struct BedSample {
   /// sum_c |M_c - rho alpha_c V_c| / sum_c rho alpha_c V_c against the frame
   /// the state should match: how far the bulk has strayed from the database.
   double bulkMismatch = 0.0;
-
-  /// Flat form for checkpoints: time, bed, cog..., deltaZ, mass..., minMass, mismatch.
-  std::vector<double> flatten() const;
-  static BedSample unflatten(const double *v, int nf);
-  static int flatSize(int nf) { return 2 * nf + 5; }
 };
 
 /// Heights of this rank's cells along -gravity, and the sums that turn a
@@ -101,21 +103,50 @@ private:
   int nf = 0, small = 0, large = 0;
 };
 
-/// A CSV time series, written by rank 0.  Rows are kept in memory and the
-/// file is rewritten atomically (temporary name, then rename) by flush(), so
-/// a reader never sees half a file.
+/// A text time series -- a header line, then one line per row -- written by
+/// rank 0 and appended to as the run goes: rows wait in memory only until the
+/// next flush() (every few wall seconds and at every checkpoint) or until
+/// 64 kB wait, so memory does not grow with the run's length.  The file is
+/// complete up to its last write: the first write of a new run makes it
+/// atomically (header and the rows so far, replacing any older file); later
+/// writes append whole rows (flush() also syncs them to disk), and a failed
+/// write is an error naming the file.  A file cut by a crash between two
+/// writes ends at a row boundary only if the crash was not in the middle of
+/// an append; the checkpoint's length is what a restart trusts.
+/// On restart, resume() cuts the file back to the length it had at the
+/// checkpoint (mark()), and the run appends from there.
 class CsvSeries {
 public:
   CsvSeries(MPI_Comm comm, std::string path, std::string header);
-  void add(const std::string &row) { rows.push_back(row); }
-  PetscErrorCode flush() const;
-  size_t size() const { return rows.size(); }
+  /// Collective: one line, without its newline (the same on every rank);
+  /// writes the waiting rows (without syncing them to disk) when 64 kB wait.
+  PetscErrorCode add(const std::string &row);
+  /// Collective: writes the waiting rows and syncs them to disk; errors reach every rank.
+  PetscErrorCode flush() { return write(true); }
+  /// Bytes in the file after the last flush (the same on every rank), for a checkpoint.
+  double mark() const { return static_cast<double>(written); }
+  /// A monitor's state when the series is all it keeps: {mark()}, or nothing
+  /// before the file is written, so that a restart adding the monitor starts
+  /// its file anew (restoreState with an empty state).
+  std::vector<double> state() const { return started ? std::vector<double>{mark()} : std::vector<double>{}; }
+  /// Collective: continue a file that held `mark` bytes at the checkpoint:
+  /// cuts it back to them; refuses, naming the file, one that is missing or shorter.
+  PetscErrorCode resume(double mark);
+  /// Rows added since the series was made or resumed (flushed or not).
+  long rows() const { return count; }
 
 private:
+  PetscErrorCode write(bool sync);
   MPI_Comm comm;
   std::string path, header;
-  std::vector<std::string> rows;
+  std::string waiting; // rows not yet in the file
+  unsigned long long written = 0;
+  long count = 0;
+  bool started = false; // the file exists and ends at `written`
 };
+
+/// One CSV line of numbers with 10 significant digits (%.10g).
+std::string formatNumberRow(const std::vector<double> &row);
 
 /// Writes cell fields of the state, one HDF5 file per output time plus an
 /// XDMF index that ParaView opens as a time series.  Fields: alpha_s of the

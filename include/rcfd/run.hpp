@@ -48,6 +48,10 @@ public:
   /// Setters applied after setFromOptions and before setUp; they override the options.
   void setOutputDirectory(const std::string &directory);
   void setQuiet(bool quiet);
+  /// Keep the centre-of-gravity samples and the frames of every step in
+  /// memory as well (history(), framesUsed()); off by default, since they
+  /// grow with the run's length (the files cog.csv and path.txt hold them).
+  void keepHistory(bool keep);
   void setWriteFields(bool write);
   /// Seed of a stochastic path (an ensemble's members use s, s+1, ...).
   /// Collective; an error for a path without a seed.
@@ -68,7 +72,11 @@ public:
   void useDatabase(std::shared_ptr<Database> database);
   /// Loads the database (unless one was given), sets up the operators, the
   /// path, the monitors and the initial state (or the state of -restart
-  /// FILE); views the run given -run_view.  Collective.
+  /// FILE); views the run given -run_view.  Collective.  A restart refuses a
+  /// checkpoint made with other physics (database, diameters, mass shares,
+  /// solid density, pipeline, path, an operator's options) with a sentence
+  /// naming it, and cuts the time series in the output directory back to the
+  /// checkpoint's step (docs/method.md, "Checkpoints and restarts").
   PetscErrorCode setUp();
   /// Steps to the end time, calling the monitors and writing checkpoints (collective).
   PetscErrorCode solve();
@@ -82,9 +90,10 @@ public:
   Pipeline &pipeline();
   /// The frame path (after setFromOptions).
   const FramePath &path() const;
-  /// Samples of the built-in centre-of-gravity monitor (every -monitor_every steps).
+  /// Samples of the built-in centre-of-gravity monitor (every -monitor_every
+  /// steps) since the start or the restart; empty unless keepHistory(true).
   const std::vector<BedSample> &history() const;
-  /// Frame used by each step so far.
+  /// Frame used by each step since the start or the restart; empty unless keepHistory(true).
   const std::vector<int> &framesUsed() const;
   long numSteps() const;
   const std::string &outputDirectory() const;

@@ -94,6 +94,7 @@ PetscErrorCode DriftCalibration::evaluate(const std::string &model, double log10
   run.useDatabase(db);
   PetscCall(run.setFromOptions());
   run.setQuiet(true);
+  run.keepHistory(true); // the samples it scores
   run.setWriteFields(false);
   DriftOperator *drift = nullptr;
   for (const auto &op : run.pipeline().operators())

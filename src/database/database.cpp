@@ -7,6 +7,7 @@
 #include "base/h5.hpp"
 
 #include <algorithm>
+#include <cstdint>
 #include <cmath>
 #include <cstdio>
 #include <ctime>
@@ -23,6 +24,27 @@ std::string frameGroup(int k) {
   std::snprintf(name, sizeof name, "/frames/%06d", k);
   return name;
 }
+
+/// FNV-1a, 64 bits, over the bytes of what is added: cheap (one pass over
+/// data the writer has in memory anyway) and the same on every machine of
+/// the same byte order; it names contents, it does not protect them.
+class ContentHash {
+public:
+  void add(const void *data, std::size_t bytes) {
+    const auto *p = static_cast<const unsigned char *>(data);
+    for (std::size_t i = 0; i < bytes; ++i) state = (state ^ p[i]) * 1099511628211ULL;
+  }
+  template <typename T> void add(const std::vector<T> &values) { add(values.data(), values.size() * sizeof(T)); }
+  void add(const std::string &text) { add(text.data(), text.size()); }
+  std::string hex() const {
+    char text[20];
+    std::snprintf(text, sizeof text, "%016llx", static_cast<unsigned long long>(state));
+    return text;
+  }
+
+private:
+  std::uint64_t state = 14695981039346656037ULL;
+};
 
 std::string nowUtc() {
   char text[32];
@@ -118,6 +140,16 @@ void checkFormat(const h5::File &f) {
   if (version != 1 && version != kDatabaseFormatVersion)
     throw h5::Error("database '" + f.path() + "' has format version " + std::to_string(version) +
                     ", this rcfd reads versions 1 and " + std::to_string(kDatabaseFormatVersion));
+}
+
+// The identity a run's checkpoint records (docs/database-format.md, "Identity").
+std::string readIdentity(const h5::File &f) {
+  if (f.hasAttribute("/", "content_hash")) return "content " + f.readAttrString("/", "content_hash");
+  ContentHash made; // an older file: when and how it was made, and its size
+  if (f.hasAttribute("/", "created")) made.add(f.readAttrString("/", "created"));
+  if (f.hasAttribute("/metadata", "source")) made.add(f.readAttrString("/metadata", "source"));
+  if (f.hasAttribute("/frames", "num_frames")) made.add(std::to_string(f.readAttrInt("/frames", "num_frames")));
+  return "made " + made.hex();
 }
 
 DatabaseMetadata readMetadata(const h5::File &f) {
@@ -239,6 +271,7 @@ struct DatabaseWriter::Impl {
   AtomicFile out; // declared first: the file is closed before an unfinished temporary is removed
   h5::File file;
   int cells = 0;
+  ContentHash hash; // of every frame's arrays, stored as content_hash by finish()
 };
 
 DatabaseWriter::DatabaseWriter(const std::string &path, const Mesh &mesh,
@@ -247,6 +280,8 @@ DatabaseWriter::DatabaseWriter(const std::string &path, const Mesh &mesh,
   if (!(meta.dtRec > 0)) throw std::invalid_argument("dt_rec must be positive");
   if (!(meta.solidDensity > 0)) throw std::invalid_argument("the solid density must be positive");
   impl->cells = mesh.numCells();
+  impl->hash.add(std::vector<double>{static_cast<double>(impl->cells), meta.dtRec, meta.solidDensity, meta.gravity[0],
+                                     meta.gravity[1], meta.gravity[2]});
   impl->file = h5::File::create(impl->out.temporaryPath());
   const h5::File &f = impl->file;
   f.writeAttr("/", "format", std::string(kFormatName));
@@ -277,6 +312,10 @@ void DatabaseWriter::append(const FrameRecord &frame) {
   impl->file.write(g + "/shift_row_ptr", frame.shift.rowPtr);
   impl->file.write(g + "/shift_col", frame.shift.col);
   impl->file.write(g + "/shift_val", frame.shift.val);
+  impl->hash.add(frame.alphaS);
+  impl->hash.add(frame.shift.rowPtr);
+  impl->hash.add(frame.shift.col);
+  impl->hash.add(frame.shift.val);
   ++frames;
 }
 
@@ -299,6 +338,7 @@ void DatabaseWriter::setNote(const std::string &key, const std::string &text) {
 void DatabaseWriter::finish() {
   if (frames < 1) throw std::invalid_argument("a database needs at least one frame");
   impl->file.writeAttr("/frames", "num_frames", static_cast<long long>(frames));
+  impl->file.writeAttr("/", "content_hash", impl->hash.hex());
   impl->file.close();
   impl->out.commit();
 }
@@ -409,6 +449,7 @@ PetscErrorCode Database::load(MPI_Comm comm, const std::string &path,
     file = h5::File::openRead(path, comm);
     checkFormat(file);
     db->meta = readMetadata(file);
+    db->identity_ = readIdentity(file);
     db->mesh_ = readMesh(file);
     file.requireGroup("/frames");
     K = file.readAttrInt("/frames", "num_frames");

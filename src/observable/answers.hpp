@@ -107,23 +107,6 @@ private:
   std::vector<double> bottomSum, topSum;
 };
 
-/// Rows of numbers kept for a CSV time series and for checkpoints.
-class NumberRows {
-public:
-  explicit NumberRows(int width = 0) : width(width) {}
-  void add(const std::vector<double> &row) { values.insert(values.end(), row.begin(), row.end()); }
-  std::size_t size() const { return width ? values.size() / width : 0; }
-  /// Header line, then one line per row with 10 significant digits.
-  std::string csv(const std::string &header) const;
-  const std::vector<double> &flat() const { return values; }
-  /// Refuses a state whose length is not a multiple of the width.
-  bool restore(const double *begin, std::size_t n);
-
-private:
-  int width;
-  std::vector<double> values;
-};
-
 /// bottom.csv: time_s,d32_bottom_m,umf_m_s,usup_m_s,defluidized[,d32_<zone>_m...]
 /// The warning is printed once, on rank 0, the first time u_mf of the bottom
 /// layer reaches u_sup; `defluidized` is 1 in every row where it has.
@@ -150,8 +133,7 @@ private:
   MPI_Comm comm = MPI_COMM_NULL;
   const FractionSet *fractions = nullptr;
   double rhoP = 0.0, gravity = 0.0;
-  std::string path, header;
-  NumberRows rows;
+  std::unique_ptr<CsvSeries> csv;
 };
 
 /// mixing.csv: time_s,lacey_<label>... (observable/mixing_index.hpp, docs/answers.md).
@@ -162,15 +144,15 @@ public:
   PetscErrorCode setUp(const RunContext &run, const FractionState &, const std::string &dir) override;
   PetscErrorCode sample(const MonitorContext &ctx) override;
   PetscErrorCode flush() override;
-  std::vector<double> saveState() const override { return rows.flat(); }
+  /// State: the length of mixing.csv.
+  std::vector<double> saveState() const override { return csv->state(); }
   PetscErrorCode restoreState(const std::vector<double> &state) override;
 
 private:
   MPI_Comm comm = MPI_COMM_NULL;
   int nf = 0;
   double meanParticleVolume = 0.0, rho = 0.0;
-  std::string path, header;
-  NumberRows rows;
+  std::unique_ptr<CsvSeries> csv;
 };
 
 /// bed_dynamics.csv: the bed's centre of gravity at every sample gives its

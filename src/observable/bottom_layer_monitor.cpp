@@ -17,10 +17,9 @@ PetscErrorCode BottomLayerMonitor::setUp(const RunContext &run, const FractionSt
   rhoP = run.solidDensity;
   const Vec3 &g = run.db.metadata().gravity;
   gravity = std::hypot(g[0], g[1], g[2]);
-  path = dir + "/bottom.csv";
-  header = "time_s,d32_bottom_m,umf_m_s,usup_m_s,defluidized";
+  std::string header = "time_s,d32_bottom_m,umf_m_s,usup_m_s,defluidized";
   for (const Zone &z : zones->all()) header += ",d32_" + z.name() + "_m";
-  rows = NumberRows(5 + static_cast<int>(zones->all().size()));
+  csv = std::make_unique<CsvSeries>(comm, dir + "/bottom.csv", header);
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
@@ -51,7 +50,7 @@ PetscErrorCode BottomLayerMonitor::sample(const MonitorContext &ctx) {
     for (std::size_t z = 0; z < zones->all().size(); ++z) // a zone is one "layer" of nf masses
       row.push_back(layers::sauterDiameter(global, static_cast<int>(z), *fractions));
   }
-  rows.add(row);
+  PetscCall(csv->add(formatNumberRow(row)));
   if (ctx.last && !quiet) {
     if (detector.fired())
       PetscCall(PetscPrintf(comm, "  bottom layer: de-fluidized from t = %.6g s on (%s)\n", detector.firstTime(),
@@ -63,28 +62,23 @@ PetscErrorCode BottomLayerMonitor::sample(const MonitorContext &ctx) {
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
-PetscErrorCode BottomLayerMonitor::flush() {
-  PetscMPIInt rank;
-  PetscFunctionBeginUser;
-  PetscCallMPI(MPI_Comm_rank(comm, &rank));
-  if (rank == 0) PetscCall(writeFileAtomically(path, rows.csv(header)));
-  PetscFunctionReturn(PETSC_SUCCESS);
-}
+PetscErrorCode BottomLayerMonitor::flush() { return csv->flush(); }
 
-// State: {fired, first time, rows...}.
+// State: {fired, first time, length of bottom.csv}.
 std::vector<double> BottomLayerMonitor::saveState() const {
   std::vector<double> state = detector.saveState();
-  state.insert(state.end(), rows.flat().begin(), rows.flat().end());
+  state.push_back(csv->mark());
   return state;
 }
 
 PetscErrorCode BottomLayerMonitor::restoreState(const std::vector<double> &state) {
   PetscFunctionBeginUser;
-  PetscCheck(state.size() >= 2 && rows.restore(state.data() + 2, state.size() - 2), PETSC_COMM_SELF,
-             PETSC_ERR_FILE_UNEXPECTED,
-             "The checkpoint's bottom.csv state does not fit this run's columns (other zones?)");
+  PetscCheck(state.size() == 3, PETSC_COMM_SELF, PETSC_ERR_FILE_UNEXPECTED,
+             "The checkpoint's bottom.csv state holds %zu numbers, expected 3 (the detector and the file's length)",
+             state.size());
   PetscCall(collectively(PETSC_COMM_SELF, [&] { detector.restoreState({state[0], state[1]}); },
                          PETSC_ERR_FILE_UNEXPECTED));
+  PetscCall(csv->resume(state[2]));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 

@@ -107,26 +107,4 @@ PetscErrorCode CentreOfGravity::measure(double time, Vec masses, Vec alpha, doub
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
-std::vector<double> BedSample::flatten() const {
-  std::vector<double> v{time, zCogBed};
-  v.insert(v.end(), zCog.begin(), zCog.end());
-  v.push_back(deltaZ);
-  v.insert(v.end(), mass.begin(), mass.end());
-  v.push_back(minMass);
-  v.push_back(bulkMismatch);
-  return v;
-}
-
-BedSample BedSample::unflatten(const double *v, int nf) {
-  BedSample s;
-  s.time = v[0];
-  s.zCogBed = v[1];
-  s.zCog.assign(v + 2, v + 2 + nf);
-  s.deltaZ = v[2 + nf];
-  s.mass.assign(v + 3 + nf, v + 3 + 2 * nf);
-  s.minMass = v[3 + 2 * nf];
-  s.bulkMismatch = v[4 + 2 * nf];
-  return s;
-}
-
 } // namespace rcfd

@@ -52,14 +52,18 @@ PetscErrorCode CogMonitor::sample(const MonitorContext &ctx) {
   BedSample s;
   PetscCall(cog.measure(ctx.time, ctx.state.masses(), ctx.run.db.alphaS(ctx.frame),
                         ctx.run.solidDensity, &s));
-  history.push_back(s);
-  csv->add(formatCsvRow(s, static_cast<int>(csvDigits)));
+  if (keep_) history.push_back(s);
+  PetscCall(csv->add(formatCsvRow(s, static_cast<int>(csvDigits))));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
-void CogMonitor::restore(std::vector<BedSample> saved) {
-  history = std::move(saved);
-  for (const auto &s : history) csv->add(formatCsvRow(s, static_cast<int>(csvDigits)));
+PetscErrorCode CogMonitor::restoreState(const std::vector<double> &state) {
+  PetscFunctionBeginUser;
+  if (state.empty()) PetscFunctionReturn(PETSC_SUCCESS); // not in the checkpoint's run: starts anew
+  PetscCheck(state.size() == 1, PETSC_COMM_SELF, PETSC_ERR_FILE_UNEXPECTED,
+             "The checkpoint's cog.csv state holds %zu numbers, expected 1 (the file's length)", state.size());
+  PetscCall(csv->resume(state[0]));
+  PetscFunctionReturn(PETSC_SUCCESS);
 }
 
 } // namespace rcfd

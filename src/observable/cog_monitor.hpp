@@ -1,6 +1,6 @@
 // The run's built-in monitor: centres of gravity, masses per fraction and the
-// bulk mismatch over time, kept in memory (Run::history(), checkpoints) and
-// written to OUTPUT_DIR/cog.csv.
+// bulk mismatch over time, appended to OUTPUT_DIR/cog.csv as they are made
+// (and kept in memory only when asked: Run::keepHistory).
 #pragma once
 
 #include "rcfd/observables.hpp"
@@ -18,16 +18,22 @@ public:
                        const std::string &outputDirectory) override;
   PetscErrorCode sample(const MonitorContext &ctx) override;
   PetscErrorCode flush() override { return csv->flush(); }
+  /// State: the length of cog.csv (CsvSeries::mark).
+  std::vector<double> saveState() const override { return csv->state(); }
+  PetscErrorCode restoreState(const std::vector<double> &state) override;
 
+  /// Keep every sample in memory as well (samples()); off by default, since
+  /// the samples grow with the run's length.
+  void keepSamples(bool keep) { keep_ = keep; }
+  /// The samples since the start, or since the restart, when kept.
   const std::vector<BedSample> &samples() const { return history; }
-  /// The samples of a checkpoint, before the run continues (after setUp).
-  void restore(std::vector<BedSample> saved);
 
 private:
   std::string header(const FractionSet &fractions) const;
   CentreOfGravity cog;
   std::unique_ptr<CsvSeries> csv;
   std::vector<BedSample> history;
+  bool keep_ = false;
   PetscInt monitorEvery = 1, csvDigits = 10;
 };
 

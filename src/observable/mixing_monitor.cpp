@@ -21,10 +21,9 @@ PetscErrorCode MixingMonitor::setUp(const RunContext &run, const FractionState &
     perVolume += run.fractions.massShare(i) / (kPi / 6.0 * d * d * d);
   }
   meanParticleVolume = 1.0 / perVolume;
-  path = dir + "/mixing.csv";
-  header = "time_s";
+  std::string header = "time_s";
   for (int i = 0; i < nf; ++i) header += ",lacey_" + run.fractions.label(i);
-  rows = NumberRows(1 + nf);
+  csv = std::make_unique<CsvSeries>(comm, dir + "/mixing.csv", header);
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
@@ -52,22 +51,18 @@ PetscErrorCode MixingMonitor::sample(const MonitorContext &ctx) {
     const double p = total.data()[0] > 0.0 ? total.data()[1] / total.data()[0] : 0.0; // the fraction's share
     row.push_back(total.index(p));
   }
-  rows.add(row);
+  PetscCall(csv->add(formatNumberRow(row)));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
-PetscErrorCode MixingMonitor::flush() {
-  PetscMPIInt rank;
-  PetscFunctionBeginUser;
-  PetscCallMPI(MPI_Comm_rank(comm, &rank));
-  if (rank == 0) PetscCall(writeFileAtomically(path, rows.csv(header)));
-  PetscFunctionReturn(PETSC_SUCCESS);
-}
+PetscErrorCode MixingMonitor::flush() { return csv->flush(); }
 
 PetscErrorCode MixingMonitor::restoreState(const std::vector<double> &state) {
   PetscFunctionBeginUser;
-  PetscCheck(rows.restore(state.data(), state.size()), PETSC_COMM_SELF, PETSC_ERR_FILE_UNEXPECTED,
-             "The checkpoint's mixing.csv state does not fit this run's %d fractions", nf);
+  if (state.empty()) PetscFunctionReturn(PETSC_SUCCESS); // not in the checkpoint's run: starts anew
+  PetscCheck(state.size() == 1, PETSC_COMM_SELF, PETSC_ERR_FILE_UNEXPECTED,
+             "The checkpoint's mixing.csv state holds %zu numbers, expected 1 (the file's length)", state.size());
+  PetscCall(csv->resume(state[0]));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 

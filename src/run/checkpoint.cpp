@@ -1,15 +1,22 @@
 // Checkpoints: everything a run needs to continue bit-identically, in one
 // HDF5 file written atomically (temporary name, then rename), so that a
-// crash while writing leaves the previous checkpoint intact.
+// crash while writing leaves the previous checkpoint intact.  Its size does
+// not grow with the run's length: the time series are in the output files,
+// which the run flushes right before it writes a checkpoint and which a
+// restart cuts back to the lengths recorded here.
 //
 //   /masses            [cells, fractions]  natural cell order, kg
 //   /path_state        uint64 words of the frame path (position, sequence, PRNG)
-//   /frames_used       frame of every step so far
-//   /samples           [rows, 2 nf + 5]    the monitor's samples so far
 //   /ledger_reference  the mass ledger's reference totals
 //   /monitors/<name>   each monitor's saved state (Monitor::saveState), when not empty
 //   /operators/<type>  each operator's saved state (Operator::saveState), when not empty
-//   root attributes    format = "rcfd-checkpoint", step, num_fractions, num_cells, database
+//   /physics           attributes: what the physics was made with (database, diameters,
+//                      mass_shares, solid_density, pipeline, path, options_<operator>);
+//                      a restart refuses a run that differs in any of them
+//   root attributes    format = "rcfd-checkpoint", version = 2, step, num_fractions,
+//                      num_cells, database (its path), output_dir (absolute),
+//                      path_txt_bytes (length of OUTPUT_DIR/path.txt at the step)
+// Version 1 (before the time series left the checkpoint) is refused with a sentence.
 #include "path/frame_path.hpp"
 #include "base/petsc_compat.hpp"
 #include "run/run_impl.hpp"
@@ -19,12 +26,94 @@
 
 #include <petscviewerhdf5.h>
 
+#include <algorithm>
+#include <cctype>
 #include <cstdio>
+#include <cstdlib>
+#include <filesystem>
 #include <memory>
+#include <sstream>
 
 namespace rcfd {
+namespace {
+
+constexpr long long kCheckpointVersion = 2;
+
+std::string joinNumbers(const std::vector<double> &values) {
+  std::string text;
+  char number[32];
+  for (double v : values) {
+    for (int digits = 15; digits <= 17; ++digits) { // the shortest text that reads back exactly:
+      std::snprintf(number, sizeof number, "%.*g", digits, v); // a difference in the last bit counts
+      if (std::strtod(number, nullptr) == v) break;
+    }
+    text += (text.empty() ? "" : ",") + std::string(number);
+  }
+  return text;
+}
+
+/// The options given under `prefix` ("-drift_kd 2000 -drift_model A"), sorted,
+/// without the viewers (-<prefix>view...), which do not change the physics.
+std::string optionsUnder(const std::string &prefix) {
+  char *all = nullptr;
+  if (PetscOptionsGetAll(nullptr, &all) != 0 || !all) return "";
+  std::istringstream in(all);
+  PetscFree(all);
+  std::vector<std::string> found;
+  std::string token;
+  bool keep = false;
+  while (in >> token) {
+    const bool isName = token.size() > 1 && token[0] == '-' && std::isalpha(static_cast<unsigned char>(token[1]));
+    if (isName) {
+      keep = token.compare(1, prefix.size(), prefix) == 0 && token.find("view", 1 + prefix.size()) == std::string::npos;
+      if (keep) found.push_back(token);
+    } else if (keep && !found.empty()) {
+      found.back() += " " + token;
+    }
+  }
+  std::sort(found.begin(), found.end());
+  std::string text;
+  for (const auto &f : found) text += (text.empty() ? "" : " ") + f;
+  return text.empty() ? "(defaults)" : text;
+}
+
+/// "another database", "other options of the drift operator", ... for an entry of the physics record.
+std::string differenceIn(const std::string &entry) {
+  if (entry.rfind("options_", 0) == 0) return "other options of the " + entry.substr(8) + " operator";
+  if (entry == "diameters") return "another set of diameters";
+  if (entry == "mass_shares") return "another set of mass shares";
+  if (entry == "solid_density") return "another solid density";
+  return "another " + entry;
+}
+
+} // namespace
+
+// What the physics of this run was made with, as (name, text) pairs; a
+// restart compares them with the checkpoint's.  Run control (-t_end, the
+// outputs, progress, the monitors' intervals) is not among them.
+std::vector<std::pair<std::string, std::string>> Run::Impl::physicsRecord() const {
+  std::vector<double> diameters, shares;
+  for (int i = 0; i < set.size(); ++i) {
+    diameters.push_back(set.diameter(i));
+    shares.push_back(set.massShare(i));
+  }
+  std::string pipeline;
+  for (const auto &op : ops.operators()) pipeline += (pipeline.empty() ? "" : ",") + op->type();
+  std::vector<std::pair<std::string, std::string>> record{
+      {"database", db->identity() + ", frames " + std::to_string(loadOptions.firstFrame) + " to " +
+                       std::to_string(loadOptions.firstFrame + db->numFrames() - 1)},
+      {"diameters", joinNumbers(diameters)},
+      {"mass_shares", joinNumbers(shares)},
+      {"solid_density", joinNumbers({solidDensity})},
+      {"pipeline", pipeline},
+      {"path", path->describe()}};
+  for (const auto &op : ops.operators())
+    record.emplace_back("options_" + op->type(), optionsUnder(op->optionsPrefix()));
+  return record;
+}
 
 PetscErrorCode Run::Impl::writeCheckpoint(long step) const {
+  namespace fs = std::filesystem;
   // All ranks write the masses to the temporary; rank 0 adds the rest and commits.
   const std::string tmp = AtomicFile::temporaryPathOf(checkpointFile);
   const int nf = set.size();
@@ -56,24 +145,23 @@ PetscErrorCode Run::Impl::writeCheckpoint(long step) const {
   }
   std::vector<std::pair<std::string, std::vector<double>>> operatorStates;
   for (const auto &op : ops.operators()) operatorStates.emplace_back(op->type(), op->saveState());
+  const auto physics = physicsRecord();
   PetscCall(collectively(comm, [&] {
     if (rank != 0) return;
     {
       h5::File f = h5::File::openReadWrite(tmp);
       f.writeAttr("/", "format", std::string("rcfd-checkpoint"));
+      f.writeAttr("/", "version", kCheckpointVersion);
       f.writeAttr("/", "step", static_cast<long long>(step));
       f.writeAttr("/", "num_fractions", static_cast<long long>(nf));
       f.writeAttr("/", "num_cells", static_cast<long long>(db->mesh().numCells()));
       f.writeAttr("/", "database", dbPath);
+      f.writeAttr("/", "output_dir", fs::absolute(outputDir).lexically_normal().string());
+      f.writeAttr("/", "path_txt_bytes", static_cast<long long>(pathFile->mark()));
+      f.createGroup("/physics");
+      for (const auto &[name, text] : physics) f.writeAttr("/physics", name, text);
       const auto words = path->saveState();
       f.write("/path_state", std::vector<int64_t>(words.begin(), words.end()));
-      f.write("/frames_used", std::vector<int32_t>(frames.begin(), frames.end()));
-      std::vector<double> flat;
-      for (const auto &s : cog->samples()) {
-        const auto row = s.flatten();
-        flat.insert(flat.end(), row.begin(), row.end());
-      }
-      f.write("/samples", flat, static_cast<hsize_t>(BedSample::flatSize(nf)));
       f.write("/ledger_reference", ledger.reference());
       f.createGroup("/monitors");
       for (const auto &e : states)
@@ -90,10 +178,10 @@ PetscErrorCode Run::Impl::writeCheckpoint(long step) const {
 
 PetscErrorCode Run::Impl::readCheckpoint() {
   const int nf = set.size();
-  long long step = 0;
+  long long step = 0, pathBytes = 0;
+  std::string previousDirectory;
   std::vector<int64_t> words;
-  std::vector<int32_t> used;
-  std::vector<double> flat, reference;
+  std::vector<double> reference;
   std::vector<std::vector<double>> states(monitors.size()), operatorStates(ops.operators().size());
   PetscFunctionBeginUser;
   PetscCall(collectively(
@@ -107,10 +195,25 @@ PetscErrorCode Run::Impl::readCheckpoint() {
           throw h5::Error("-restart '" + restartFile + "' holds " + std::to_string(cells) + " cells x " +
                           std::to_string(fr) + " fractions, but this run has " +
                           std::to_string(db->mesh().numCells()) + " x " + std::to_string(nf));
+        if (!f.hasAttribute("/", "version"))
+          throw h5::Error("-restart '" + restartFile + "' was written by an older rcfd (checkpoint version 1, which "
+                          "holds the time series but no record of the physics); rerun from the start");
+        if (f.readAttrInt("/", "version") != kCheckpointVersion)
+          throw h5::Error("-restart '" + restartFile + "' has checkpoint version " +
+                          std::to_string(f.readAttrInt("/", "version")) + ", this rcfd reads version " +
+                          std::to_string(kCheckpointVersion));
+        for (const auto &[name, text] : physicsRecord()) {
+          const std::string saved = f.hasAttribute("/physics", name) ? f.readAttrString("/physics", name) : "(none)";
+          if (saved != text) {
+            throw h5::Error("-restart '" + restartFile + "' continues a run made with " + differenceIn(name) + " (" + saved +
+                            " there, " + text + " here); a restart may change only run control such as -t_end, "
+                            "the outputs and progress");
+          }
+        }
         step = f.readAttrInt("/", "step");
+        pathBytes = f.readAttrInt("/", "path_txt_bytes");
+        previousDirectory = f.readAttrString("/", "output_dir");
         words = f.read<int64_t>("/path_state");
-        used = f.read<int32_t>("/frames_used");
-        flat = f.read<double>("/samples");
         reference = f.read<double>("/ledger_reference", nf);
         path->restoreState(std::vector<std::uint64_t>(words.begin(), words.end()));
         for (std::size_t m = 0; m < monitors.size(); ++m) {
@@ -143,28 +246,36 @@ PetscErrorCode Run::Impl::readCheckpoint() {
   PetscCall(VecScatterBegin(scatter, natural, fstate.masses(), INSERT_VALUES, SCATTER_REVERSE));
   PetscCall(VecScatterEnd(scatter, natural, fstate.masses(), INSERT_VALUES, SCATTER_REVERSE));
   startStep = static_cast<long>(step);
-  frames.assign(used.begin(), used.end());
-  const int width = BedSample::flatSize(nf);
-  std::vector<BedSample> samples;
-  for (size_t r = 0; r + width <= flat.size(); r += width)
-    samples.push_back(BedSample::unflatten(flat.data() + r, nf));
-  cog->restore(std::move(samples));
+  frames.clear();
   ledger.restore(reference);
+  PetscCall(adoptOutputsOf(previousDirectory));
+  PetscCall(pathFile->resume(static_cast<double>(pathBytes)));
   for (std::size_t m = 0; m < monitors.size(); ++m) PetscCall(monitors[m].monitor->restoreState(states[m]));
   for (std::size_t k = 0; k < ops.operators().size(); ++k) PetscCall(ops.operators()[k]->restoreState(operatorStates[k]));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
-PetscErrorCode Run::Impl::writePath() const {
+// A restart into another output directory continues the time series of the
+// checkpoint's: their files (*.csv, path.txt) are copied here first, and the
+// monitors cut them back to the checkpoint's step.
+PetscErrorCode Run::Impl::adoptOutputsOf(const std::string &previousDirectory) const {
+  namespace fs = std::filesystem;
   PetscMPIInt rank;
   PetscFunctionBeginUser;
   PetscCallMPI(MPI_Comm_rank(comm, &rank));
   PetscCall(collectively(comm, [&] {
-    if (rank == 0)
-      writePathFile(outputDir + "/path.txt", frames,
-                    "frame of each step of this run; replay it with -path_type recorded -path_file FILE; " +
-                        path->describe());
-  }));
+    if (rank != 0) return;
+    std::error_code ec;
+    if (!fs::is_directory(previousDirectory) || fs::equivalent(previousDirectory, outputDir, ec)) return;
+    for (const auto &entry : fs::directory_iterator(previousDirectory)) {
+      const fs::path file = entry.path();
+      if (!entry.is_regular_file() || (file.extension() != ".csv" && file.filename() != "path.txt")) continue;
+      fs::copy_file(file, fs::path(outputDir) / file.filename(), fs::copy_options::overwrite_existing, ec);
+      if (ec)
+        throw std::runtime_error("Cannot copy '" + file.string() + "' of the checkpoint's run into -output_dir '" +
+                                 outputDir + "': " + ec.message());
+    }
+  }, PETSC_ERR_FILE_WRITE));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 

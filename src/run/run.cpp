@@ -55,6 +55,7 @@ Run::~Run() = default;
 
 void Run::setDefaultOutputDirectory(const std::string &directory) { impl->outputDir = directory; }
 void Run::setOutputDirectory(const std::string &directory) { impl->outputDir = directory; }
+void Run::keepHistory(bool keep) { impl->keepHistory = keep; }
 void Run::setQuiet(bool quiet) { impl->quiet = quiet ? PETSC_TRUE : PETSC_FALSE; }
 void Run::setWriteFields(bool write) { impl->writeFields = write ? PETSC_TRUE : PETSC_FALSE; }
 void Run::useDatabase(std::shared_ptr<Database> database) { impl->db = std::move(database); }
@@ -221,6 +222,11 @@ PetscErrorCode Run::setUp() {
   for (const auto &op : r.ops.operators()) PetscCall(op->monitors(ctx, &brought));
   for (auto &b : brought) r.monitors.push_back({std::move(b.monitor), b.every, b.name});
   for (auto &m : r.monitors) PetscCall(m.monitor->setUp(ctx, r.fstate, r.outputDir));
+  r.cog->keepSamples(r.keepHistory);
+  r.pathFile = std::make_unique<CsvSeries>(
+      r.comm, r.outputDir + "/path.txt",
+      "# frame of each step of this run; replay it with -path_type recorded -path_file FILE; " +
+          r.path->describe()); // the layout of writePathFile
   r.isSetUp = true;
   if (r.restartFile.empty())
     PetscCall(setInitialState(InitialState{r.initKind, r.initFile}, *r.db, r.set, r.solidDensity, r.fstate));
@@ -250,6 +256,7 @@ PetscErrorCode Run::Impl::callMonitors(long step, double time, int frame, bool l
 
 PetscErrorCode Run::Impl::flushMonitors() {
   PetscFunctionBeginUser;
+  PetscCall(pathFile->flush());
   for (auto &e : monitors) {
     const double start = MPI_Wtime();
     PetscCall(e.monitor->flush());
@@ -305,14 +312,19 @@ PetscErrorCode Run::solve() {
       info.nextFrame = (frame + 1) % r.db->numFrames();
       info.jump = info.nextFrame != frame + 1;
     }
-    r.frames.push_back(frame);
+    PetscCall(r.pathFile->add(std::to_string(frame)));
+    if (r.keepHistory) r.frames.push_back(frame);
     PetscCall(r.ops.apply(info, r.fstate));
     if (ledgerOn && !conservative) r.ops.addedMass(&added);
     if (ledgerOn) PetscCall(r.ledger.check(s + 1, r.fstate, s + 1 == r.steps, conservative ? nullptr : &added));
     frame = info.nextFrame;
     const double t = (s + 1) * dt;
     PetscCall(r.callMonitors(s + 1, t, frame, s + 1 == r.steps));
-    if (checkpointSteps && (s + 1) % checkpointSteps == 0) PetscCall(r.writeCheckpoint(s + 1));
+    if (checkpointSteps && (s + 1) % checkpointSteps == 0) { // the files first: the checkpoint records their lengths
+      PetscCall(r.flushMonitors());
+      PetscCall(r.writeCheckpoint(s + 1));
+      lastFlush = MPI_Wtime();
+    }
     if (MPI_Wtime() - lastFlush > 10.0) { // results so far survive an interruption
       PetscCall(r.flushMonitors());
       lastFlush = MPI_Wtime();
@@ -320,7 +332,6 @@ PetscErrorCode Run::solve() {
     PetscCall(r.progress(s + 1, t, false));
   }
   PetscCall(r.flushMonitors());
-  PetscCall(r.writePath());
   // figures: drawn by the CLI (rcfd run), not by the library
   PetscCall(r.progress(r.steps, r.steps * dt, true));
 

@@ -30,7 +30,9 @@ struct Run::Impl {
   PetscErrorCode progress(long step, double time, bool last);
   PetscErrorCode writeCheckpoint(long step) const; // src/run/checkpoint.cpp
   PetscErrorCode readCheckpoint();                 // src/run/checkpoint.cpp
-  PetscErrorCode writePath() const;                // src/run/checkpoint.cpp
+  PetscErrorCode adoptOutputsOf(const std::string &previousDirectory) const; // src/run/checkpoint.cpp
+  /// What the physics was made with (src/run/checkpoint.cpp); a restart refuses a difference.
+  std::vector<std::pair<std::string, std::string>> physicsRecord() const;
   RunContext context() const { return RunContext{*db, set, solidDensity}; }
 
   MPI_Comm comm;
@@ -46,9 +48,10 @@ struct Run::Impl {
   CogMonitor *cog = nullptr; // the first entry of `monitors`
   std::vector<Entry> monitors;
   Answers answers; // the monitors a case asks for by option (profiles, halves, ...)
-  std::vector<int> frames;
+  std::unique_ptr<CsvSeries> pathFile; // OUTPUT_DIR/path.txt, the frame of every step, appended
+  std::vector<int> frames;             // the same, in memory, only with keepHistory
   long startStep = 0;
-  bool isSetUp = false, solved = false;
+  bool isSetUp = false, solved = false, keepHistory = false;
 
   // Options.
   std::string dbPath, outputDir = "rcfd-output", initKind = "mixed", initFile;
