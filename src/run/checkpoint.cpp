@@ -19,6 +19,7 @@
 #include <petscviewerhdf5.h>
 
 #include <cstdio>
+#include <filesystem>
 #include <memory>
 
 namespace rcfd {
@@ -149,8 +150,35 @@ PetscErrorCode Run::Impl::writePath() const {
       writePathFile(outputDir + "/path.txt", frames,
                     "frame of each step of this run; replay it with -path_type recorded -path_file FILE; " +
                         path->describe());
+    if (rank == 0) writeJumps();
   }));
   PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+// jumps.csv: the rows of cog.csv (and the other time series) that follow a
+// step whose next frame is not the one after its frame -- a stitched path's
+// jump or a replay's wrap to frame 0, where the state is carried into another
+// bed.  Written only when there is one, so a run inside its database leaves
+// its output as it was.
+void Run::Impl::writeJumps() const {
+  const double dt = db->metadata().dtRec;
+  std::string rows;
+  char line[128];
+  for (std::size_t s = 0; s < frames.size(); ++s) {
+    const int next = s + 1 < frames.size() ? frames[s + 1] : finalFrame;
+    if (next < 0 || next == frames[s] + 1) continue;
+    std::snprintf(line, sizeof line, "%zu,%.9g,%d,%d\n", s + 1, (s + 1) * dt, frames[s], next);
+    rows += line;
+  }
+  const std::string file = outputDir + "/jumps.csv";
+  if (rows.empty()) {
+    std::filesystem::remove(file); // a stale one from an earlier run in this directory
+    return;
+  }
+  writeTextAtomically(file, "# rows of cog.csv at time_s follow a jump of the frame path (stitching, "
+                            "or a replay wrapping to frame 0): the bed's state was carried from "
+                            "after from_frame's shift into to_frame\nstep,time_s,from_frame,to_frame\n" +
+                                rows);
 }
 
 } // namespace rcfd

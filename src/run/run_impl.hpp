@@ -29,7 +29,8 @@ struct Run::Impl {
   PetscErrorCode progress(long step, double time, bool last);
   PetscErrorCode writeCheckpoint(long step) const; // src/run/checkpoint.cpp
   PetscErrorCode readCheckpoint();                 // src/run/checkpoint.cpp
-  PetscErrorCode writePath() const;                // src/run/checkpoint.cpp
+  PetscErrorCode writePath() const;                // src/run/checkpoint.cpp (and jumps.csv)
+  void writeJumps() const;                         // rank 0, src/run/checkpoint.cpp
   RunContext context() const { return RunContext{*db, set, solidDensity}; }
 
   MPI_Comm comm;
@@ -46,6 +47,7 @@ struct Run::Impl {
   std::vector<Entry> monitors;
   Answers answers; // the monitors a case asks for by option (profiles, halves, ...)
   std::vector<int> frames;
+  int finalFrame = -1; // the frame after the last step (its jump, if any, ends the run)
   long startStep = 0;
   bool isSetUp = false, solved = false;
 
