@@ -32,14 +32,15 @@ expect_error "Give the snapshot times with -times FILE" build -dumps "$work/dump
   -mesh_cells 2,1,2
 # 1 mm cells and a 2 mm particle: counted by centre, alpha_s passes 1 and the
 # build is refused without leaving the database or the -init_out file behind.
-expect_error "alpha_s reaches" build "${common[@]/2,1,2/20,10,20}" -particle_volume centre \
+expect_error "alpha_s reaches" build "${common[@]/2,1,2/20,10,20}" \
   -o "$work/x.h5" -init_out "$work/x-init.h5"
 [ ! -e "$work/x.h5" ] && [ ! -e "$work/x.h5.tmp" ] && [ ! -e "$work/x-init.h5" ] && ok ||
   fail "a refused build left a file"
-# Counted by overlap (the default) the same build holds: the 2 mm particle sits
+# Counted by overlap the same build holds: the 2 mm particle sits
 # on a corner of eight cells (x, y, z = 5, 5, 6 mm), an eighth in each:
 # alpha_s = (pi/6 8e-9 / 8) / 1e-9 = pi/6.
-if "$rcfd" build "${common[@]/2,1,2/20,10,20}" -o "$work/x.h5" -init_out "$work/x-init.h5" \
+if "$rcfd" build "${common[@]/2,1,2/20,10,20}" -particle_volume overlap -o "$work/x.h5" \
+  -init_out "$work/x-init.h5" \
   >"$work/out.txt" 2>&1; then
   grep -q "alpha_s: max 0.5236, 0 cell-snapshots" "$work/out.txt" && ok ||
     fail "overlap build: $(grep alpha_s: "$work/out.txt")"

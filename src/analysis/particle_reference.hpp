@@ -57,7 +57,7 @@ struct ReferenceOptions {
   /// Time window [s], ends included, for the profiles and the halves.
   double windowBegin = -std::numeric_limits<double>::infinity();
   double windowEnd = std::numeric_limits<double>::infinity();
-  ParticleVolume volume = ParticleVolume::Overlap; // how a particle is shared among layers
+  ParticleVolume volume = ParticleVolume::Centre; // how a particle is shared among layers
 };
 
 /// Per-snapshot numbers.

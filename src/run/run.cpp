@@ -108,7 +108,7 @@ PetscErrorCode Run::setFromOptions() {
                                sizeof text, &set_));
   if (set_) r.dbPath = text;
   PetscCall(checkedReal(PetscOptionsObject, "-t_end",
-                        "Simulated time to run [s] (default: one pass over the frames)", &r.tEnd,
+                        "Simulated time to run [s] (default: one pass inside the database, (frames - 1) dt_rec; longer runs wrap)", &r.tEnd,
                         {0.0, 1e15, false, true, "a positive time in s"}));
   PetscCall(PetscOptionsString("-output_dir", "Directory for results", "", r.outputDir.c_str(), text,
                                sizeof text, &set_));

@@ -63,11 +63,11 @@ struct ParticleBuildOptions {
   std::size_t first = 0;                                      // window of snapshot indices,
   std::size_t last = std::numeric_limits<std::size_t>::max(); // both ends included
   SnapshotReadOptions read; // default density for files without density/mass
-  ParticleVolume volume = ParticleVolume::Overlap; // cells a particle's volume is counted in
+  ParticleVolume volume = ParticleVolume::Centre; // cells a particle's volume is counted in
 };
 
 struct ParticleBuildReport {
-  ParticleVolume volume = ParticleVolume::Overlap; // the counting rule used
+  ParticleVolume volume = ParticleVolume::Centre; // the counting rule used
   std::size_t snapshots = 0; // snapshots used
   std::size_t frames = 0;    // = snapshots - 1
   int cells = 0;
