@@ -97,7 +97,9 @@ void cellShares(const BoxSpec &mesh, const Vec3 &centre, double d, ParticleVolum
         for (int i = ax[0].first; i <= ax[0].last; ++i) {
           const Vec3 lo{ax[0].lo(i), ax[1].lo(j), ax[2].lo(k)};
           const Vec3 hi{ax[0].hi(i), ax[1].hi(j), ax[2].hi(k)};
-          const double v = sphereBoxVolume(centre, R, lo, hi);
+          // One quadrature panel: within 1e-9 of the sphere, and the shares are
+          // normalised below, so T_k alpha_k = alpha_{k+1} stays exact regardless.
+          const double v = sphereBoxVolume(centre, R, lo, hi, 1);
           if (v > 0.0) out.push_back({flat(i, j, k), v});
         }
   }

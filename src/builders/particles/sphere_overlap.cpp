@@ -49,7 +49,7 @@ double diskRectangleArea(double r, double x0, double x1, double y0, double y1) {
   return area;
 }
 
-double sphereBoxVolume(const Vec3 &c, double R, const Vec3 &lo, const Vec3 &hi) {
+double sphereBoxVolume(const Vec3 &c, double R, const Vec3 &lo, const Vec3 &hi, int panels) {
   const double x0 = lo[0] - c[0], x1 = hi[0] - c[0], y0 = lo[1] - c[1], y1 = hi[1] - c[1];
   const double za = std::max(lo[2] - c[2], -R), zb = std::min(hi[2] - c[2], R);
   if (!(R > 0.0) || za >= zb) return 0.0;
@@ -81,8 +81,7 @@ double sphereBoxVolume(const Vec3 &c, double R, const Vec3 &lo, const Vec3 &hi) 
       const double rho = std::sqrt(std::max(0.0, R * R - z * z));
       return diskRectangleArea(rho, x0, x1, y0, y1) * (b - a) * 0.5 * M_PI * std::sin(M_PI * t);
     };
-    // Composite: 4 panels of 16-point Gauss-Legendre in t.
-    constexpr int panels = 4;
+    // Composite: `panels` panels of 16-point Gauss-Legendre in t.
     for (int p = 0; p < panels; ++p) {
       const double t0 = static_cast<double>(p) / panels, h = 0.5 / panels, m = t0 + h;
       for (int k = 0; k < 8; ++k)
