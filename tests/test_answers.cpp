@@ -297,6 +297,7 @@ PetscErrorCode sameAsReference(const std::string &dir) {
     ReferenceOptions opt;
     opt.classes.diameter = {1.5e-3, 3.0e-3};
     opt.profileMesh = mesh.boxSpec();
+    opt.volume = ParticleVolume::Centre; // the particles stand for the cells' masses
     ParticleReference reference(opt);
     reference.add(0.0, snap);
     reference.writeProfilesCsv(out + "/reference_profiles.csv");

@@ -84,6 +84,7 @@ BoxSpec smallBox() {
 
 void testKnownMatrix() {
   ParticleBuildOptions opt;
+  opt.volume = ParticleVolume::Centre; // hand-computed for whole particles
   opt.mesh = smallBox();
   std::vector<FrameRecord> frames;
   ParticleFrameBuilder b(opt, [&](const FrameRecord &f) { frames.push_back(f); });
@@ -122,6 +123,7 @@ void testKnownMatrix() {
 
 void testVanishedAppearedOutside() {
   ParticleBuildOptions opt;
+  opt.volume = ParticleVolume::Centre; // hand-computed for whole particles
   opt.mesh = smallBox();
   std::vector<FrameRecord> frames;
   ParticleFrameBuilder b(opt, [&](const FrameRecord &f) { frames.push_back(f); });
@@ -166,6 +168,7 @@ void testVanishedAppearedOutside() {
 
 void testErrorsAndAxes() {
   ParticleBuildOptions opt;
+  opt.volume = ParticleVolume::Centre; // hand-computed for whole particles
   opt.mesh = smallBox();
   ParticleFrameBuilder b(opt, nullptr);
   bool threw = false;
@@ -222,6 +225,7 @@ void testRandomCloud(bool twoDensities) {
   }
   ParticleBuildOptions opt;
   opt.mesh = box;
+  opt.volume = ParticleVolume::Centre; // alphaOf below counts by centre
   std::vector<double> alphaPrev, massPrev;
   std::vector<CsrMatrix> shifts;
   std::vector<std::vector<double>> alphas;
@@ -307,6 +311,7 @@ void testFromFiles(const std::string &dir) {
     writeDumpGz(files.back(), 100 * s, {{42, centre[s % 4], 0.1, 0.0}});
   }
   ParticleBuildOptions opt;
+  opt.volume = ParticleVolume::Centre;
   opt.mesh = smallBox();
   opt.read.defaultDensity = 1440.0;
   opt.stride = 2;
@@ -353,6 +358,7 @@ void testReference(const std::string &dir) {
   layers.origin = {-0.5, -0.5, 0.0};
   layers.length = {1.0, 1.0, 0.4};
   ReferenceOptions opt;
+  opt.volume = ParticleVolume::Centre; // whole particles in their centre's layer
   opt.profileMesh = layers;
   opt.windowBegin = 0.0;
   opt.windowEnd = 1.0;
@@ -430,6 +436,173 @@ void testReference(const std::string &dir) {
   RCFD_CHECK(sc.classOf(0.001952) == 0 && sc.classOf(0.00282) == 2 && sc.classOf(0.0025) == -1);
 }
 
+// ------------------------------------------------------------ overlap
+
+/// Particles as large as the cells, counted by overlap, with shares worked
+/// out by hand: A straddles the plane x = 1 exactly (halves), then the
+/// corner of four cells... D sits 0.1 m before x = 1 with R = 0.2 m, so the
+/// cap beyond the plane, of height 0.1, is pi t^2 (3R - t) / 3 = pi 0.005 / 3
+/// of the sphere's pi 0.032 / 3: a share of 0.15625.  E pokes out of the
+/// domain's wall x = 0 and has all its volume in cell 0.
+void testOverlapByHand() {
+  ParticleBuildOptions opt;
+  opt.mesh = smallBox(); // 2 x 1 x 2 cells of 1 m^3: 0 (0,0,0), 1 (1,0,0), 2 (0,0,1), 3 (1,0,1)
+  opt.volume = ParticleVolume::Overlap;
+  std::vector<FrameRecord> frames;
+  ParticleFrameBuilder b(opt, [&](const FrameRecord &f) { frames.push_back(f); });
+  const double d = 0.4, rho = 1000.0, V = sphereVolume(d), m = rho * V, cap = 0.15625;
+  b.add(snapshot({{1, {1.0, 0.5, 0.5}, d, rho}, {4, {0.9, 0.5, 0.5}, d, rho}}, 0));
+  // t_1: A on the edge x = 1, z = 1 (a quarter in each cell), D as before,
+  // E appears; t_2: E at the wall.
+  b.add(snapshot({{1, {1.0, 0.5, 1.0}, d, rho}, {4, {0.9, 0.5, 0.5}, d, rho}}, 1));
+  b.add(snapshot({{1, {1.0, 0.5, 1.0}, d, rho}, {4, {0.9, 0.5, 0.5}, d, rho},
+                  {5, {0.05, 0.9, 1.5}, d, rho}},
+                 2));
+  RCFD_CHECK(frames.size() == 2);
+  if (frames.size() != 2) return;
+  RCFD_CHECK_CLOSE(frames[0].alphaS[0], V * (0.5 + 1.0 - cap), 1e-12 * V);
+  RCFD_CHECK_CLOSE(frames[0].alphaS[1], V * (0.5 + cap), 1e-12 * V);
+  RCFD_CHECK(frames[0].alphaS[2] == 0.0 && frames[0].alphaS[3] == 0.0);
+  // Column i: D rests, so it stays; A keeps a quarter in cells 0 and 1 and
+  // moves the other quarter of each to cells 2 and 3 in proportion (1/8 each).
+  const double m0 = m * (0.5 + 1.0 - cap), m1 = m * (0.5 + cap);
+  const double expected[4][2] = {{m * (0.25 + 1 - cap) / m0, 0.0},
+                                 {0.0, m * (0.25 + cap) / m1},
+                                 {m * 0.125 / m0, m * 0.125 / m1},
+                                 {m * 0.125 / m0, m * 0.125 / m1}};
+  const auto A = dense(frames[0].shift);
+  for (int r = 0; r < 4; ++r)
+    for (int c = 0; c < 2; ++c) RCFD_CHECK_CLOSE(A[r][c], expected[r][c], 1e-12);
+  // The wall: all of E in cell 2 (its centre's cell), nothing lost.
+  RCFD_CHECK_CLOSE(frames[1].alphaS[2], 0.25 * V, 1e-12 * V);
+  RCFD_CHECK_CLOSE(frames[1].alphaS[3], 0.25 * V, 1e-12 * V);
+  const ParticleBuildReport &r = b.report();
+  RCFD_CHECK(r.maxNnzPerColumn == 3 && r.appeared == 1 && r.outside == 0);
+  // T_0 alpha_0 = alpha_1 (E's appearance breaks it for T_1, as it should).
+  const auto ta = times(frames[0].shift, frames[0].alphaS);
+  for (int c = 0; c < 4; ++c) RCFD_CHECK_CLOSE(ta[c], frames[1].alphaS[c], 1e-15);
+
+  std::vector<CellShare> shares;
+  cellShares(opt.mesh, {0.05, 0.9, 1.5}, d, ParticleVolume::Overlap, shares);
+  RCFD_CHECK(shares.size() == 1 && shares[0].cell == 2 && shares[0].share == 1.0);
+  // Out of the wall x = 0 and across the plane z = 1: the part outside stays
+  // with the cell nearest to it, so the cap beyond z = 1 keeps its share.
+  cellShares(opt.mesh, {0.05, 0.5, 0.9}, d, ParticleVolume::Overlap, shares);
+  RCFD_CHECK(shares.size() == 2 && shares[0].cell == 0 && shares[1].cell == 2);
+  if (shares.size() == 2) RCFD_CHECK_CLOSE(shares[1].share, cap, 1e-12);
+  // Out of the wall y = 0 and across x = 1 and z = 1 (four cells, general
+  // path): the two cells above z = 1 still hold exactly the cap's share.
+  cellShares(opt.mesh, {0.95, 0.05, 0.9}, d, ParticleVolume::Overlap, shares);
+  double above = 0.0, all = 0.0;
+  for (const CellShare &c : shares) {
+    all += c.share;
+    if (c.cell >= 2) above += c.share;
+  }
+  RCFD_CHECK(shares.size() == 4);
+  RCFD_CHECK_CLOSE(above, cap, 1e-12);
+  RCFD_CHECK_CLOSE(all, 1.0, 1e-15);
+  cellShares(opt.mesh, {-0.05, 0.5, 0.5}, d, ParticleVolume::Overlap, shares);
+  RCFD_CHECK(shares.empty()); // centre outside: in no cell, as under the centre rule
+  RCFD_CHECK(parseParticleVolume("centre") == ParticleVolume::Centre);
+  bool threw = false;
+  try {
+    parseParticleVolume("volume");
+  } catch (const std::invalid_argument &) {
+    threw = true;
+  }
+  RCFD_CHECK(threw);
+}
+
+/// Particles larger than the cells (3 mm in 2.4 mm cells), on a loose
+/// lattice (3.6 mm apart, so they never overlap each other) that drifts and
+/// jitters: every particle straddles cells, some poke out of the walls.
+/// Counted by centre, a cell holding one centre has alpha_s 1.02; counted by
+/// overlap alpha_s stays physical, the volume is all there, and
+/// T_k alpha_k = alpha_{k+1} to round-off.
+void testCellSizedParticles() {
+  BoxSpec box;
+  box.nx = 3;
+  box.ny = 3;
+  box.nz = 6;
+  box.origin = {0.0, 0.0, 0.0};
+  box.length = {0.0072, 0.0072, 0.0144};
+  const double d = 0.003, cellVolume = 0.0024 * 0.0024 * 0.0024;
+  std::vector<P> lattice;
+  for (int k = 0; k < 4; ++k)
+    for (int j = 0; j < 2; ++j)
+      for (int i = 0; i < 2; ++i)
+        lattice.push_back({1 + i + 2 * j + 4 * k, {0.0018 + 0.0036 * i, 0.0018 + 0.0036 * j,
+                                                   0.0018 + 0.0036 * k}, d, 2500.0});
+  double maxAlphaCentre = 0.0;
+  for (ParticleVolume rule : {ParticleVolume::Centre, ParticleVolume::Overlap}) {
+    std::mt19937_64 rng(777);
+    std::uniform_real_distribution<double> u(-1.0, 1.0);
+    ParticleBuildOptions opt;
+    opt.mesh = box;
+    opt.volume = rule;
+    std::vector<FrameRecord> frames;
+    ParticleFrameBuilder b(opt, [&](const FrameRecord &f) { frames.push_back(f); });
+    for (int k = 0; k < 5; ++k) {
+      const Vec3 drift{0.0006 * u(rng), 0.0006 * u(rng), 0.0006 * u(rng)};
+      std::vector<P> moved = lattice;
+      for (P &p : moved)
+        for (int a = 0; a < 3; ++a) p.x[a] += drift[a] + 0.0002 * u(rng);
+      b.add(snapshot(moved, k));
+    }
+    const ParticleBuildReport &r = b.report();
+    if (rule == ParticleVolume::Centre) {
+      maxAlphaCentre = r.maxAlphaS;
+      continue;
+    }
+    RCFD_CHECK(r.outside == 0);
+    RCFD_CHECK(r.maxAlphaResidual < 1e-14 && r.maxMassResidual < 1e-17);
+    RCFD_CHECK(r.meanNnzPerOccupiedColumn > 4.0);
+    for (std::size_t k = 0; k + 1 < frames.size(); ++k) {
+      const auto ta = times(frames[k].shift, frames[k].alphaS);
+      for (int c = 0; c < box.numCells(); ++c)
+        RCFD_CHECK_CLOSE(ta[c], frames[k + 1].alphaS[c], 1e-14);
+    }
+    double volume = 0.0;
+    for (double a : frames[0].alphaS) volume += a * cellVolume;
+    RCFD_CHECK_CLOSE(volume, 16 * sphereVolume(d), 1e-13 * volume);
+    // A cell smaller than a particle can be mostly inside it (0.89 here), never full.
+    RCFD_CHECK(r.maxAlphaS < 0.95);
+  }
+  RCFD_CHECK(maxAlphaCentre > 1.0); // the centre rule's failure this test is about
+}
+
+/// The reference under the overlap rule: the large particle at z_med = 0.2
+/// (a layer plane) is half in each layer and half in each half of the bed.
+void testReferenceOverlap() {
+  const double rho = 1000.0;
+  BoxSpec layers;
+  layers.nx = layers.ny = 1;
+  layers.nz = 4;
+  layers.origin = {-0.5, -0.5, 0.0};
+  layers.length = {1.0, 1.0, 0.4};
+  ReferenceOptions opt;
+  opt.profileMesh = layers;
+  opt.volume = ParticleVolume::Overlap;
+  ParticleReference ref(opt);
+  ref.add(0.5, snapshot({{1, {0.0, 0.0, 0.1}, 0.001, rho},
+                         {2, {0.0, 0.0, 0.4}, 0.001, rho},
+                         {3, {0.0, 0.0, 0.2}, 0.002, rho}},
+                        0));
+  const CogSample &s = ref.series()[0];
+  RCFD_CHECK_CLOSE(s.lowerShare[0], 0.5, 1e-15);
+  RCFD_CHECK_CLOSE(s.lowerShare[1], 0.5, 1e-15);
+  const auto h = ref.halves();
+  RCFD_CHECK_CLOSE(h.bottom[0], 0.2, 1e-15);
+  RCFD_CHECK_CLOSE(h.top[0], 0.2, 1e-15);
+  const auto prof = ref.profiles();
+  const double small = sphereVolume(0.001) / 0.1, large = sphereVolume(0.002) / 0.1;
+  RCFD_CHECK_CLOSE(prof[0][0], 0.5 * small, 1e-15);
+  RCFD_CHECK_CLOSE(prof[0][1], 0.5 * small, 1e-15);
+  RCFD_CHECK_CLOSE(prof[0][3], small, 1e-15); // the part above the top face stays in
+  RCFD_CHECK_CLOSE(prof[1][1], 0.5 * large, 1e-15);
+  RCFD_CHECK_CLOSE(prof[1][2], 0.5 * large, 1e-15);
+}
+
 } // namespace
 
 int main() {
@@ -446,6 +619,9 @@ int main() {
   testRandomCloud(true);
   testFromFiles(dir);
   testReference(dir);
+  testOverlapByHand();
+  testCellSizedParticles();
+  testReferenceOverlap();
   std::filesystem::remove_all(dir);
   return RCFD_TEST_RESULT();
 }

@@ -68,8 +68,15 @@ if run "reference" "$rcfd" reference "${common[@]}" -o "$work/ref" -average_wind
     "$(awk 'BEGIN { printf "0.1 %.17g 0.004 0.006 -0.002 0.2 %.17g 0.015 0.005 0.01 0.3 %.17g 0.015 0.005 0.01",
                     0.052 / 9, 0.055 / 9, 0.055 / 9 }')" 1e-8
   # Halves over t = 0.2, 0.3: the mass median is the large particle (8/9 of
-  # the mass) at 5 mm: bottom all large, top all small.
+  # the mass) at 5 mm.  Counted by centre (the default), bottom all large,
+  # top all small; counted by overlap half of it is below: bottom 4 m all
+  # large, top m small + 4 m large (0.2, 0.8).
   same "halves" "$(tail -n +3 "$work/ref/halves.csv" | cut -d, -f3,4 | tr ',' ' ')" "0 1 1 0" 1e-8
+fi
+if run "reference by overlap" "$rcfd" reference "${common[@]}" -o "$work/ref-overlap" \
+  -average_window 0.15,0.35 -particle_volume overlap -quiet; then
+  same "halves by overlap" "$(tail -n +3 "$work/ref-overlap/halves.csv" | cut -d, -f3,4 | tr ',' ' ')" \
+    "0 0.2 1 0.8" 1e-8
 fi
 
 # ---- a replay run from -init_out: both classes start in cell 0; the shift
@@ -95,6 +102,31 @@ if run "run from init_out" "$rcfd" run -db "$db" -init file -init_file "$work/in
     [ "$(sed -n 4p "$work/curves.csv")" = "0.3,0.01," ] && ok || fail "curves row 3: $(sed -n 4p "$work/curves.csv")"
     same "compare curves" "$(sed -n 2,3p "$work/curves.csv" | tr ',' ' ')" "0.1 -0.002 0 0.2 0.01 0" 1e-12
   fi
+fi
+
+# ---- runs that stay inside their database: two frames, so the default t_end
+# is one step (the second would wrap from frame 1 to frame 0) and no jumps.csv;
+# -t_end 0.3 takes frames 0, 1, 0: one note, and the row at t = 0.2 s (after
+# step 2) follows the wrap from frame 1 to frame 0.
+run_short() { # run_short DIR [options]
+  local dir=$1
+  shift
+  "$rcfd" run -db "$db" -init file -init_file "$work/init.h5" -fractions_diameters 0.001,0.002 \
+    -fractions_mass_shares 0.111111111111,0.888888888889 -pipeline shift -fields false \
+    -plot false -output_dir "$dir" "$@"
+}
+if run "run with the default t_end" run_short "$work/one-pass"; then
+  same "one pass: rows" "$(tail -n +2 "$work/one-pass/cog.csv" | cut -d, -f1 | paste -sd' ')" "0 0.1"
+  [ ! -e "$work/one-pass/jumps.csv" ] && ok || fail "a run inside its database wrote jumps.csv"
+  ! grep -q "wraps" "$work/out.txt" && ok || fail "a run inside its database printed a wrap note"
+fi
+if run "run past the database" run_short "$work/wrapped" -t_end 0.3; then
+  [ "$(grep -c "wraps to frame 0 at t = 0.2 s" "$work/out.txt")" = 1 ] && ok ||
+    fail "wrap note: $(cat "$work/out.txt")"
+  same "jumps.csv" "$(tail -n +3 "$work/wrapped/jumps.csv" | tr ',' ' ')" "2 0.2 1 0"
+  # The same directory again with one pass: the stale jumps.csv goes.
+  run "run again inside" run_short "$work/wrapped" -quiet &&
+    { [ ! -e "$work/wrapped/jumps.csv" ] && ok || fail "a stale jumps.csv stayed"; }
 fi
 
 echo "$passed passed, $failures failed"

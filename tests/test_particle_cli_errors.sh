@@ -30,8 +30,24 @@ expect_error "not equally spaced" build -dumps "$work/dump/dump.*.txt" -times "$
   -mesh_cells 2,1,2 -o "$work/x.h5"
 expect_error "Give the snapshot times with -times FILE" build -dumps "$work/dump/dump.*.txt" \
   -mesh_cells 2,1,2
-expect_error "alpha_s reaches" build "${common[@]/2,1,2/20,10,20}" -o "$work/x.h5"
-[ ! -e "$work/x.h5" ] && [ ! -e "$work/x.h5.tmp" ] && ok || fail "a refused build left a file"
+# 1 mm cells and a 2 mm particle: counted by centre, alpha_s passes 1 and the
+# build is refused without leaving the database or the -init_out file behind.
+expect_error "alpha_s reaches" build "${common[@]/2,1,2/20,10,20}" \
+  -o "$work/x.h5" -init_out "$work/x-init.h5"
+[ ! -e "$work/x.h5" ] && [ ! -e "$work/x.h5.tmp" ] && [ ! -e "$work/x-init.h5" ] && ok ||
+  fail "a refused build left a file"
+# Counted by overlap the same build holds: the 2 mm particle sits
+# on a corner of eight cells (x, y, z = 5, 5, 6 mm), an eighth in each:
+# alpha_s = (pi/6 8e-9 / 8) / 1e-9 = pi/6.
+if "$rcfd" build "${common[@]/2,1,2/20,10,20}" -particle_volume overlap -o "$work/x.h5" \
+  -init_out "$work/x-init.h5" \
+  >"$work/out.txt" 2>&1; then
+  grep -q "alpha_s: max 0.5236, 0 cell-snapshots" "$work/out.txt" && ok ||
+    fail "overlap build: $(grep alpha_s: "$work/out.txt")"
+else
+  fail "overlap build with cells smaller than the particles: $(cat "$work/out.txt")"
+fi
+expect_error "-particle_volume" build "${common[@]}" -particle_volume middle -o "$work/x.h5"
 expect_error "Unknown option -frame_strid" build "${common[@]}" -frame_strid 2
 expect_error "-vertical_axis w is not known" reference "${common[@]}" -vertical_axis w
 expect_error "cannot open the reference file '$work/none.csv'" compare \

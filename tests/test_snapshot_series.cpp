@@ -88,7 +88,7 @@ void meshes() {
   SizeClasses cls = SizeClasses::cluster(p.diameter, 0.01);
   RCFD_CHECK(cls.diameter.size() == 2);
   std::size_t outside = 0;
-  const auto m = classMassesPerCell(p, AxisMap{}, e, cls, &outside);
+  const auto m = classMassesPerCell(p, AxisMap{}, e, cls, ParticleVolume::Overlap, &outside);
   RCFD_CHECK(m.size() == 24 && outside == 1);
   RCFD_CHECK(m[0] == 1.0 && m[1] == 0.0);                 // cell 0, small
   RCFD_CHECK(m[2 * e.cellIndex(0, 0, 2) + 1] == 8.0);     // cell 8, large
@@ -97,7 +97,7 @@ void meshes() {
   for (double x : m) total += x;
   RCFD_CHECK(total == 10.5);
   p.diameter[1] = 3e-3;
-  RCFD_CHECK(throwsWith([&] { classMassesPerCell(p, AxisMap{}, e, cls, nullptr); }, "particle id 2"));
+  RCFD_CHECK(throwsWith([&] { classMassesPerCell(p, AxisMap{}, e, cls, ParticleVolume::Overlap, nullptr); }, "particle id 2"));
 }
 
 void scores(const std::string &dir) {

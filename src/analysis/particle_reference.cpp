@@ -140,7 +140,7 @@ void ParticleReference::add(double time, const ParticleSnapshot &snap) {
   s.zMedian = massMedianHeight(pos, snap.mass);
   std::vector<double> lower(nc, 0.0);
   for (std::size_t p = 0; p < snap.size(); ++p)
-    if (pos[p][2] <= s.zMedian) lower[cls[p]] += snap.mass[p];
+    lower[cls[p]] += snap.mass[p] * shareBelow(pos[p][2], snap.diameter[p], s.zMedian);
   for (std::size_t c = 0; c < nc; ++c)
     s.lowerShare.push_back(massClass[c] > 0.0 ? lower[c] / massClass[c] : nan);
 
@@ -155,8 +155,11 @@ void ParticleReference::accumulateWindow(const std::vector<Vec3> &pos, const std
   bottomSum.resize(nc, 0.0);
   topSum.resize(nc, 0.0);
   std::vector<double> bottom(nc, 0.0), top(nc, 0.0);
-  for (std::size_t p = 0; p < snap.size(); ++p)
-    (pos[p][2] <= zMedian ? bottom : top)[cls[p]] += snap.mass[p];
+  for (std::size_t p = 0; p < snap.size(); ++p) {
+    const double below = shareBelow(pos[p][2], snap.diameter[p], zMedian);
+    if (below > 0.0) bottom[cls[p]] += snap.mass[p] * below;
+    if (below < 1.0) top[cls[p]] += snap.mass[p] * (1.0 - below);
+  }
   const double bottomTotal = std::accumulate(bottom.begin(), bottom.end(), 0.0);
   const double topTotal = std::accumulate(top.begin(), top.end(), 0.0);
   for (std::size_t c = 0; c < nc; ++c) {
@@ -170,16 +173,23 @@ void ParticleReference::accumulateWindow(const std::vector<Vec3> &pos, const std
   const double layerVolume = m.length[0] * m.length[1] * h[2];
   profileSum.resize(nc);
   for (auto &layer : profileSum) layer.resize(m.nz, 0.0);
+  std::vector<CellShare> layers;
   for (std::size_t p = 0; p < snap.size(); ++p) {
-    const int cell = m.locate(pos[p]);
-    if (cell < 0) {
+    if (m.locate(pos[p]) < 0) {
       ++outsideProfile;
       continue;
     }
-    const int layer = cell / (m.nx * m.ny);
     const double d = snap.diameter[p];
-    profileSum[cls[p]][layer] += kPi / 6.0 * d * d * d / layerVolume;
+    layerShares(m.origin[2], h[2], m.nz, pos[p][2], d, opt.volume, layers);
+    for (const CellShare &l : layers)
+      profileSum[cls[p]][l.cell] += kPi / 6.0 * d * d * d / layerVolume * l.share;
   }
+}
+
+double ParticleReference::shareBelow(double z, double d, double zMedian) const {
+  if (opt.volume == ParticleVolume::Centre || !(d > 0.0)) return z <= zMedian ? 1.0 : 0.0;
+  const double R = 0.5 * d;
+  return sphereVolumeBelow(R, zMedian - z) / sphereVolumeBelow(R, R);
 }
 
 std::vector<std::vector<double>> ParticleReference::profiles() const {
@@ -222,9 +232,9 @@ void ParticleReference::writeProfilesCsv(const std::string &path) const {
   FilePtr f = openForWriting(path);
   std::fprintf(
       f.get(),
-      "# SI units: z [m] layer centre; alpha = solid volume of the class's particles centred "
-      "in the layer / layer volume, mean over %zu snapshots in [%g, %g] s\nz",
-      inWindow, opt.windowBegin, opt.windowEnd);
+      "# SI units: z [m] layer centre; alpha = solid volume of the class's particles %s "
+      "the layer / layer volume, mean over %zu snapshots in [%g, %g] s\nz",
+      opt.volume == ParticleVolume::Overlap ? "(the parts of them) in" : "centred in", inWindow, opt.windowBegin, opt.windowEnd);
   const std::size_t nc = opt.classes.diameter.size();
   for (std::size_t c = 0; c < nc; ++c)
     std::fprintf(f.get(), ",alpha_%s", opt.classes.label(static_cast<int>(c)).c_str());

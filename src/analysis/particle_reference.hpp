@@ -4,15 +4,20 @@
 // - Centre of gravity, mass-weighted, of the bed and of each size class per
 //   snapshot, and delta_z = z_CoG(smallest class) - z_CoG(largest class).
 // - Vertical profiles of each class's solid volume fraction per mesh layer
-//   (class volume of the particles centred in the layer / layer volume,
-//   i.e. averaged over x and y), averaged over a time window.
+//   (class volume in the layer / layer volume, i.e. averaged over x and y),
+//   averaged over a time window.  ReferenceOptions::volume says which
+//   volume a layer holds, as for rcfd build: overlap, the part of each
+//   sphere between the layer's planes (the parts below and above the mesh
+//   in the bottom and top layers); centre, the particles centred in it.
 // - Size (mass) distribution in the bottom and top halves of the bed, split
 //   at the bed's mass-median height z_med (the height of the particle at
-//   which the mass counted from the bottom first reaches half the total;
-//   bottom: z <= z_med, top: z > z_med), averaged over the same window.
+//   which the mass counted from the bottom first reaches half the total),
+//   averaged over the same window.  Overlap: each particle's mass split by
+//   the part of the sphere below z_med; centre: bottom z <= z_med, top z > z_med.
 // All heights are rcfd z (after the AxisMap), SI units.
 #pragma once
 
+#include "builders/particles/cell_shares.hpp"
 #include "builders/particles/particle_dump.hpp"
 #include "rcfd/mesh.hpp"
 
@@ -52,6 +57,7 @@ struct ReferenceOptions {
   /// Time window [s], ends included, for the profiles and the halves.
   double windowBegin = -std::numeric_limits<double>::infinity();
   double windowEnd = std::numeric_limits<double>::infinity();
+  ParticleVolume volume = ParticleVolume::Centre; // how a particle is shared among layers
 };
 
 /// Per-snapshot numbers.
@@ -60,7 +66,7 @@ struct CogSample {
   double zBed = 0.0;              // m
   std::vector<double> zClass;     // m, NaN for a class without particles
   double zMedian = 0.0;           // bed's mass-median height, m
-  std::vector<double> lowerShare; // share of each class's mass at z <= zMedian
+  std::vector<double> lowerShare; // share of each class's mass below zMedian (see volume)
 };
 
 class ParticleReference {
@@ -102,6 +108,8 @@ public:
 private:
   void accumulateWindow(const std::vector<Vec3> &pos, const std::vector<int> &cls,
                         const ParticleSnapshot &snap, double zMedian);
+  /// Share of a particle (centre height z, diameter d) below zMedian.
+  double shareBelow(double z, double d, double zMedian) const;
 
   ReferenceOptions opt;
   std::vector<CogSample> samples;

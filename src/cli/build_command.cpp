@@ -16,6 +16,7 @@
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
+#include <functional>
 #include <numeric>
 #include <sstream>
 
@@ -143,10 +144,13 @@ PetscErrorCode buildCommand(MPI_Comm comm) {
                   box.origin[2] + box.length[2]),
           std::fflush(stdout);
 
+    // The initial composition is computed now and written only once the
+    // database is, so that a build that fails leaves no file behind.
+    std::function<void()> initial;
     if (!out.initOut.empty()) {
       const SizeClasses classes = SizeClasses::cluster(first.diameter, in.classTolerance);
       std::size_t outside = 0;
-      const auto masses = classMassesPerCell(first, opt.axes, box, classes, &outside);
+      const auto masses = classMassesPerCell(first, opt.axes, box, classes, opt.volume, &outside);
       const std::size_t nc = classes.diameter.size();
       std::vector<double> total(nc, 0.0);
       for (std::size_t k = 0; k < masses.size(); ++k) total[k % nc] += masses[k];
@@ -163,9 +167,9 @@ PetscErrorCode buildCommand(MPI_Comm comm) {
            << " (t = " << in.times[sel.front()] << " s); classes by diameter [m] in attribute "
            << "diameters, mass shares in mass_shares; " << outside
            << " particles outside the mesh left out";
-      writeInitialMasses(out.initOut, masses, classes, shares, note.str());
-      if (talk)
-        std::printf("Wrote %s: initial masses of %zu size classes (%s mm, mass shares %s) in %d cells"
+      const std::string message = [&] {
+        char text[2048];
+        std::snprintf(text, sizeof text, "Wrote %s: initial masses of %zu size classes (%s mm, mass shares %s) in %d cells"
                     "%s; use: rcfd run -init file -init_file %s -fractions_diameters %s "
                     "-fractions_mass_shares %s\n",
                     out.initOut.c_str(), nc, join(classes.diameter, 1e3, "%.4g").c_str(),
@@ -174,6 +178,12 @@ PetscErrorCode buildCommand(MPI_Comm comm) {
                             : "",
                     out.initOut.c_str(), join(classes.diameter, 1.0, "%.9g").c_str(),
                     join(shares, 1.0, "%.9g").c_str());
+        return std::string(text);
+      }();
+      initial = [=, path = out.initOut, text = note.str()] {
+        writeInitialMasses(path, masses, classes, shares, text);
+        if (talk) std::printf("%s", message.c_str());
+      };
     }
 
     DatabaseWriter writer(out.database, Mesh::box(box), meta);
@@ -197,14 +207,21 @@ PetscErrorCode buildCommand(MPI_Comm comm) {
     if (rep.cellsAlphaAtLeastOne > 0) {
       char text[320];
       std::snprintf(text, sizeof text,
-                    "alpha_s reaches %.3f (>= 1 in %zu cell-snapshots): particles are counted in "
-                    "the cell that holds their centre, so cells this small cannot hold them; use "
-                    "larger cells (-mesh_cells or -mesh_cell_size).",
+                    opt.volume == ParticleVolume::Centre
+                        ? "alpha_s reaches %.3f (>= 1 in %zu cell-snapshots): particles are "
+                          "counted in the cell that holds their centre, so cells this small "
+                          "cannot hold them; use -particle_volume overlap or larger cells "
+                          "(-mesh_cells or -mesh_cell_size)."
+                        : "alpha_s reaches %.3f (>= 1 in %zu cell-snapshots) although each "
+                          "particle is shared among the cells it overlaps: the particles "
+                          "overlap each other more than a packing can; check the snapshots' "
+                          "diameters and units.",
                     rep.maxAlphaS, rep.cellsAlphaAtLeastOne);
       throw std::runtime_error(text); // the writer removes its temporary file
     }
     writer.setNote("build_report", rep.summary());
     writer.finish();
+    if (initial) initial();
     if (talk)
       std::printf("Wrote %s: %zu frames every %.6g s\n%s\n", out.database.c_str(), rep.frames,
                   dtRec, rep.summary().c_str());

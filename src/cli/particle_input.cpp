@@ -15,6 +15,7 @@ ParticleBuildOptions ParticleInput::buildOptions() const {
   o.first = first;
   o.last = last;
   o.read.defaultDensity = solidDensity;
+  o.volume = volume;
   return o;
 }
 
@@ -46,6 +47,8 @@ PetscErrorCode readParticleInputOptions(MPI_Comm comm, ParticleInput *in) {
            window[2] = {0, -1}, nwindow = 2;
   PetscReal lo[3] = {0, 0, 0}, hi[3] = {0, 0, 0}, cellSize = in->mesh.cellSize;
   PetscInt nlo = 3, nhi = 3;
+  const char *const volumeRules[] = {"centre", "overlap"};
+  PetscInt volumeRule = in->volume == ParticleVolume::Centre ? 0 : 1;
   PetscFunctionBeginUser;
   PetscOptionsBegin(comm, nullptr, "Particle snapshots (LIGGGHTS/LAMMPS dumps or CSV)", "rcfd");
   PetscCall(PetscOptionsString("-dumps", "Snapshot files: a quoted glob pattern, taken in natural order",
@@ -79,7 +82,13 @@ PetscErrorCode readParticleInputOptions(MPI_Comm comm, ParticleInput *in) {
   PetscCall(checkedReal(PetscOptionsObject, "-class_tolerance",
                         "Relative diameter spread within one size class",
                         &in->classTolerance, {0.0, 1.0, true, false, "a relative tolerance in [0, 1)"}));
+  PetscCall(PetscOptionsEList("-particle_volume",
+                              "Cells a particle's volume is counted in: centre (all of it in its "
+                              "centre's cell) or overlap (the part of the sphere each cell holds; "
+                              "for particles nearly as large as the cells)",
+                              "", volumeRules, 2, volumeRules[volumeRule], &volumeRule, nullptr));
   PetscOptionsEnd();
+  in->volume = volumeRule == 0 ? ParticleVolume::Centre : ParticleVolume::Overlap;
   if (helpRequested()) PetscFunctionReturn(PETSC_SUCCESS);
 
   PetscCheck(setDumps != setList, comm, PETSC_ERR_USER_INPUT,

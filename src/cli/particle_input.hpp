@@ -23,6 +23,7 @@ struct ParticleInput {
   std::size_t first = 0, last = std::numeric_limits<std::size_t>::max();
   double solidDensity = kDefaultSolidDensity;
   double classTolerance = 0.01;
+  ParticleVolume volume = ParticleVolume::Centre; // docs/validation.md: why not overlap by default
 
   // Filled by resolve() (rank 0 only): all files in time order, one time each.
   std::vector<std::string> files;
@@ -42,7 +43,7 @@ struct ParticleInput {
 
 /// Reads -dumps, -dump_list, -times, -dump_dt, -vertical_axis, -gravity_sign,
 /// -mesh_cells, -mesh_cell_size, -mesh_lo, -mesh_hi, -frame_stride, -window,
-/// -solid_density and -class_tolerance (collective).
+/// -solid_density, -class_tolerance and -particle_volume (collective).
 PetscErrorCode readParticleInputOptions(MPI_Comm comm, ParticleInput *in);
 
 } // namespace rcfd::cli

@@ -90,6 +90,7 @@ PetscErrorCode referenceCommand(MPI_Comm comm) {
     opt.profileMesh = resolveMesh(in.mesh, snap, opt.axes);
     opt.windowBegin = out.windowBegin;
     opt.windowEnd = out.windowEnd;
+    opt.volume = in.volume;
     ParticleReference ref(opt);
 
     using Clock = std::chrono::steady_clock;

@@ -279,4 +279,39 @@ PetscErrorCode Run::Impl::adoptOutputsOf(const std::string &previousDirectory) c
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
+// jumps.csv: the rows of cog.csv (and the other time series) that follow a
+// step whose next frame is not the one after its frame -- a stitched path's
+// jump or a replay's wrap to frame 0, where the state is carried into another
+// bed.  Read back from path.txt (which is on disk, continued across restarts,
+// so memory stays flat), written only when there is a jump, so a run inside its
+// database leaves its output as it was.
+PetscErrorCode Run::Impl::writeJumps(int finalFrame) const {
+  PetscMPIInt rank;
+  PetscFunctionBeginUser;
+  PetscCallMPI(MPI_Comm_rank(comm, &rank));
+  PetscCall(collectively(comm, [&] {
+    if (rank != 0) return;
+    const std::vector<int> steps = readPathFile(outputDir + "/path.txt");
+    const double dt = db->metadata().dtRec;
+    std::string rows;
+    char line[128];
+    for (std::size_t s = 0; s < steps.size(); ++s) {
+      const int next = s + 1 < steps.size() ? steps[s + 1] : finalFrame;
+      if (next < 0 || next == steps[s] + 1) continue;
+      std::snprintf(line, sizeof line, "%zu,%.9g,%d,%d\n", s + 1, (s + 1) * dt, steps[s], next);
+      rows += line;
+    }
+    const std::string file = outputDir + "/jumps.csv";
+    if (rows.empty()) {
+      std::filesystem::remove(file); // a stale one from an earlier run in this directory
+      return;
+    }
+    writeTextAtomically(file, "# rows of cog.csv at time_s follow a jump of the frame path (stitching, "
+                              "or a replay wrapping to frame 0): the bed's state was carried from "
+                              "after from_frame's shift into to_frame\nstep,time_s,from_frame,to_frame\n" +
+                                  rows);
+  }));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
 } // namespace rcfd

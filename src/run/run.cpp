@@ -191,7 +191,7 @@ PetscErrorCode Run::setUp() {
   }
   const double dt = r.db->metadata().dtRec;
   if (r.solidDensity <= 0) r.solidDensity = r.db->metadata().solidDensity;
-  if (r.tEnd < 0) r.tEnd = r.db->numFrames() * dt;
+  if (r.tEnd < 0) r.tEnd = std::max(1, r.db->numFrames() - 1) * dt; // one pass inside the database
   if (r.checkpointFile.empty()) r.checkpointFile = r.outputDir + "/checkpoint.h5";
   PetscCheck(r.tEnd / dt >= 0.5 && r.tEnd / dt <= 1e12, r.comm, PETSC_ERR_USER_INPUT,
              "-t_end %g s is %.3g steps of dt_rec = %g s; expected at least one step and at most 1e12",
@@ -301,6 +301,7 @@ PetscErrorCode Run::solve() {
   double lastFlush = r.wallStart;
   StepInfo info;
   info.dt = dt;
+  bool wrapNoted = false;
   for (long s = r.startStep; s < r.steps; ++s) {
     info.step = s;
     info.time = s * dt;
@@ -314,6 +315,15 @@ PetscErrorCode Run::solve() {
     }
     PetscCall(r.pathFile->add(std::to_string(frame)));
     if (r.keepHistory) r.frames.push_back(frame);
+    if (info.jump && !wrapNoted && r.path->kind() == "replay") {
+      wrapNoted = true;
+      if (!r.quiet)
+        PetscCall(PetscPrintf(r.comm,
+                              "Note: the replay passed the database's last frame and wraps to frame "
+                              "%d at t = %g s (a jump; -t_end is longer than the database; rows "
+                              "after jumps are listed in %s/jumps.csv)\n",
+                              info.nextFrame, (s + 1) * dt, r.outputDir.c_str()));
+    }
     PetscCall(r.ops.apply(info, r.fstate));
     if (ledgerOn && !conservative) r.ops.addedMass(&added);
     if (ledgerOn) PetscCall(r.ledger.check(s + 1, r.fstate, s + 1 == r.steps, conservative ? nullptr : &added));
@@ -332,6 +342,7 @@ PetscErrorCode Run::solve() {
     PetscCall(r.progress(s + 1, t, false));
   }
   PetscCall(r.flushMonitors());
+  PetscCall(r.writeJumps(frame));
   // figures: drawn by the CLI (rcfd run), not by the library
   PetscCall(r.progress(r.steps, r.steps * dt, true));
 

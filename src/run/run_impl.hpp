@@ -31,6 +31,8 @@ struct Run::Impl {
   PetscErrorCode writeCheckpoint(long step) const; // src/run/checkpoint.cpp
   PetscErrorCode readCheckpoint();                 // src/run/checkpoint.cpp
   PetscErrorCode adoptOutputsOf(const std::string &previousDirectory) const; // src/run/checkpoint.cpp
+  /// jumps.csv from the finished path.txt and the frame after the last step (src/run/checkpoint.cpp).
+  PetscErrorCode writeJumps(int finalFrame) const;
   /// What the physics was made with (src/run/checkpoint.cpp); a restart refuses a difference.
   std::vector<std::pair<std::string, std::string>> physicsRecord() const;
   RunContext context() const { return RunContext{*db, set, solidDensity}; }

@@ -24,14 +24,14 @@ std::string ParticleBuildReport::summary() const {
   char buf[1600];
   std::snprintf(
       buf, sizeof buf,
-      "snapshots %zu, frames %zu, cells %d, particles %zu (%.6g kg)\n"
+      "snapshots %zu, frames %zu, cells %d, particles %zu (%.6g kg), particle volume by %s\n"
       "nonzeros per column: mean %.3f (occupied cells %.3f), max %d\n"
       "appeared %zu (%.6g kg), vanished %zu (%.6g kg), entered mesh %zu (%.6g kg), left mesh %zu "
       "(%.6g kg)\n"
       "outside the mesh: %zu particle-snapshots, at most %zu in one snapshot\n"
       "alpha_s: max %.4f, %zu cell-snapshots with alpha_s >= 1\n"
       "max |T alpha_k - alpha_k+1| = %.3e, max |T m_k - m_k+1| = %.3e kg",
-      snapshots, frames, cells, particles, totalMass, meanNnzPerColumn, meanNnzPerOccupiedColumn,
+      snapshots, frames, cells, particles, totalMass, particleVolumeName(volume), meanNnzPerColumn, meanNnzPerOccupiedColumn,
       maxNnzPerColumn, appeared, appearedMass, vanished, vanishedMass, enteredMesh, enteredMeshMass,
       leftMesh, leftMeshMass, outside, maxOutsidePerSnapshot, maxAlphaS, cellsAlphaAtLeastOne,
       maxAlphaResidual, maxMassResidual);
@@ -63,26 +63,29 @@ ParticleFrameBuilder::ParticleFrameBuilder(const ParticleBuildOptions &options, 
   if (!(cellVolume > 0.0))
     throw std::invalid_argument("particle build: the mesh cells have no volume");
   rep.cells = n;
+  rep.volume = opt.volume;
 }
 
-// Cell of every particle, alpha_s and mass per cell; the list sorted by id
+// Cells of every particle, alpha_s and mass per cell; the list sorted by id
 // so that two snapshots can be matched by a merge.
 void ParticleFrameBuilder::place(const ParticleSnapshot &snap) {
   const int n = opt.mesh.numCells();
-  cur.resize(snap.size());
+  cur.particles.resize(snap.size());
+  cur.shares.clear();
   alphaCur.assign(n, 0.0);
   massCur.assign(n, 0.0);
   std::size_t outside = 0;
   for (std::size_t p = 0; p < snap.size(); ++p) {
-    const int c = opt.mesh.locate(opt.axes.apply(snap.position[p]));
-    cur[p] = {snap.id[p], c, snap.mass[p]};
-    if (c < 0) {
-      ++outside;
-      continue;
-    }
     const double d = snap.diameter[p];
-    alphaCur[c] += kPi / 6.0 * d * d * d;
-    massCur[c] += snap.mass[p];
+    cellShares(opt.mesh, opt.axes.apply(snap.position[p]), d, opt.volume, scratch);
+    cur.particles[p] = {snap.id[p], snap.mass[p], cur.shares.size(), scratch.size()};
+    if (scratch.empty()) ++outside;
+    const double volume = kPi / 6.0 * d * d * d;
+    for (const CellShare &s : scratch) {
+      alphaCur[s.cell] += volume * s.share;
+      massCur[s.cell] += snap.mass[p] * s.share;
+      cur.shares.push_back(s);
+    }
   }
   for (double &a : alphaCur) {
     a /= cellVolume;
@@ -92,48 +95,93 @@ void ParticleFrameBuilder::place(const ParticleSnapshot &snap) {
   rep.outside += outside;
   rep.maxOutsidePerSnapshot = std::max(rep.maxOutsidePerSnapshot, outside);
 
-  std::sort(cur.begin(), cur.end(),
+  std::vector<Placement> &list = cur.particles;
+  std::sort(list.begin(), list.end(),
             [](const Placement &a, const Placement &b) { return a.id < b.id; });
   const auto dup = std::adjacent_find(
-      cur.begin(), cur.end(), [](const Placement &a, const Placement &b) { return a.id == b.id; });
-  if (dup != cur.end())
+      list.begin(), list.end(), [](const Placement &a, const Placement &b) { return a.id == b.id; });
+  if (dup != list.end())
     throw std::runtime_error("particle snapshot '" + snap.source + "' lists particle id " +
                              std::to_string(dup->id) +
                              " more than once, so particles cannot be matched between snapshots.");
 }
 
-// Merge the id-sorted lists of t_k (prev) and t_{k+1} (cur) into transfers.
-CsrMatrix ParticleFrameBuilder::shiftTo(const std::vector<Placement> &next) {
+// Merge the id-sorted lists of t_k (prev) and t_{k+1} (next) into transfers:
+// every pair of a particle's cells at t_k and at t_{k+1}, weighted by the
+// product of its shares and its mass.
+CsrMatrix ParticleFrameBuilder::shiftTo(const Snapshot &next) {
   std::vector<int32_t> dest, src;
   std::vector<double> weight;
-  dest.reserve(prev.size());
-  src.reserve(prev.size());
-  weight.reserve(prev.size());
-  auto transfer = [&](int32_t to, int32_t from, double m) {
-    dest.push_back(to);
-    src.push_back(from);
-    weight.push_back(m);
+  dest.reserve(prev.shares.size());
+  src.reserve(prev.shares.size());
+  weight.reserve(prev.shares.size());
+  auto stays = [&](const Placement &p) { // its mass stays in its cells at t_k
+    for (std::size_t a = p.first; a < p.first + p.count; ++a) {
+      const CellShare &from = prev.shares[a];
+      dest.push_back(from.cell);
+      src.push_back(from.cell);
+      weight.push_back(p.mass * from.share);
+    }
   };
+  std::vector<double> leaving, arriving;
+  auto moves = [&](const Placement &p, const Placement &q) {
+    if (p.count == 1 && q.count == 1) { // whole particle from one cell to one cell
+      dest.push_back(next.shares[q.first].cell);
+      src.push_back(prev.shares[p.first].cell);
+      weight.push_back(p.mass * prev.shares[p.first].share * next.shares[q.first].share);
+      return;
+    }
+    // The share a cell holds at both times stays in it; only what one cell
+    // loses and others gain moves, in proportion (any split with these sums
+    // keeps T m_k = m_{k+1}; this one leaves a resting particle in place).
+    leaving.assign(p.count, 0.0);
+    arriving.assign(q.count, 0.0);
+    double moved = 0.0;
+    for (std::size_t a = 0; a < p.count; ++a) {
+      const CellShare &from = prev.shares[p.first + a];
+      leaving[a] = from.share;
+      for (std::size_t b = 0; b < q.count; ++b)
+        if (next.shares[q.first + b].cell == from.cell) {
+          const double kept = std::min(from.share, next.shares[q.first + b].share);
+          leaving[a] -= kept;
+          arriving[b] -= kept;
+          dest.push_back(from.cell);
+          src.push_back(from.cell);
+          weight.push_back(p.mass * kept);
+        }
+      moved += leaving[a];
+    }
+    if (!(moved > 0.0)) return;
+    for (std::size_t b = 0; b < q.count; ++b) arriving[b] += next.shares[q.first + b].share;
+    for (std::size_t a = 0; a < p.count; ++a)
+      for (std::size_t b = 0; b < q.count; ++b)
+        if (leaving[a] > 0.0 && arriving[b] > 0.0) {
+          dest.push_back(next.shares[q.first + b].cell);
+          src.push_back(prev.shares[p.first + a].cell);
+          weight.push_back(p.mass * leaving[a] * arriving[b] / moved);
+        }
+  };
+  const std::vector<Placement> &before = prev.particles, &after = next.particles;
   std::size_t a = 0, b = 0;
-  while (a < prev.size() || b < next.size()) {
-    if (b == next.size() || (a < prev.size() && prev[a].id < next[b].id)) { // vanished
-      const Placement &p = prev[a++];
+  while (a < before.size() || b < after.size()) {
+    if (b == after.size() || (a < before.size() && before[a].id < after[b].id)) { // vanished
+      const Placement &p = before[a++];
       ++rep.vanished;
       rep.vanishedMass += p.mass;
-      if (p.cell >= 0) transfer(p.cell, p.cell, p.mass);      // stays where it was last seen
-    } else if (a == prev.size() || next[b].id < prev[a].id) { // appeared
-      const Placement &q = next[b++];
+      stays(p);                                                   // where it was last seen
+    } else if (a == before.size() || after[b].id < before[a].id) { // appeared
+      const Placement &q = after[b++];
       ++rep.appeared;
       rep.appearedMass += q.mass;
     } else { // the same particle at t_k and t_{k+1}
-      const Placement &p = prev[a++], &q = next[b++];
-      if (p.cell >= 0 && q.cell >= 0) {
-        transfer(q.cell, p.cell, p.mass);
-      } else if (p.cell >= 0) {
+      const Placement &p = before[a++], &q = after[b++];
+      if (p.count > 0 && q.count > 0) {
+        moves(p, q);
+      } else if (p.count > 0) {
         ++rep.leftMesh;
         rep.leftMeshMass += p.mass;
-        transfer(p.cell, p.cell, p.mass);
-      } else if (q.cell >= 0) {
+        stays(p);
+      } else if (q.count > 0) {
         ++rep.enteredMesh;
         rep.enteredMeshMass += q.mass;
       }

@@ -1,17 +1,29 @@
 // Database frames from DEM particle snapshots.
 //
-// Counting rule: a particle belongs entirely to the cell that holds its
-// centre (BoxSpec::locate after the AxisMap).  So
-//   alpha_s(c) = (sum of pi/6 d^3 over particles centred in c) / V_c,
-// which can exceed the packing limit, even 1, in cells not much larger than
-// a particle; the report counts such cells, the values are not clipped
-// (clipping would break the exact shift identity below).  A particle whose
-// centre lies outside the mesh is in no cell; it is counted in the report.
+// Counting rule (ParticleBuildOptions::volume, cell_shares.hpp): a particle
+// p has shares w_c(p) >= 0 of its volume in the cells c, summing to 1 --
+// overlap: the part of the sphere each cell holds; centre: all of it in the
+// cell of its centre (BoxSpec::locate after the AxisMap).  So
+//   alpha_s(c) = (sum over p of w_c(p) pi/6 d_p^3) / V_c.
+// Under the centre rule alpha_s can exceed the packing limit, even 1, in
+// cells not much larger than a particle; the report counts such cells, the
+// values are not clipped (clipping would break the exact shift identity
+// below).  A particle whose centre lies outside the mesh is in no cell; it
+// is counted in the report.
 //
 // Shift: particles are matched by id between t_k and t_{k+1}, and
 //   T_k(j, i) = (mass in cell i at t_k found in cell j at t_{k+1})
 //               / (mass in cell i at t_k),
-// assembled by shiftFromTransfers with each particle's mass at t_k as weight.
+// assembled by shiftFromTransfers from each particle's transfers pi_p(j, i)
+// m_p, where pi_p is a split of the particle between its cells at t_k
+// (shares w_i(p, t_k)) and at t_{k+1} (shares w_j(p, t_{k+1})): sum_j pi_p(j, i)
+// = w_i(p, t_k), sum_i pi_p(j, i) = w_j(p, t_{k+1}).  Any such split keeps a
+// column summing the mass cell i holds at t_k and row j of T_k m_k the mass
+// cell j holds at t_{k+1}.  The split used: the share a cell holds at both
+// times stays (pi(i, i) = min(w_i(t_k), w_i(t_{k+1}))), the rest moves in
+// proportion to what the cells lose and gain.  The plain product w_i w_j
+// would move half of a particle resting on a cell face across that face
+// every frame: numerical mixing where the bed does not move.
 // T_k moves *mass*: T_k m_k = m_{k+1} holds to round-off for the cell
 // masses m whenever no particle appears, vanishes, crosses the mesh boundary
 // or changes mass.  With a single particle density the cell mass is
@@ -22,7 +34,7 @@
 // the report gives both residuals.
 //
 // Particles that vanish between t_k and t_{k+1} (id gone), or whose centre
-// leaves the mesh, are treated as staying in their cell at t_k: their mass
+// leaves the mesh, are treated as staying in their cells at t_k: their mass
 // is a self-transfer i -> i, so the column still shares all of cell i's mass
 // and the other particles' shares are unchanged.  The propagated state then
 // keeps that mass where alpha_{k+1} no longer has it; the residual shows it
@@ -31,6 +43,7 @@
 // masses of all four kinds are in the report.
 #pragma once
 
+#include "builders/particles/cell_shares.hpp"
 #include "builders/particles/particle_dump.hpp"
 #include "rcfd/frames.hpp"
 #include "rcfd/mesh.hpp"
@@ -50,9 +63,11 @@ struct ParticleBuildOptions {
   std::size_t first = 0;                                      // window of snapshot indices,
   std::size_t last = std::numeric_limits<std::size_t>::max(); // both ends included
   SnapshotReadOptions read; // default density for files without density/mass
+  ParticleVolume volume = ParticleVolume::Centre; // cells a particle's volume is counted in
 };
 
 struct ParticleBuildReport {
+  ParticleVolume volume = ParticleVolume::Centre; // the counting rule used
   std::size_t snapshots = 0; // snapshots used
   std::size_t frames = 0;    // = snapshots - 1
   int cells = 0;
@@ -101,12 +116,16 @@ public:
 private:
   struct Placement {
     int64_t id;
-    int32_t cell; // -1: outside the mesh
     double mass;
+    std::size_t first, count; // its cells in the snapshot's share list; none: outside the mesh
+  };
+  struct Snapshot {
+    std::vector<Placement> particles; // sorted by id
+    std::vector<CellShare> shares;
   };
 
   void place(const ParticleSnapshot &snap);
-  CsrMatrix shiftTo(const std::vector<Placement> &next);
+  CsrMatrix shiftTo(const Snapshot &next);
   void account(const CsrMatrix &T, const std::vector<double> &alphaK,
                const std::vector<double> &massK);
 
@@ -117,7 +136,8 @@ private:
   int64_t prevTimestep = -1;
   std::size_t nnzTotal = 0, nnzOccupied = 0, occupiedColumns = 0;
   // Previous and current snapshot, reduced to what the shift needs.
-  std::vector<Placement> prev, cur;
+  Snapshot prev, cur;
+  std::vector<CellShare> scratch;
   std::vector<double> alphaPrev, alphaCur, massPrev, massCur;
   FrameRecord frame;
 };

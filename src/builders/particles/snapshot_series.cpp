@@ -159,10 +159,11 @@ BoxSpec resolveMesh(const MeshRequest &req, const ParticleSnapshot &first, const
 
 std::vector<double> classMassesPerCell(const ParticleSnapshot &snap, const AxisMap &axes,
                                        const BoxSpec &mesh, const SizeClasses &classes,
-                                       std::size_t *outside) {
+                                       ParticleVolume rule, std::size_t *outside) {
   const std::size_t nc = classes.diameter.size();
   std::vector<double> m(static_cast<std::size_t>(mesh.numCells()) * nc, 0.0);
   std::size_t out = 0;
+  std::vector<CellShare> shares;
   for (std::size_t p = 0; p < snap.size(); ++p) {
     const int c = classes.classOf(snap.diameter[p]);
     if (c < 0) {
@@ -172,12 +173,10 @@ std::vector<double> classMassesPerCell(const ParticleSnapshot &snap, const AxisM
                                std::to_string(snap.id[p]) + " has diameter " + text +
                                ", which is within the tolerance of no size class.");
     }
-    const int cell = mesh.locate(axes.apply(snap.position[p]));
-    if (cell < 0) {
-      ++out;
-      continue;
-    }
-    m[static_cast<std::size_t>(cell) * nc + static_cast<std::size_t>(c)] += snap.mass[p];
+    cellShares(mesh, axes.apply(snap.position[p]), snap.diameter[p], rule, shares);
+    if (shares.empty()) ++out;
+    for (const CellShare &s : shares)
+      m[static_cast<std::size_t>(s.cell) * nc + static_cast<std::size_t>(c)] += snap.mass[p] * s.share;
   }
   if (outside) *outside = out;
   return m;

@@ -4,6 +4,7 @@
 // std::invalid_argument for bad arguments) with one sentence naming the file.
 #pragma once
 
+#include "builders/particles/cell_shares.hpp"
 #include "builders/particles/particle_dump.hpp"
 #include "analysis/particle_reference.hpp"
 #include "rcfd/mesh.hpp"
@@ -45,10 +46,12 @@ struct MeshRequest {
 BoxSpec resolveMesh(const MeshRequest &request, const ParticleSnapshot &first, const AxisMap &axes);
 
 /// Masses [kg] of each size class per cell, [cell * classes + class], in
-/// natural cell order.  Particles outside the mesh are counted in *outside
-/// (may be null) and left out; a particle that fits no class throws.
+/// natural cell order, each particle's mass shared among its cells by `rule`
+/// (as the database's alpha_s).  Particles whose centre is outside the mesh
+/// are counted in *outside (may be null) and left out; a particle that fits
+/// no class throws.
 std::vector<double> classMassesPerCell(const ParticleSnapshot &snap, const AxisMap &axes,
                                        const BoxSpec &mesh, const SizeClasses &classes,
-                                       std::size_t *outside);
+                                       ParticleVolume rule, std::size_t *outside);
 
 } // namespace rcfd

@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <vector>
 
 namespace rcfd {
 namespace {
@@ -28,16 +27,17 @@ double diskRectangleArea(double r, double x0, double x1, double y0, double y1) {
   if (!(r > 0.0) || a >= b || y0 >= y1 || y0 >= r || y1 <= -r) return 0.0;
   // Between consecutive breakpoints each of the two bounds is either the
   // rectangle's edge or the circle.
-  std::vector<double> cuts = {a, b};
+  double cuts[6] = {a, b};
+  std::size_t n = 2;
   for (double y : {y0, y1})
     if (std::fabs(y) < r) {
       const double x = std::sqrt(r * r - y * y);
       for (double v : {-x, x})
-        if (v > a && v < b) cuts.push_back(v);
+        if (v > a && v < b) cuts[n++] = v;
     }
-  std::sort(cuts.begin(), cuts.end());
+  std::sort(cuts, cuts + n);
   double area = 0.0;
-  for (std::size_t i = 0; i + 1 < cuts.size(); ++i) {
+  for (std::size_t i = 0; i + 1 < n; ++i) {
     const double lo = cuts[i], hi = cuts[i + 1];
     if (hi <= lo) continue;
     const double mid = 0.5 * (lo + hi), s = std::sqrt(std::max(0.0, r * r - mid * mid));
@@ -49,28 +49,29 @@ double diskRectangleArea(double r, double x0, double x1, double y0, double y1) {
   return area;
 }
 
-double sphereBoxVolume(const Vec3 &c, double R, const Vec3 &lo, const Vec3 &hi) {
+double sphereBoxVolume(const Vec3 &c, double R, const Vec3 &lo, const Vec3 &hi, int panels) {
   const double x0 = lo[0] - c[0], x1 = hi[0] - c[0], y0 = lo[1] - c[1], y1 = hi[1] - c[1];
   const double za = std::max(lo[2] - c[2], -R), zb = std::min(hi[2] - c[2], R);
   if (!(R > 0.0) || za >= zb) return 0.0;
   // Heights where the disk's radius passes an edge or a corner distance: the
   // area is smooth in between.
-  std::vector<double> cuts = {za, zb};
+  double cuts[20] = {za, zb};
+  std::size_t n = 2;
   auto addDistance = [&](double d2) {
     if (d2 < R * R) {
       const double z = std::sqrt(R * R - d2);
       for (double v : {-z, z})
-        if (v > za && v < zb) cuts.push_back(v);
+        if (v > za && v < zb) cuts[n++] = v;
     }
   };
   for (double x : {x0, x1}) addDistance(x * x);
   for (double y : {y0, y1}) addDistance(y * y);
   for (double x : {x0, x1})
     for (double y : {y0, y1}) addDistance(x * x + y * y);
-  cuts.push_back(0.0); // the disk's radius turns there
-  std::sort(cuts.begin(), cuts.end());
+  cuts[n++] = 0.0; // the disk's radius turns there
+  std::sort(cuts, cuts + n);
   double volume = 0.0;
-  for (std::size_t i = 0; i + 1 < cuts.size(); ++i) {
+  for (std::size_t i = 0; i + 1 < n; ++i) {
     const double a = cuts[i], b = cuts[i + 1];
     if (!(b > a) || a < za || b > zb) continue;
     // z = a + (b - a)(1 - cos(pi t))/2, t in [0, 1]: dz/dt vanishes at both ends,
@@ -80,8 +81,7 @@ double sphereBoxVolume(const Vec3 &c, double R, const Vec3 &lo, const Vec3 &hi) 
       const double rho = std::sqrt(std::max(0.0, R * R - z * z));
       return diskRectangleArea(rho, x0, x1, y0, y1) * (b - a) * 0.5 * M_PI * std::sin(M_PI * t);
     };
-    // Composite: 4 panels of 16-point Gauss-Legendre in t.
-    constexpr int panels = 4;
+    // Composite: `panels` panels of 16-point Gauss-Legendre in t.
     for (int p = 0; p < panels; ++p) {
       const double t0 = static_cast<double>(p) / panels, h = 0.5 / panels, m = t0 + h;
       for (int k = 0; k < 8; ++k)

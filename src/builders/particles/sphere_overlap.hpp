@@ -15,7 +15,10 @@ double diskRectangleArea(double r, double x0, double x1, double y0, double y1);
 /// Volume of the sphere (centre c, radius R) inside the box [lo, hi].  The disk
 /// areas are integrated along z between the heights where the cut disk meets an
 /// edge or corner of the box, with a cosine substitution that removes the square
-/// root behaviour at those heights: relative error below 1e-12 of the sphere.
-double sphereBoxVolume(const Vec3 &c, double R, const Vec3 &lo, const Vec3 &hi);
+/// root behaviour at those heights: relative error below 1e-12 of the sphere
+/// with the default 4 panels of 16-point Gauss-Legendre per piece; 1 panel is
+/// four times cheaper and still within 1e-9 of the sphere (shares that are
+/// normalised afterwards need no more).
+double sphereBoxVolume(const Vec3 &c, double R, const Vec3 &lo, const Vec3 &hi, int panels = 4);
 
 } // namespace rcfd
