@@ -2,12 +2,17 @@
 #include "base/checked_options.hpp"
 #include "base/petsc_compat.hpp"
 
+#include "analysis/measured_drift.hpp"
+#include "base/atomic_file.hpp"
 #include "base/collective.hpp"
 #include "rcfd/run.hpp"
 #include "rcfd/swaps.hpp"
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <sstream>
 
 namespace rcfd {
 
@@ -16,7 +21,7 @@ DriftCalibration::DriftCalibration(MPI_Comm comm, const OperatorRegistry &regist
 DriftCalibration::~DriftCalibration() = default;
 
 PetscErrorCode DriftCalibration::setFromOptions() {
-  char ref[PETSC_MAX_PATH_LEN] = "", objective[16] = "rms";
+  char ref[PETSC_MAX_PATH_LEN] = "", objective[16] = "rms", from[16] = "cog";
   char *names[4] = {};
   PetscInt nmodels = 4, nrange = 2, nwindow = 2;
   PetscReal range[2] = {kdLo, kdHi}, window[2] = {windowBegin, windowEnd};
@@ -26,6 +31,10 @@ PetscErrorCode DriftCalibration::setFromOptions() {
   PetscOptionsBegin(comm, nullptr, "rcfd calibrate: fit the drift coefficient to a reference", "rcfd");
   PetscCall(PetscOptionsString("-reference", "Reference cog.csv (rcfd reference)", "", "", ref,
                                sizeof ref, &setRef));
+  PetscCall(PetscOptionsString("-calibrate_from",
+                               "cog: replays scored against -reference; measured: regression on the database's "
+                               "measured drift (rcfd build), in seconds",
+                               "", from, from, sizeof from, nullptr));
   PetscCall(PetscOptionsStringArray("-calibrate_models", "Drift models to fit: A, B or A,B", "",
                                     names, &nmodels, &setModels));
   PetscCall(PetscOptionsString("-calibrate_objective",
@@ -50,7 +59,10 @@ PetscErrorCode DriftCalibration::setFromOptions() {
   }
   PetscCall(PetscOptionsHasName(nullptr, nullptr, "-help", &help));
   if (help) PetscFunctionReturn(PETSC_SUCCESS);
-  PetscCheck(setRef, comm, PETSC_ERR_USER_INPUT,
+  source = from;
+  PetscCheck(source == "cog" || source == "measured", comm, PETSC_ERR_USER_INPUT,
+             "-calibrate_from %s is not known; use cog or measured", from);
+  PetscCheck(setRef || source == "measured", comm, PETSC_ERR_USER_INPUT,
              "No reference given: pass -reference REF/cog.csv (made by rcfd reference)");
   for (const auto &m : given)
     PetscCheck(m == "A" || m == "B", comm, PETSC_ERR_USER_INPUT,
@@ -75,7 +87,8 @@ PetscErrorCode DriftCalibration::setFromOptions() {
 
 PetscErrorCode DriftCalibration::setUp() {
   PetscFunctionBeginUser;
-  PetscCall(collectively(comm, [&] { reference = readDeltaZCsv(referenceFile); }, PETSC_ERR_USER_INPUT));
+  if (!referenceFile.empty())
+    PetscCall(collectively(comm, [&] { reference = readDeltaZCsv(referenceFile); }, PETSC_ERR_USER_INPUT));
   Run first(comm, registry);
   first.setDefaultOutputDirectory("rcfd-calibrate");
   PetscCall(first.setFromOptions());
@@ -83,6 +96,8 @@ PetscErrorCode DriftCalibration::setUp() {
   first.setWriteFields(false);
   PetscCall(first.setUp());
   db = first.sharedDatabase();
+  outputDirectory = first.outputDirectory();
+  sauter = first.fractions().inventorySauterDiameter();
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
@@ -111,6 +126,7 @@ PetscErrorCode DriftCalibration::evaluate(const std::string &model, double log10
   }
   PetscCall(collectively(
       comm, [&] { *score = scoreDeltaZ(reference, s, windowBegin, windowEnd); }, PETSC_ERR_USER_INPUT));
+  scan.push_back({model, std::pow(10.0, log10kd), *score});
   ++count;
   PetscFunctionReturn(PETSC_SUCCESS);
 }
@@ -163,30 +179,124 @@ PetscErrorCode DriftCalibration::search(const std::string &model, Result *result
   result->model = model;
   result->kd = std::pow(10.0, xBest);
   PetscCall(evaluate(model, xBest, &result->score));
+  result->scored = true;
+  PetscCall(keepBestRun(model));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+// k_d by weighted least squares on the measured drift relative to the bulk
+// (fitDriftCoefficient with relativeToBulk), then one scored replay.
+PetscErrorCode DriftCalibration::fitMeasured(const std::string &model, Result *result) {
+  std::vector<double> table;
+  int cols = 0;
+  PetscFunctionBeginUser;
+  PetscCall(db->readMatrix("measured_drift", &table, &cols));
+  PetscCheck(!table.empty(), comm, PETSC_ERR_USER_INPUT,
+             "-calibrate_from measured: database '%s' holds no measured drift (rcfd build from particle "
+             "snapshots stores it; databases from other builders or older versions do not)",
+             db->path().c_str());
+  PetscCall(collectively(comm, [&] {
+    const auto drift = measuredDriftFromTable(table, cols);
+    const DriftFit fit =
+        fitDriftCoefficient(drift, sauter, model == "A" ? DriftLawShape::A : DriftLawShape::B, true);
+    result->model = model;
+    result->kd = fit.kd;
+    result->kdStandardError = fit.standardError;
+  }, PETSC_ERR_USER_INPUT));
+  PetscCheck(result->kd > 0.0, comm, PETSC_ERR_USER_INPUT,
+             "-calibrate_from measured: the measured drift of '%s' gives k_d = %g for model %s: the "
+             "large particles do not sink relative to the bulk, so no drift law of this form fits",
+             db->path().c_str(), result->kd, model.c_str());
+  PetscCall(PetscPrintf(comm, "model %s: k_d = %.4g +- %.2g 1/(m s) from the measured drift (d32 %.4g mm)\n",
+                        model.c_str(), result->kd, result->kdStandardError, sauter * 1e3));
+  if (!referenceFile.empty()) {
+    PetscCall(evaluate(model, std::log10(result->kd), &result->score));
+    result->scored = true;
+    PetscCall(keepBestRun(model));
+  }
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+// The last evaluation's cog.csv (the best k_d's run) kept as best-<model>/cog.csv.
+PetscErrorCode DriftCalibration::keepBestRun(const std::string &model) {
+  PetscMPIInt rank;
+  PetscFunctionBeginUser;
+  PetscCallMPI(MPI_Comm_rank(comm, &rank));
+  PetscCall(collectively(comm, [&] {
+    if (rank != 0) return;
+    namespace fs = std::filesystem;
+    const fs::path dir = fs::path(outputDirectory) / ("best-" + model);
+    fs::create_directories(dir);
+    fs::copy_file(fs::path(outputDirectory) / "cog.csv", dir / "cog.csv", fs::copy_options::overwrite_existing);
+  }, PETSC_ERR_FILE_WRITE));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode DriftCalibration::writeFiles() const {
+  PetscMPIInt rank;
+  PetscFunctionBeginUser;
+  PetscCallMPI(MPI_Comm_rank(comm, &rank));
+  auto number = [](double v) {
+    char text[32];
+    std::snprintf(text, sizeof text, "%.9g", v);
+    return std::string(text);
+  };
+  PetscCall(collectively(comm, [&] {
+    if (rank != 0) return;
+    std::ostringstream scanCsv, bestCsv;
+    scanCsv << "# rcfd calibrate: every replay, in the order run; Delta_seg is Eq. 7 over [" << windowBegin
+            << ", " << windowEnd << "] s, rms_over_peak the RMS of Delta z(t) - reference / reference peak\n"
+            << "model,kd,mean_run_m,mean_reference_m,delta_seg_percent,rms_over_peak\n";
+    for (const ScanRow &r : scan)
+      scanCsv << r.model << ',' << number(r.kd) << ',' << number(r.score.meanModel) << ','
+              << number(r.score.meanRef) << ',' << number(r.score.segregationError) << ','
+              << number(r.score.rmsRelative) << '\n';
+    bestCsv << "# rcfd calibrate: the best k_d of every model (from " << source << (source == "cog" ? ", objective " + objectiveName : std::string())
+            << "); scores of its run (best-MODEL/cog.csv), empty without a reference\n"
+            << "model,source,kd,kd_standard_error,d32_m,delta_seg_percent,rms_over_peak,mean_run_m,mean_reference_m\n";
+    for (const Result &r : best) {
+      bestCsv << r.model << ',' << source << ',' << number(r.kd) << ',' << number(r.kdStandardError) << ','
+              << number(sauter);
+      if (r.scored)
+        bestCsv << ',' << number(r.score.segregationError) << ',' << number(r.score.rmsRelative) << ','
+                << number(r.score.meanModel) << ',' << number(r.score.meanRef) << '\n';
+      else
+        bestCsv << ",,,,\n";
+    }
+    std::filesystem::create_directories(outputDirectory);
+    writeTextAtomically(outputDirectory + "/calibrate_scan.csv", scanCsv.str());
+    writeTextAtomically(outputDirectory + "/calibrate_best.csv", bestCsv.str());
+  }, PETSC_ERR_FILE_WRITE));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
 PetscErrorCode DriftCalibration::solve() {
   PetscFunctionBeginUser;
-  PetscCall(PetscPrintf(comm,
-                        "Calibrating k_d in [%g, %g] 1/(m s) against %s, objective %s (%s), "
-                        "Eq. 7 window [%g, %g] s\n",
-                        kdLo, kdHi, referenceFile.c_str(), objectiveName.c_str(),
-                        objectiveName == "rms" ? "RMS of the Delta z(t) difference / reference peak"
-                                               : "|Delta_seg|",
-                        windowBegin, windowEnd));
+  if (source == "cog")
+    PetscCall(PetscPrintf(comm,
+                          "Calibrating k_d in [%g, %g] 1/(m s) against %s, objective %s (%s), "
+                          "Eq. 7 window [%g, %g] s\n",
+                          kdLo, kdHi, referenceFile.c_str(), objectiveName.c_str(),
+                          objectiveName == "rms" ? "RMS of the Delta z(t) difference / reference peak"
+                                                 : "|Delta_seg|",
+                          windowBegin, windowEnd));
+  else
+    PetscCall(PetscPrintf(comm, "Fitting k_d to the measured drift of %s\n", db->path().c_str()));
   best.clear();
+  scan.clear();
   for (const std::string &model : models) {
     Result r;
-    PetscCall(search(model, &r));
+    PetscCall(source == "cog" ? search(model, &r) : fitMeasured(model, &r));
     best.push_back(r);
-    PetscCall(PetscPrintf(comm,
+    if (r.scored) PetscCall(PetscPrintf(comm,
                           "model %s: best k_d = %.4g 1/(m s): Delta_seg %.1f %%, RMS/peak %.3f, "
                           "mean dz %.4g mm (reference %.4g mm)\n",
                           model.c_str(), r.kd, r.score.segregationError, r.score.rmsRelative,
                           1e3 * r.score.meanModel, 1e3 * r.score.meanRef));
   }
-  PetscCall(PetscPrintf(comm, "%d replay runs\n", count));
+  PetscCall(writeFiles());
+  PetscCall(PetscPrintf(comm, "%d replay runs; wrote %s/calibrate_scan.csv, calibrate_best.csv and best-MODEL/cog.csv\n",
+                        count, outputDirectory.c_str()));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 

@@ -3,6 +3,7 @@
 #include <cmath>
 #include <limits>
 #include <stdexcept>
+#include <string>
 #include <unordered_map>
 
 namespace rcfd {
@@ -14,6 +15,7 @@ MeasuredDrift::MeasuredDrift(SizeClasses c, AxisMap a, BoxSpec m)
   frameSumSq.assign(nc, 0.0);
   frameCount.assign(nc, 0);
   particleCount.assign(nc, 0);
+  classMass.assign(nc, 0.0);
 }
 
 void MeasuredDrift::add(const ParticleSnapshot &before, const ParticleSnapshot &after, double dt) {
@@ -51,6 +53,7 @@ void MeasuredDrift::add(const ParticleSnapshot &before, const ParticleSnapshot &
     const auto &b = bulk[m.cell];
     sum[m.cls] += (m.dz - b.first / b.second) / dt;
     ++count[m.cls];
+    classMass[m.cls] += m.mass;
   }
   for (std::size_t c = 0; c < nc; ++c) {
     if (count[c] == 0) continue;
@@ -65,8 +68,11 @@ void MeasuredDrift::add(const ParticleSnapshot &before, const ParticleSnapshot &
 
 std::vector<MeasuredDrift::ClassDrift> MeasuredDrift::result() const {
   std::vector<ClassDrift> out(classes.diameter.size());
+  double allMass = 0.0;
+  for (double m : classMass) allMass += m;
   for (std::size_t c = 0; c < out.size(); ++c) {
     ClassDrift &r = out[c];
+    if (allMass > 0.0) r.massShare = classMass[c] / allMass;
     r.diameter = classes.diameter[c];
     r.frames = frameCount[c];
     r.particles = particleCount[c];
@@ -82,15 +88,41 @@ std::vector<MeasuredDrift::ClassDrift> MeasuredDrift::result() const {
   return out;
 }
 
+std::vector<double> measuredDriftTable(const std::vector<MeasuredDrift::ClassDrift> &drift) {
+  std::vector<double> t;
+  for (const auto &c : drift)
+    t.insert(t.end(), {c.diameter, c.velocity, c.standardError, static_cast<double>(c.particles),
+                       static_cast<double>(c.frames), c.massShare});
+  return t;
+}
+
+std::vector<MeasuredDrift::ClassDrift> measuredDriftFromTable(const std::vector<double> &t, int cols) {
+  if (cols != kMeasuredDriftColumns || t.size() % kMeasuredDriftColumns != 0)
+    throw std::invalid_argument("a measured-drift table has " + std::to_string(kMeasuredDriftColumns) +
+                                " columns (diameter, velocity, standard error, particles, frames, mass "
+                                "share), this one " + std::to_string(cols));
+  std::vector<MeasuredDrift::ClassDrift> out;
+  for (std::size_t r = 0; r < t.size(); r += kMeasuredDriftColumns)
+    out.push_back({t[r], t[r + 1], t[r + 2], static_cast<long>(t[r + 3]), static_cast<int>(t[r + 4]), t[r + 5]});
+  return out;
+}
+
 DriftFit fitDriftCoefficient(const std::vector<MeasuredDrift::ClassDrift> &drift, double d32,
-                             DriftLawShape shape) {
+                             DriftLawShape shape, bool relativeToBulk) {
+  auto lawOf = [&](double d) {
+    const double dd = d - d32;
+    return shape == DriftLawShape::A ? d * d - d32 * d32 : dd * std::fabs(dd);
+  };
+  double mean = 0.0; // sum_j s_j x_j over the classes with a mass share
+  if (relativeToBulk)
+    for (const auto &c : drift)
+      if (std::isfinite(c.massShare)) mean += c.massShare * lawOf(c.diameter);
   double sxx = 0.0, sxu = 0.0;
   std::vector<std::pair<double, double>> used; // (x, u) with weight
   std::vector<double> weights;
   for (const auto &c : drift) {
     if (c.frames < 2 || !(c.standardError > 0.0) || !std::isfinite(c.velocity)) continue;
-    const double dd = c.diameter - d32;
-    const double x = shape == DriftLawShape::A ? c.diameter * c.diameter - d32 * d32 : dd * std::fabs(dd);
+    const double x = lawOf(c.diameter) - mean;
     const double w = 1.0 / (c.standardError * c.standardError);
     sxx += w * x * x;
     sxu += w * x * c.velocity;
