@@ -39,6 +39,10 @@ public:
   /// instead of one made from -drift_agitation; shares one field between runs.
   void useAgitation(std::shared_ptr<const AgitationField> field) { agitation = std::move(field); }
   void setAgitationExponent(double n) { agitationExponent = n; }
+  /// The solid-weighted mean of the factor (a/a_bar)^n over the occupied
+  /// cells of all frames (1 when unscaled), once set up: a law scaled so
+  /// drifts on average k_d / this as fast as the unscaled one.
+  double meanAgitationFactor() const { return meanFactor; }
   /// The field the drift is scaled by (null when unscaled), once set up.
   std::shared_ptr<const AgitationField> agitationField() const { return agitation; }
 
@@ -67,6 +71,7 @@ private:
   std::shared_ptr<const AgitationField> agitation;
   std::vector<std::vector<double>> scaleByFrame;
   std::vector<double> largestScaleByFrame;
+  double meanFactor = 1.0;
 };
 
 } // namespace rcfd

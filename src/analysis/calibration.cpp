@@ -97,6 +97,8 @@ PetscErrorCode DriftCalibration::setUp() {
   PetscCall(first.setUp());
   db = first.sharedDatabase();
   outputDirectory = first.outputDirectory();
+  for (const auto &op : first.pipeline().operators())
+    if (auto *d = dynamic_cast<DriftOperator *>(op.get())) meanFactor = d->meanAgitationFactor();
   sauter = first.fractions().inventorySauterDiameter();
   PetscFunctionReturn(PETSC_SUCCESS);
 }
@@ -195,20 +197,27 @@ PetscErrorCode DriftCalibration::fitMeasured(const std::string &model, Result *r
              "-calibrate_from measured: database '%s' holds no measured drift (rcfd build from particle "
              "snapshots stores it; databases from other builders or older versions do not)",
              db->path().c_str());
+  std::vector<MeasuredDrift::ClassDrift> drift;
   PetscCall(collectively(comm, [&] {
-    const auto drift = measuredDriftFromTable(table, cols);
+    drift = measuredDriftFromTable(table, cols);
     const DriftFit fit =
         fitDriftCoefficient(drift, sauter, model == "A" ? DriftLawShape::A : DriftLawShape::B, true);
+    // A law scaled by (a/a_bar)^n drifts on average meanFactor times as fast.
     result->model = model;
-    result->kd = fit.kd;
-    result->kdStandardError = fit.standardError;
+    result->kd = fit.kd / meanFactor;
+    result->kdStandardError = fit.standardError / meanFactor;
   }, PETSC_ERR_USER_INPUT));
   PetscCheck(result->kd > 0.0, comm, PETSC_ERR_USER_INPUT,
              "-calibrate_from measured: the measured drift of '%s' gives k_d = %g for model %s: the "
              "large particles do not sink relative to the bulk, so no drift law of this form fits",
              db->path().c_str(), result->kd, model.c_str());
-  PetscCall(PetscPrintf(comm, "model %s: k_d = %.4g +- %.2g 1/(m s) from the measured drift (d32 %.4g mm)\n",
-                        model.c_str(), result->kd, result->kdStandardError, sauter * 1e3));
+  if (model == models.front())
+    for (const auto &c : drift)
+      PetscCall(PetscPrintf(comm, "  measured: d = %.4g mm (mass share %.3f): u = %+.3f +- %.3f mm/s relative to the bulk\n",
+                            c.diameter * 1e3, c.massShare, c.velocity * 1e3, c.standardError * 1e3));
+  PetscCall(PetscPrintf(comm, "model %s: k_d = %.4g +- %.2g 1/(m s) from the measured drift (d32 %.4g mm%s)\n",
+                        model.c_str(), result->kd, result->kdStandardError, sauter * 1e3,
+                        meanFactor != 1.0 ? ", divided by the mean agitation factor of the runs' drift" : ""));
   if (!referenceFile.empty()) {
     PetscCall(evaluate(model, std::log10(result->kd), &result->score));
     result->scored = true;

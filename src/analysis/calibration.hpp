@@ -67,6 +67,7 @@ private:
   std::string source = "cog";                       // cog: replays against -reference; measured: regression
   std::string outputDirectory;                      // the runs' -output_dir
   double sauter = 0.0;                              // the runs' inventory d32 [m]
+  double meanFactor = 1.0;                          // of the runs' drift scaled by agitation
   std::vector<std::string> models{"B"};
   double offset = 0.0, windowBegin = 0.5, windowEnd = 1.5;
   double kdLo = 1e2, kdHi = 1e6, tolerance = 0.01; // tolerance in log10 k_d

@@ -124,6 +124,7 @@ PetscErrorCode DriftOperator::setUpScaling(const RunContext &ctx) {
   PetscFunctionBeginUser;
   scaleByFrame.clear();
   largestScaleByFrame.clear();
+  meanFactor = 1.0;
   if (!agitation && agitationName == "none") PetscFunctionReturn(PETSC_SUCCESS);
   if (!agitation) {
     auto field = std::make_shared<AgitationField>();
@@ -140,16 +141,26 @@ PetscErrorCode DriftOperator::setUpScaling(const RunContext &ctx) {
   PetscCall(VecDuplicate(ctx.db.alphaS(0), cells.put()));
   scaleByFrame.resize(K);
   largestScaleByFrame.assign(K, 0.0);
+  double sums[2] = {0.0, 0.0}; // sum alpha V factor, sum alpha V
   for (int k = 0; k < K; ++k) {
     PetscScalar *v;
+    const PetscScalar *alpha;
     PetscCall(VecGetArray(cells, &v));
+    PetscCall(VecGetArrayRead(ctx.db.alphaS(k), &alpha));
     const std::vector<double> &a = agitation->frame(k);
-    for (std::size_t i = 0; i < a.size(); ++i) v[i] = std::pow(a[i] / mean, agitationExponent);
+    for (std::size_t i = 0; i < a.size(); ++i) {
+      v[i] = std::pow(a[i] / mean, agitationExponent);
+      sums[0] += alpha[i] * ctx.db.localVolumes()[i] * v[i];
+      sums[1] += alpha[i] * ctx.db.localVolumes()[i];
+    }
+    PetscCall(VecRestoreArrayRead(ctx.db.alphaS(k), &alpha));
     PetscCall(VecRestoreArray(cells, &v));
     PetscCall(exchange().gatherScalar(cells, &scaleByFrame[k]));
     for (double f : scaleByFrame[k]) largestScaleByFrame[k] = std::max(largestScaleByFrame[k], f);
   }
   PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, largestScaleByFrame.data(), K, MPI_DOUBLE, MPI_MAX, comm));
+  PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, sums, 2, MPI_DOUBLE, MPI_SUM, comm));
+  meanFactor = sums[1] > 0.0 ? sums[0] / sums[1] : 1.0;
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
@@ -286,9 +297,9 @@ PetscErrorCode DriftOperator::view(PetscViewer viewer) const {
                                    localD32 ? "local per sending cell" : (d32Override > 0 ? "given" : "inventory"),
                                    hindered ? ", hindered" : "", (int)every));
   if (agitation)
-    PetscCall(PetscViewerASCIIPrintf(viewer, "  scaled by (a/a_bar)^%g, a = %s agitation of the frame, a_bar = %.4g, a_max = %.4g\n",
+    PetscCall(PetscViewerASCIIPrintf(viewer, "  scaled by (a/a_bar)^%g, a = %s agitation of the frame, a_bar = %.4g, a_max = %.4g, solid-weighted mean factor %.4g\n",
                                      agitationExponent, agitationMeasureName(agitation->measure()),
-                                     agitation->solidWeightedMean(), agitation->maximum()));
+                                     agitation->solidWeightedMean(), agitation->maximum(), meanFactor));
   PetscCall(PetscViewerASCIIPushTab(viewer));
   for (int i = 0; i < nf; ++i)
     PetscCall(PetscViewerASCIIPrintf(viewer, "fraction %d (d = %.4g mm): u_d = %+.4g m/s\n", i,
