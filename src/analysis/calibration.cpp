@@ -200,6 +200,7 @@ PetscErrorCode DriftCalibration::fitMeasured(const std::string &model, Result *r
   std::vector<MeasuredDrift::ClassDrift> drift;
   PetscCall(collectively(comm, [&] {
     drift = measuredDriftFromTable(table, cols);
+    measuredTable = table;
     const DriftFit fit =
         fitDriftCoefficient(drift, sauter, model == "A" ? DriftLawShape::A : DriftLawShape::B, true);
     // A law scaled by (a/a_bar)^n drifts on average meanFactor times as fast.
@@ -273,6 +274,17 @@ PetscErrorCode DriftCalibration::writeFiles() const {
         bestCsv << ",,,,\n";
     }
     std::filesystem::create_directories(outputDirectory);
+    if (!measuredTable.empty()) {
+      std::ostringstream m;
+      m << "# rcfd calibrate: the drift rcfd build measured in " << db->path()
+        << ", relative to the bulk solid of each cell; d32_m is the runs' inventory d32\n"
+        << "diameter_m,velocity_m_s,standard_error_m_s,particles,frames,mass_share,d32_m\n";
+      for (std::size_t r = 0; r < measuredTable.size(); r += kMeasuredDriftColumns) {
+        for (int c = 0; c < kMeasuredDriftColumns; ++c) m << number(measuredTable[r + c]) << ',';
+        m << number(sauter) << '\n';
+      }
+      writeTextAtomically(outputDirectory + "/measured_drift.csv", m.str());
+    }
     writeTextAtomically(outputDirectory + "/calibrate_scan.csv", scanCsv.str());
     writeTextAtomically(outputDirectory + "/calibrate_best.csv", bestCsv.str());
   }, PETSC_ERR_FILE_WRITE));

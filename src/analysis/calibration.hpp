@@ -9,8 +9,9 @@
 // database's /extra/measured_drift, analysis/measured_drift.hpp), and one
 // replay per model scores the fit when a reference is given.  The scan, the
 // best parameters and scores of every model (calibrate_scan.csv,
-// calibrate_best.csv) and each model's best run (best-<model>/cog.csv) are
-// written to the output directory.
+// calibrate_best.csv), each model's best run (best-<model>/cog.csv) and, on
+// the measured path, the measured drift (measured_drift.csv; figure:
+// src/cli/figures/drift_law_form.py) are written to the output directory.
 #pragma once
 
 #include "analysis/segregation_score.hpp"
@@ -81,6 +82,7 @@ private:
     DeltaZScore score;
   };
   std::vector<ScanRow> scan;
+  std::vector<double> measuredTable; // the database's measured drift (measured path)
   int count = 0;
 };
 
