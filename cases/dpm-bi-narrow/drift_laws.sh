@@ -101,4 +101,16 @@ P
   s1=$(awk -F, 'NR > 2 { printf "%s,%s", $11, $17 }' "$out/stitch/$name/scores-scores.csv")
   echo "$name,$n1$n2$w1$s1" | tee -a "$table"
 done
-echo "Wrote $table"
+for bed in narrow wide; do
+  "$rcfd" compare -reference "$out/$bed-ref/cog.csv" \
+    -rcfd "$out/$bed/paper-B-5e3/cog.csv,$out/$bed/B-measured/cog.csv,$out/$bed/B-leaving2/cog.csv" \
+    -labels "B k_d 5e3 (paper),B k_d 2.28e4 (measured drift),B scaled (a/a_bar)^2 k_d 1.73e4" \
+    -rcfd_time_offset 0.2 -score_window 0.5,1.5 -o "$out/compare-$bed.csv" -png "$out/validation-drift-laws-$bed.png" \
+    -title "dpm-bi-$bed: Delta z(t), CFD-DEM and rcfd replays from t = 0.2 s (laws fitted on dpm-bi-narrow)" >/dev/null
+done
+"$rcfd" calibrate "${wide[@]}" -calibrate_from measured -t_end 0.01 -output_dir "$out/measured-wide" >/dev/null
+python3 "$root/src/cli/figures/drift_law_form.py" "$out/measured-narrow-t02/measured_drift.csv" \
+  "$out/measured-wide/measured_drift.csv" --labels "dpm-bi-narrow (fit),dpm-bi-wide (check)" \
+  -o "$out/drift-law-form.png" --title "Measured drift relative to the bulk against the drift laws' size terms" ||
+  echo "(no matplotlib: drift-law-form.png not drawn)"
+echo "Wrote $table, $out/validation-drift-laws-{narrow,wide}.png, $out/drift-law-form.png"
