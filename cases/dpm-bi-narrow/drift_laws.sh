@@ -47,8 +47,11 @@ laws=(
   "paper-B-5e3|-drift_model B -drift_kd 5e3"
   "A-measured|-drift_model A -drift_kd 2107"
   "B-measured|-drift_model B -drift_kd 2.276e4"
+  "A-leaving1|-drift_model A -drift_kd 2836 -drift_agitation leaving -drift_agitation_exponent 1"
   "A-leaving2|-drift_model A -drift_kd 1640 -drift_agitation leaving -drift_agitation_exponent 2"
+  "B-leaving1|-drift_model B -drift_kd 3.079e4 -drift_agitation leaving -drift_agitation_exponent 1"
   "B-leaving2|-drift_model B -drift_kd 1.732e4 -drift_agitation leaving -drift_agitation_exponent 2"
+  "B-leaving3|-drift_model B -drift_kd 7499 -drift_agitation leaving -drift_agitation_exponent 3"
   "A-dispersion2|-drift_model A -drift_kd 1596 -drift_agitation dispersion -drift_agitation_exponent 2"
   "A-leaving2-hindered|-drift_model A -drift_kd 5530 -drift_agitation leaving -drift_agitation_exponent 2 -drift_hindered"
   "A-leaving3|-drift_model A -drift_kd 698 -drift_agitation leaving -drift_agitation_exponent 3"
@@ -109,7 +112,9 @@ for bed in narrow wide; do
     -title "dpm-bi-$bed: Delta z(t), CFD-DEM and rcfd replays from t = 0.2 s (laws fitted on dpm-bi-narrow)" >/dev/null
 done
 "$rcfd" calibrate "${wide[@]}" -calibrate_from measured -t_end 0.01 -output_dir "$out/measured-wide" >/dev/null
-python3 "$root/src/cli/figures/drift_law_form.py" "$out/measured-narrow-t02/measured_drift.csv" \
+py=/usr/bin/python3 # Debian's python3 has python3-matplotlib
+[ -x "$py" ] || py=python3
+"$py" "$root/src/cli/figures/drift_law_form.py" "$out/measured-narrow-t02/measured_drift.csv" \
   "$out/measured-wide/measured_drift.csv" --labels "dpm-bi-narrow (fit),dpm-bi-wide (check)" \
   -o "$out/drift-law-form.png" --title "Measured drift relative to the bulk against the drift laws' size terms" ||
   echo "(no matplotlib: drift-law-form.png not drawn)"

@@ -5,6 +5,7 @@
 #include "analysis/measured_drift.hpp"
 #include "base/atomic_file.hpp"
 #include "base/collective.hpp"
+#include "rcfd/agitation.hpp"
 #include "rcfd/run.hpp"
 #include "rcfd/swaps.hpp"
 
@@ -35,6 +36,10 @@ PetscErrorCode DriftCalibration::setFromOptions() {
                                "cog: replays scored against -reference; measured: regression on the database's "
                                "measured drift (rcfd build), in seconds",
                                "", from, from, sizeof from, nullptr));
+  PetscCall(PetscOptionsBool("-calibrate_exponent",
+                             "With -calibrate_from measured: also fit n of a drift scaled by (a/a_bar)^n, a the "
+                             "cell's leaving share, to the measured drift by agitation",
+                             "", fitExponent, &fitExponent, nullptr));
   PetscCall(PetscOptionsStringArray("-calibrate_models", "Drift models to fit: A, B or A,B", "",
                                     names, &nmodels, &setModels));
   PetscCall(PetscOptionsString("-calibrate_objective",
@@ -104,7 +109,8 @@ PetscErrorCode DriftCalibration::setUp() {
 }
 
 /// Runs the case with the given model and k_d and scores it.
-PetscErrorCode DriftCalibration::evaluate(const std::string &model, double log10kd, DeltaZScore *score) {
+PetscErrorCode DriftCalibration::evaluate(const std::string &model, double log10kd, DeltaZScore *score,
+                                          double exponent) {
   PetscFunctionBeginUser;
   Run run(comm, registry);
   run.setDefaultOutputDirectory("rcfd-calibrate");
@@ -119,6 +125,15 @@ PetscErrorCode DriftCalibration::evaluate(const std::string &model, double log10
              "rcfd calibrate fits the drift operator, but -pipeline has none (add drift)");
   drift->setModel(model == "A" ? DriftOperator::Model::A : DriftOperator::Model::B);
   drift->setKd(std::pow(10.0, log10kd));
+  if (exponent >= 0.0) {
+    if (!leaving) {
+      auto field = std::make_shared<AgitationField>();
+      PetscCall(field->setUp(*db, AgitationMeasure::LeavingShare));
+      leaving = field;
+    }
+    drift->useAgitation(leaving);
+    drift->setAgitationExponent(exponent);
+  }
   PetscCall(run.setUp());
   PetscCall(run.solve());
   DeltaZSeries s;
@@ -219,8 +234,29 @@ PetscErrorCode DriftCalibration::fitMeasured(const std::string &model, Result *r
   PetscCall(PetscPrintf(comm, "model %s: k_d = %.4g +- %.2g 1/(m s) from the measured drift (d32 %.4g mm%s)\n",
                         model.c_str(), result->kd, result->kdStandardError, sauter * 1e3,
                         meanFactor != 1.0 ? ", divided by the mean agitation factor of the runs' drift" : ""));
+  if (fitExponent) {
+    std::vector<double> mean;
+    int c1 = 0, c2 = 0;
+    PetscCall(db->readMatrix("measured_drift_by_agitation", &byAgitationTable, &c1));
+    PetscCall(db->readMatrix("measured_agitation_mean", &mean, &c2));
+    PetscCheck(!byAgitationTable.empty() && mean.size() == 1, comm, PETSC_ERR_USER_INPUT,
+               "-calibrate_exponent: database '%s' holds no measured drift by agitation (rcfd build from "
+               "particle snapshots stores it from this version on)",
+               db->path().c_str());
+    AgitationDriftFit fit;
+    PetscCall(collectively(comm, [&] {
+      fit = fitAgitationExponent(driftByAgitationFromTable(byAgitationTable, c1), drift, mean[0], sauter,
+                                 model == "A" ? DriftLawShape::A : DriftLawShape::B);
+    }, PETSC_ERR_USER_INPUT));
+    result->kd = fit.kd;
+    result->kdStandardError = 0.0;
+    result->exponent = fit.exponent;
+    PetscCall(PetscPrintf(comm, "model %s scaled by (a/a_bar)^n, a = leaving share (a_bar %.4g from the particles): "
+                                "n = %.2f, k_d = %.4g 1/(m s), chi^2/dof %.3g\n",
+                          model.c_str(), mean[0], fit.exponent, fit.kd, fit.chiSquarePerDof));
+  }
   if (!referenceFile.empty()) {
-    PetscCall(evaluate(model, std::log10(result->kd), &result->score));
+    PetscCall(evaluate(model, std::log10(result->kd), &result->score, fitExponent ? result->exponent : -1.0));
     result->scored = true;
     PetscCall(keepBestRun(model));
   }
@@ -263,10 +299,10 @@ PetscErrorCode DriftCalibration::writeFiles() const {
               << number(r.score.rmsRelative) << '\n';
     bestCsv << "# rcfd calibrate: the best k_d of every model (from " << source << (source == "cog" ? ", objective " + objectiveName : std::string())
             << "); scores of its run (best-MODEL/cog.csv), empty without a reference\n"
-            << "model,source,kd,kd_standard_error,d32_m,delta_seg_percent,rms_over_peak,mean_run_m,mean_reference_m\n";
+            << "model,source,kd,kd_standard_error,agitation_exponent,d32_m,delta_seg_percent,rms_over_peak,mean_run_m,mean_reference_m\n";
     for (const Result &r : best) {
       bestCsv << r.model << ',' << source << ',' << number(r.kd) << ',' << number(r.kdStandardError) << ','
-              << number(sauter);
+              << number(r.exponent) << ',' << number(sauter);
       if (r.scored)
         bestCsv << ',' << number(r.score.segregationError) << ',' << number(r.score.rmsRelative) << ','
                 << number(r.score.meanModel) << ',' << number(r.score.meanRef) << '\n';
@@ -274,17 +310,28 @@ PetscErrorCode DriftCalibration::writeFiles() const {
         bestCsv << ",,,,\n";
     }
     std::filesystem::create_directories(outputDirectory);
-    if (!measuredTable.empty()) {
+    // A stored table as CSV: a comment, the header, the rows (each ending with `extra`).
+    auto writeTable = [&](const std::string &name, const std::string &comment, const std::string &header,
+                          const std::vector<double> &table, int cols, const std::string &extra) {
+      if (table.empty()) return;
       std::ostringstream m;
-      m << "# rcfd calibrate: the drift rcfd build measured in " << db->path()
-        << ", relative to the bulk solid of each cell; d32_m is the runs' inventory d32\n"
-        << "diameter_m,velocity_m_s,standard_error_m_s,particles,frames,mass_share,d32_m\n";
-      for (std::size_t r = 0; r < measuredTable.size(); r += kMeasuredDriftColumns) {
-        for (int c = 0; c < kMeasuredDriftColumns; ++c) m << number(measuredTable[r + c]) << ',';
-        m << number(sauter) << '\n';
+      m << "# rcfd calibrate: " << comment << "\n" << header << "\n";
+      for (std::size_t r = 0; r < table.size(); r += cols) {
+        for (int c = 0; c < cols; ++c) m << (c ? "," : "") << number(table[r + c]);
+        m << extra << '\n';
       }
-      writeTextAtomically(outputDirectory + "/measured_drift.csv", m.str());
-    }
+      writeTextAtomically(outputDirectory + "/" + name, m.str());
+    };
+    writeTable("measured_drift.csv",
+               "the drift rcfd build measured in " + db->path() +
+                   ", relative to the bulk solid of each cell; d32_m is the runs' inventory d32",
+               "diameter_m,velocity_m_s,standard_error_m_s,particles,frames,mass_share,d32_m", measuredTable,
+               kMeasuredDriftColumns, "," + number(sauter));
+    writeTable("measured_drift_by_agitation.csv",
+               "the measured drift of " + db->path() +
+                   " by the leaving share of the particle's cell (bins of 0.1); mass_share within the bin",
+               "agitation,diameter_m,velocity_m_s,standard_error_m_s,particles,frames,mass_share", byAgitationTable,
+               kDriftByAgitationColumns, "");
     writeTextAtomically(outputDirectory + "/calibrate_scan.csv", scanCsv.str());
     writeTextAtomically(outputDirectory + "/calibrate_best.csv", bestCsv.str());
   }, PETSC_ERR_FILE_WRITE));

@@ -23,6 +23,7 @@
 
 namespace rcfd {
 
+class AgitationField;
 class Database;
 
 class DriftCalibration {
@@ -31,6 +32,7 @@ public:
     std::string model;
     double kd;                  ///< best k_d [1/(m s)]
     double kdStandardError = 0; ///< from the measured drift's spread (measured path)
+    double exponent = 0;        ///< of the agitation scaling (a/a_bar)^n, with -calibrate_exponent
     bool scored = false;        ///< a reference was given and a run made
     DeltaZScore score;          ///< of the run at that k_d
   };
@@ -55,7 +57,8 @@ public:
   int evaluations() const { return count; }
 
 private:
-  PetscErrorCode evaluate(const std::string &model, double log10kd, DeltaZScore *score);
+  PetscErrorCode evaluate(const std::string &model, double log10kd, DeltaZScore *score,
+                          double exponent = -1.0); // >= 0: scaled by (a/a_bar)^n, a = leaving share
   PetscErrorCode fitMeasured(const std::string &model, Result *result);
   PetscErrorCode keepBestRun(const std::string &model);
   PetscErrorCode writeFiles() const;
@@ -83,6 +86,9 @@ private:
   };
   std::vector<ScanRow> scan;
   std::vector<double> measuredTable; // the database's measured drift (measured path)
+  std::vector<double> byAgitationTable; // and by agitation (with -calibrate_exponent)
+  PetscBool fitExponent = PETSC_FALSE;  // -calibrate_exponent
+  std::shared_ptr<const AgitationField> leaving; // shared by the scaled runs
   int count = 0;
 };
 

@@ -34,6 +34,21 @@ public:
   };
   /// One entry per class (velocity NaN for a class never seen).
   std::vector<ClassDrift> result() const;
+
+  /// The same by the agitation of the particle's cell: the share of the
+  /// matched solid mass of the cell that is in another cell (or outside)
+  /// after dt, which is 1 - T[i,i] of the shift counted by centre.  Bins of
+  /// width 1/kAgitationBins; per bin and class, like result(), with the
+  /// mass-weighted mean agitation of the bin.
+  static constexpr int kAgitationBins = 10;
+  struct BinDrift {
+    double agitation = 0.0; ///< mass-weighted mean leaving share of the bin's particles [-]
+    ClassDrift drift;
+  };
+  /// kAgitationBins x classes entries, bin-major.
+  std::vector<BinDrift> byAgitation() const;
+  /// Mass-weighted mean leaving share of all matched particles (a bar) [-].
+  double meanAgitation() const { return agitationMass > 0.0 ? agitationSum / agitationMass : 0.0; }
   int framesAdded() const { return frames; }
 
 private:
@@ -46,7 +61,22 @@ private:
   std::vector<int> frameCount;
   std::vector<long> particleCount;
   std::vector<double> classMass;
+  // Per (bin, class): the same sums; per bin: sum m a and sum m.
+  std::vector<double> binFrameSum, binFrameSumSq, binClassMass;
+  std::vector<int> binFrameCount;
+  std::vector<long> binParticles;
+  std::vector<double> binAgitationSum, binMass;
+  double agitationSum = 0.0, agitationMass = 0.0;
 };
+
+/// The drift by agitation as a table, one row per bin and class: mean
+/// agitation of the bin, then the columns of measuredDriftTable (mass share
+/// within the bin).
+constexpr int kDriftByAgitationColumns = 7;
+std::vector<double> driftByAgitationTable(const std::vector<MeasuredDrift::BinDrift> &bins);
+std::vector<MeasuredDrift::BinDrift> driftByAgitationFromTable(const std::vector<double> &rowMajor, int cols);
+
+
 
 /// The measured drift as a table, one row per class: diameter [m], velocity
 /// [m/s], standard error [m/s], particles, frames, mass share (the columns
@@ -75,5 +105,16 @@ struct DriftFit {
 /// Throws std::invalid_argument when fewer than one class can be used.
 DriftFit fitDriftCoefficient(const std::vector<MeasuredDrift::ClassDrift> &drift, double d32,
                              DriftLawShape shape, bool relativeToBulk = false);
+
+/// u_b,i = -k_d (x_i - sum_j s_j x_j) (a_b / a_bar)^n over bins b and classes i
+/// (x and the mass shares s of the whole bed, as fitDriftCoefficient with
+/// relativeToBulk), weights 1/se^2: k_d by least squares for each n of a scan
+/// of [0, nMax] in steps of 0.01, the n of the smallest chi^2.
+struct AgitationDriftFit {
+  double kd = 0.0, exponent = 0.0, chiSquarePerDof = 0.0;
+};
+AgitationDriftFit fitAgitationExponent(const std::vector<MeasuredDrift::BinDrift> &bins,
+                                       const std::vector<MeasuredDrift::ClassDrift> &bed, double aBar,
+                                       double d32, DriftLawShape shape, double nMax = 6.0);
 
 } // namespace rcfd

@@ -215,6 +215,12 @@ PetscErrorCode buildCommand(MPI_Comm comm) {
                        "per size class: diameter [m], vertical velocity relative to the bulk solid of "
                        "its cell, up positive [m/s], its standard error from per-frame means [m/s], "
                        "particle displacements, frames, mass share of the matched particles");
+    writer.writeMatrix("measured_drift_by_agitation", driftByAgitationTable(measured.byAgitation()),
+                       kDriftByAgitationColumns,
+                       "per bin of the cell's leaving share (1 - T[i,i]) and size class: the bin's mean "
+                       "leaving share, then the columns of measured_drift (mass share within the bin)");
+    writer.writeMatrix("measured_agitation_mean", {measured.meanAgitation()}, 1,
+                       "mass-weighted mean leaving share of the matched particles' cells (a bar)");
     writer.finish();
     if (talk)
       std::printf("Wrote %s: %zu frames every %.6g s\n%s\n", out.database.c_str(), rep.frames,
