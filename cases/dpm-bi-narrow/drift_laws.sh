@@ -36,6 +36,9 @@ for db in narrow-t02 narrow-fit; do
   "$rcfd" calibrate "${narrow[@]}" -db "$out/$db.h5" -calibrate_from measured -calibrate_models A,B -t_end 0.01 \
     -output_dir "$out/measured-$db" | grep -E "measured|model"
 done
+echo "== the measured drift by agitation and the exponent it gives (scored on the narrow replay)"
+"$rcfd" calibrate "${narrow[@]}" -calibrate_from measured -calibrate_exponent -calibrate_models A,B \
+  -reference "$out/narrow-ref/cog.csv" -rcfd_time_offset 0.2 -output_dir "$out/measured-exponent" | grep -E "scaled|best"
 "$rcfd" calibrate "${wide[@]}" -calibrate_from measured -calibrate_models A,B -t_end 0.01 \
   -output_dir "$out/measured-wide" | grep -E "measured|model"
 
@@ -118,4 +121,8 @@ py=/usr/bin/python3 # Debian's python3 has python3-matplotlib
   "$out/measured-wide/measured_drift.csv" --labels "dpm-bi-narrow (fit),dpm-bi-wide (check)" \
   -o "$out/drift-law-form.png" --title "Measured drift relative to the bulk against the drift laws' size terms" ||
   echo "(no matplotlib: drift-law-form.png not drawn)"
-echo "Wrote $table, $out/validation-drift-laws-{narrow,wide}.png, $out/drift-law-form.png"
+"$py" "$root/src/cli/figures/drift_by_agitation.py" "$out/measured-exponent/measured_drift_by_agitation.csv" \
+  --exponents 0.16,2 --labels "n = 0.16 (fit to these points),n = 2 (centre-of-gravity fit)" \
+  -o "$out/drift-by-agitation.png" --title "dpm-bi-narrow: measured drift by the agitation of the particle's cell" ||
+  echo "(no matplotlib: drift-by-agitation.png not drawn)"
+echo "Wrote $table, $out/validation-drift-laws-{narrow,wide}.png, $out/drift-law-form.png, $out/drift-by-agitation.png"

@@ -251,6 +251,7 @@ PetscErrorCode DriftCalibration::fitMeasured(const std::string &model, Result *r
     result->kd = fit.kd;
     result->kdStandardError = 0.0;
     result->exponent = fit.exponent;
+    agitationMean = mean[0];
     PetscCall(PetscPrintf(comm, "model %s scaled by (a/a_bar)^n, a = leaving share (a_bar %.4g from the particles): "
                                 "n = %.2f, k_d = %.4g 1/(m s), chi^2/dof %.3g\n",
                           model.c_str(), mean[0], fit.exponent, fit.kd, fit.chiSquarePerDof));
@@ -330,8 +331,8 @@ PetscErrorCode DriftCalibration::writeFiles() const {
     writeTable("measured_drift_by_agitation.csv",
                "the measured drift of " + db->path() +
                    " by the leaving share of the particle's cell (bins of 0.1); mass_share within the bin",
-               "agitation,diameter_m,velocity_m_s,standard_error_m_s,particles,frames,mass_share", byAgitationTable,
-               kDriftByAgitationColumns, "");
+               "agitation,diameter_m,velocity_m_s,standard_error_m_s,particles,frames,mass_share,agitation_mean",
+               byAgitationTable, kDriftByAgitationColumns, "," + number(agitationMean));
     writeTextAtomically(outputDirectory + "/calibrate_scan.csv", scanCsv.str());
     writeTextAtomically(outputDirectory + "/calibrate_best.csv", bestCsv.str());
   }, PETSC_ERR_FILE_WRITE));

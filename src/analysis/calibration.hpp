@@ -88,6 +88,7 @@ private:
   std::vector<double> measuredTable; // the database's measured drift (measured path)
   std::vector<double> byAgitationTable; // and by agitation (with -calibrate_exponent)
   PetscBool fitExponent = PETSC_FALSE;  // -calibrate_exponent
+  double agitationMean = 0.0;           // a bar of the measured drift by agitation
   std::shared_ptr<const AgitationField> leaving; // shared by the scaled runs
   int count = 0;
 };
