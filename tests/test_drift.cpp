@@ -5,11 +5,14 @@
 // a column along another axis with gravity along it giving the same answer,
 // and bulk/fraction conservation and positivity under stress (2, 5 and 20
 // fractions, k_d 100x the paper's, near-empty and near-packed cells, and no
-// alpha_s floor next to empty cells).
+// alpha_s floor next to empty cells), and drift scaled by the bed's agitation
+// (exponent 0 equal to the unscaled drift bit for bit, a uniform field to
+// round-off, the factor of the frame being applied).
 // Runs at 1 and 2 ranks.  Every PETSc call is checked with PetscCallAbort:
 // an error (a database that does not load, a set-up or step that fails)
 // stops the test with PETSc's message and a non-zero exit, never a silent pass.
 #include "check.hpp"
+#include "rcfd/agitation.hpp"
 #include "rcfd/swaps.hpp"
 #include "state_access.hpp"
 
@@ -22,7 +25,7 @@ using rcfd::test::setNatural;
 
 namespace {
 
-std::string dir;
+std::string dir, dataDir;
 int counter = 0;
 
 BoxSpec column(int axis, int n, double length) {
@@ -314,6 +317,148 @@ void stress(int nf, const std::string &options, bool expectSubsteps) {
   RCFD_CHECK(!expectSubsteps || drift->maxSubsteps() > 1);
 }
 
+// Steps `drift` on `db` from masses m0, with step k using frame k mod K; the masses after.
+std::vector<double> stepFrames(const Database &db, DriftOperator &drift, const std::vector<double> &m0,
+                               int nf, int steps) {
+  FractionState st;
+  PetscCallAbort(PETSC_COMM_WORLD, st.create(db.layout(), nf));
+  setNatural(db, st, m0);
+  for (int k = 0; k < steps; ++k) {
+    StepInfo info;
+    info.step = k;
+    info.dt = db.metadata().dtRec;
+    info.frame = k % db.numFrames();
+    PetscCallAbort(PETSC_COMM_WORLD, drift.apply(info, st));
+  }
+  return gatherNatural(db, st.masses(), nf);
+}
+
+double largestRelativeDifference(const std::vector<double> &a, const std::vector<double> &b) {
+  double worst = 0.0, scale = 0.0;
+  for (size_t k = 0; k < a.size(); ++k) scale = std::fmax(scale, std::fabs(a[k]));
+  for (size_t k = 0; k < a.size(); ++k) worst = std::fmax(worst, std::fabs(a[k] - b[k]));
+  return worst / scale;
+}
+
+// Drift scaled by (a/a_bar)^n on the synthetic small.h5 (real shifts, so a
+// real agitation field): n = 0 gives the unscaled drift bit for bit, a
+// uniform field gives it to round-off, n = 2 gives something else.
+void agitationScaling() {
+  std::unique_ptr<Database> db;
+  PetscCallAbort(PETSC_COMM_WORLD,
+                 Database::load(PETSC_COMM_WORLD, dataDir + "/small.h5", DatabaseLoadOptions{}, &db));
+  FractionSet set({1.459e-3, 4.075e-3}, {0.564, 0.436});
+  RunContext ctx{*db, set, 1440.0};
+  const int N = db->mesh().numCells();
+  std::mt19937_64 rng(7);
+  std::uniform_real_distribution<double> U(0.05, 1.0);
+  std::vector<double> m0;
+  for (int c = 0; c < N; ++c) {
+    const double bulk = 1440.0 * 0.4 * db->mesh().cellVolume[c], y = U(rng);
+    m0.push_back(bulk * y);
+    m0.push_back(bulk * (1.0 - y));
+  }
+  auto run = [&](const std::string &options, std::shared_ptr<const AgitationField> field = nullptr) {
+    auto drift = makeOperator<DriftOperator>(options);
+    if (field) drift->useAgitation(field);
+    PetscCallAbort(PETSC_COMM_WORLD, drift->setUp(ctx));
+    auto masses = stepFrames(*db, *drift, m0, 2, 40);
+    return std::make_pair(masses, drift->substepsTaken());
+  };
+  const std::string law = "-model B -kd 2e5";
+  const auto plain = run(law);
+  const auto zero = run(law + " -agitation leaving -agitation_exponent 0");
+  const auto zeroDispersion = run(law + " -agitation dispersion -agitation_exponent 0");
+  const auto two = run(law + " -agitation leaving -agitation_exponent 2");
+  RCFD_CHECK(plain.first == zero.first && plain.second == zero.second);
+  RCFD_CHECK(plain.first == zeroDispersion.first);
+  const double changed = largestRelativeDifference(plain.first, two.first);
+  RCFD_CHECK(changed > 1e-3);
+  RCFD_CHECK(two.second > plain.second); // the field's maximum sets the sub-steps
+  // A uniform field: a / a_bar is 1 up to the round-off of the mean.
+  auto uniform = std::make_shared<AgitationField>();
+  PetscCallAbort(PETSC_COMM_WORLD,
+                 uniform->setValues(*db, AgitationMeasure::LeavingShare,
+                                    std::vector<std::vector<double>>(
+                                        db->numFrames(), std::vector<double>(db->layout().numLocal(), 0.37))));
+  const auto flat = run(law + " -agitation_exponent 3", uniform);
+  const double roundOff = largestRelativeDifference(plain.first, flat.first);
+  PetscPrintf(PETSC_COMM_WORLD,
+              "agitation: exponent 0 bit for bit; uniform field differs by %.1e; exponent 2 by %.1e "
+              "(sub-steps %ld against %ld)\n",
+              roundOff, changed, two.second, plain.second);
+  RCFD_CHECK(roundOff < 1e-12);
+}
+
+// The factor is that of the frame being applied: a field 2 in frame 0 and 0
+// in frame 1 (a_bar = 1) moves nothing in frame 1 and drifts twice as fast
+// in frame 0.
+void agitationOfTheFrame() {
+  const BoxSpec spec = column(2, 10, 0.1);
+  const std::vector<double> alpha(10, 0.5);
+  const std::string path = dir + "/drift_" + std::to_string(counter++) + ".h5";
+  DatabaseMetadata meta;
+  rcfd::test::writeIdentityDatabase(path, Mesh::box(spec), alpha, meta, 2);
+  std::unique_ptr<Database> db;
+  PetscCallAbort(PETSC_COMM_WORLD, Database::load(PETSC_COMM_WORLD, path, DatabaseLoadOptions{}, &db));
+  FractionSet set({1e-3, 3e-3}, {0.5, 0.5});
+  RunContext ctx{*db, set, 1440.0};
+  const PetscInt n = db->layout().numLocal();
+  auto field = std::make_shared<AgitationField>();
+  PetscCallAbort(PETSC_COMM_WORLD, field->setValues(*db, AgitationMeasure::Dispersion,
+                                                    {std::vector<double>(n, 2.0), std::vector<double>(n, 0.0)}));
+  RCFD_CHECK_CLOSE(field->solidWeightedMean(), 1.0, 1e-15);
+  const auto m0 = uniformState(db->mesh(), alpha, set);
+  auto scaled = makeOperator<DriftOperator>("-model B -kd 5e4 -agitation_exponent 1");
+  scaled->useAgitation(field);
+  PetscCallAbort(PETSC_COMM_WORLD, scaled->setUp(ctx));
+  auto doubled = makeOperator<DriftOperator>("-model B -kd 1e5");
+  PetscCallAbort(PETSC_COMM_WORLD, doubled->setUp(ctx));
+  const auto one = stepFrames(*db, *scaled, m0, 2, 1), reference = stepFrames(*db, *doubled, m0, 2, 1);
+  RCFD_CHECK(largestRelativeDifference(one, reference) < 1e-14);
+  RCFD_CHECK(largestRelativeDifference(one, m0) > 1e-4);
+  FractionState st; // a step with frame 1 changes nothing at all
+  PetscCallAbort(PETSC_COMM_WORLD, st.create(db->layout(), 2));
+  setNatural(*db, st, m0);
+  StepInfo info;
+  info.dt = 5e-3;
+  info.frame = 1;
+  PetscCallAbort(PETSC_COMM_WORLD, scaled->apply(info, st));
+  RCFD_CHECK(gatherNatural(*db, st.masses(), 2) == m0);
+}
+
+// Each side of a face sends with its own factor: two cells, a = (1, 0) in
+// frame 0 and (1, 1) in frame 1, so a_bar = 3/4 and frame 0's factors are
+// (4/3, 0).  Fractions at +-u: the lower cell sends (4/3) m u dt A/V of the
+// rising fraction, the upper cell none of the sinking one and tops up with
+// its 50/50 mixture, so the rising fraction's net flux is half of that.
+void agitationOfTheSendingCell() {
+  const BoxSpec spec = column(2, 2, 0.02);
+  const std::vector<double> alpha(2, 0.5);
+  const std::string path = dir + "/drift_" + std::to_string(counter++) + ".h5";
+  rcfd::test::writeIdentityDatabase(path, Mesh::box(spec), alpha, DatabaseMetadata{}, 2);
+  std::unique_ptr<Database> db;
+  PetscCallAbort(PETSC_COMM_WORLD, Database::load(PETSC_COMM_WORLD, path, DatabaseLoadOptions{}, &db));
+  FractionSet set({1e-3, 3e-3}, {0.5, 0.5});
+  RunContext ctx{*db, set, 1440.0};
+  std::vector<std::vector<double>> values(2);
+  for (PetscInt i = 0; i < db->layout().numLocal(); ++i) {
+    const int cell = db->layout().naturalCell(db->layout().rowStart() + i);
+    values[0].push_back(cell == 0 ? 1.0 : 0.0);
+    values[1].push_back(1.0);
+  }
+  auto field = std::make_shared<AgitationField>();
+  PetscCallAbort(PETSC_COMM_WORLD, field->setValues(*db, AgitationMeasure::LeavingShare, values));
+  auto drift = makeOperator<DriftOperator>("-model constant -velocities 0.01,-0.01 -agitation_exponent 1");
+  drift->useAgitation(field);
+  PetscCallAbort(PETSC_COMM_WORLD, drift->setUp(ctx));
+  const auto m0 = uniformState(db->mesh(), alpha, set);
+  const auto m = stepFrames(*db, *drift, m0, 2, 1);
+  const double expected = 0.5 * (4.0 / 3.0) * m0[0] * 0.01 * 5e-3 / 0.01; // A/V = 1/(0.01 m)
+  RCFD_CHECK_CLOSE(m[2] - m0[2], expected, 1e-12 * m0[2]);
+  RCFD_CHECK_CLOSE(m0[0] - m[0], expected, 1e-12 * m0[0]);
+}
+
 void leftOutWhenNotNeeded() {
   auto db = identityDb(column(2, 4, 0.04), std::vector<double>(4, 0.5), {0, 0, -9.81});
   FractionSet one({2e-3}, {1.0}), two({1e-3, 2e-3}, {0.5, 0.5});
@@ -334,6 +479,7 @@ void leftOutWhenNotNeeded() {
 int main(int argc, char **argv) {
   PetscCall(PetscInitialize(&argc, &argv, nullptr, nullptr));
   dir = rcfd::test::rankCountDirectory(argc, argv, "drift");
+  dataDir = argc > 1 ? argv[1] : ".";
   if (dir.empty()) return 1;
   completeSeparation();
   driftAgainstDispersion();
@@ -346,6 +492,9 @@ int main(int argc, char **argv) {
   // (this produced NaN before faces with an empty side were skipped).
   stress(5, "-model B -kd 5e4 -alpha_min 0", false);
   leftOutWhenNotNeeded();
+  agitationScaling();
+  agitationOfTheFrame();
+  agitationOfTheSendingCell();
   const int total = rcfd::test::globalFailures();
   PetscCall(PetscFinalize());
   return total == 0 ? 0 : 1;

@@ -22,6 +22,11 @@ if run "calibrate" mpiexec -n 2 "$rcfd" calibrate "${common[@]}" -reference "$wo
   # The drift the runs used is the calibrated one, not the options' 5e3:
   # the table holds k_d far from 5e3 and their curves differ.
   grep -q "^ *1e+07 " "$work/out.txt" || fail "the scan did not reach k_d = 1e7: $(cat "$work/out.txt")"
+  # The files: one scan row per printed evaluation, the best k_d as printed, the best run's curve.
+  same "best k_d in calibrate_best.csv" "$(awk -F, '$1 == "B" { print $3 }' "$work/calibrate/calibrate_best.csv")" "$kd" 1e-3
+  same "scan rows" "$(grep -c '^B,' "$work/calibrate/calibrate_scan.csv")" \
+    "$(sed -n 's/^\([0-9]*\) replay runs.*/\1/p' "$work/out.txt")"
+  cmp -s "$work/calibrate/best-B/cog.csv" "$work/calibrate/cog.csv" && ok || fail "best-B/cog.csv is not the last run's"
 fi
 echo "$passed passed, $failures failed"
 [ "$failures" -eq 0 ]

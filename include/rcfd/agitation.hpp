@@ -28,6 +28,10 @@ class AgitationField {
 public:
   /// Collective.  Needs a database loaded with its shifts.
   PetscErrorCode setUp(const Database &db, AgitationMeasure measure);
+  /// Collective.  A field given per frame for this rank's cells (PETSc order;
+  /// tests, or a measure computed elsewhere), normalised like setUp()'s.
+  PetscErrorCode setValues(const Database &db, AgitationMeasure measure,
+                           std::vector<std::vector<double>> perFrame);
   AgitationMeasure measure() const { return kind; }
   /// This rank's values of frame k.
   const std::vector<double> &frame(int k) const { return values[k]; }
@@ -38,6 +42,8 @@ public:
   double maximum() const { return largest; }
 
 private:
+  PetscErrorCode normalise(const Database &db); // mean and largest from values
+
   AgitationMeasure kind = AgitationMeasure::LeavingShare;
   std::vector<std::vector<double>> values;
   double mean = 0.0, largest = 0.0;

@@ -5,9 +5,12 @@
 
 #include "rcfd/swap_operator.hpp"
 
+#include <memory>
 #include <vector>
 
 namespace rcfd {
+
+class AgitationField;
 
 /// Drift of each fraction along -gravity: u_d,i = -k_d (d_i^2 - d32^2)
 /// (model A), -k_d (d_i - d32)|d_i - d32| (model B), or given velocities
@@ -32,6 +35,16 @@ public:
   /// Before setUp (setFromOptions reads -drift_model and -drift_kd over these).
   void setModel(Model m) { model = m; }
   void setKd(double value) { kd = value; }
+  /// Before setUp: scale by this field (already set up on the run's database)
+  /// instead of one made from -drift_agitation; shares one field between runs.
+  void useAgitation(std::shared_ptr<const AgitationField> field) { agitation = std::move(field); }
+  void setAgitationExponent(double n) { agitationExponent = n; }
+  /// The solid-weighted mean of the factor (a/a_bar)^n over the occupied
+  /// cells of all frames (1 when unscaled), once set up: a law scaled so
+  /// drifts on average k_d / this as fast as the unscaled one.
+  double meanAgitationFactor() const { return meanFactor; }
+  /// The field the drift is scaled by (null when unscaled), once set up.
+  std::shared_ptr<const AgitationField> agitationField() const { return agitation; }
 
   /// Drift velocity [m/s, up positive] of fraction i for a given Sauter diameter.
   double velocity(int i, double d32) const;
@@ -39,9 +52,10 @@ public:
 private:
   FaceChoice swapFaces(const RunContext &ctx) const override;
   PetscErrorCode setUpSwap(const RunContext &ctx) override;
-  PetscErrorCode substep(double dt, FractionState &state);
-  PetscErrorCode substepsFor(double dt, int *n) const;
-  template <int NF> void sweep(double dt); // NF = 0: nf read at run time
+  PetscErrorCode substep(double dt, const double *scale, FractionState &state);
+  PetscErrorCode substepsFor(double dt, double largestScale, int *n) const;
+  PetscErrorCode setUpScaling(const RunContext &ctx);
+  template <int NF> void sweep(double dt, const double *scale); // NF = 0: nf read at run time
 
   Model model = Model::B;
   double kd = 5e3, d32Override = -1.0, alphaMax = 0.65, alphaMin = 1e-3, maxShare = 0.5;
@@ -49,6 +63,15 @@ private:
   PetscInt substepLimit = 10000, every = 1;
   std::vector<double> constantVelocity, diameter, velocityCache;
   double d32 = 0.0;
+  // Agitation scaling: the measure's name ("none": unscaled), the exponent,
+  // the field, and per frame the factor (a/a_bar)^n of every gathered cell
+  // and its largest value over all ranks (for the sub-step rule).
+  std::string agitationName = "none";
+  double agitationExponent = 1.0;
+  std::shared_ptr<const AgitationField> agitation;
+  std::vector<std::vector<double>> scaleByFrame;
+  std::vector<double> largestScaleByFrame;
+  double meanFactor = 1.0;
 };
 
 } // namespace rcfd

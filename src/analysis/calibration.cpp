@@ -2,12 +2,18 @@
 #include "base/checked_options.hpp"
 #include "base/petsc_compat.hpp"
 
+#include "analysis/measured_drift.hpp"
+#include "base/atomic_file.hpp"
 #include "base/collective.hpp"
+#include "rcfd/agitation.hpp"
 #include "rcfd/run.hpp"
 #include "rcfd/swaps.hpp"
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <sstream>
 
 namespace rcfd {
 
@@ -16,7 +22,7 @@ DriftCalibration::DriftCalibration(MPI_Comm comm, const OperatorRegistry &regist
 DriftCalibration::~DriftCalibration() = default;
 
 PetscErrorCode DriftCalibration::setFromOptions() {
-  char ref[PETSC_MAX_PATH_LEN] = "", objective[16] = "rms";
+  char ref[PETSC_MAX_PATH_LEN] = "", objective[16] = "rms", from[16] = "cog";
   char *names[4] = {};
   PetscInt nmodels = 4, nrange = 2, nwindow = 2;
   PetscReal range[2] = {kdLo, kdHi}, window[2] = {windowBegin, windowEnd};
@@ -26,6 +32,14 @@ PetscErrorCode DriftCalibration::setFromOptions() {
   PetscOptionsBegin(comm, nullptr, "rcfd calibrate: fit the drift coefficient to a reference", "rcfd");
   PetscCall(PetscOptionsString("-reference", "Reference cog.csv (rcfd reference)", "", "", ref,
                                sizeof ref, &setRef));
+  PetscCall(PetscOptionsString("-calibrate_from",
+                               "cog: replays scored against -reference; measured: regression on the database's "
+                               "measured drift (rcfd build), in seconds",
+                               "", from, from, sizeof from, nullptr));
+  PetscCall(PetscOptionsBool("-calibrate_exponent",
+                             "With -calibrate_from measured: also fit n of a drift scaled by (a/a_bar)^n, a the "
+                             "cell's leaving share, to the measured drift by agitation",
+                             "", fitExponent, &fitExponent, nullptr));
   PetscCall(PetscOptionsStringArray("-calibrate_models", "Drift models to fit: A, B or A,B", "",
                                     names, &nmodels, &setModels));
   PetscCall(PetscOptionsString("-calibrate_objective",
@@ -50,7 +64,10 @@ PetscErrorCode DriftCalibration::setFromOptions() {
   }
   PetscCall(PetscOptionsHasName(nullptr, nullptr, "-help", &help));
   if (help) PetscFunctionReturn(PETSC_SUCCESS);
-  PetscCheck(setRef, comm, PETSC_ERR_USER_INPUT,
+  source = from;
+  PetscCheck(source == "cog" || source == "measured", comm, PETSC_ERR_USER_INPUT,
+             "-calibrate_from %s is not known; use cog or measured", from);
+  PetscCheck(setRef || source == "measured", comm, PETSC_ERR_USER_INPUT,
              "No reference given: pass -reference REF/cog.csv (made by rcfd reference)");
   for (const auto &m : given)
     PetscCheck(m == "A" || m == "B", comm, PETSC_ERR_USER_INPUT,
@@ -75,7 +92,8 @@ PetscErrorCode DriftCalibration::setFromOptions() {
 
 PetscErrorCode DriftCalibration::setUp() {
   PetscFunctionBeginUser;
-  PetscCall(collectively(comm, [&] { reference = readDeltaZCsv(referenceFile); }, PETSC_ERR_USER_INPUT));
+  if (!referenceFile.empty())
+    PetscCall(collectively(comm, [&] { reference = readDeltaZCsv(referenceFile); }, PETSC_ERR_USER_INPUT));
   Run first(comm, registry);
   first.setDefaultOutputDirectory("rcfd-calibrate");
   PetscCall(first.setFromOptions());
@@ -83,11 +101,16 @@ PetscErrorCode DriftCalibration::setUp() {
   first.setWriteFields(false);
   PetscCall(first.setUp());
   db = first.sharedDatabase();
+  outputDirectory = first.outputDirectory();
+  for (const auto &op : first.pipeline().operators())
+    if (auto *d = dynamic_cast<DriftOperator *>(op.get())) meanFactor = d->meanAgitationFactor();
+  sauter = first.fractions().inventorySauterDiameter();
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
 /// Runs the case with the given model and k_d and scores it.
-PetscErrorCode DriftCalibration::evaluate(const std::string &model, double log10kd, DeltaZScore *score) {
+PetscErrorCode DriftCalibration::evaluate(const std::string &model, double log10kd, DeltaZScore *score,
+                                          double exponent) {
   PetscFunctionBeginUser;
   Run run(comm, registry);
   run.setDefaultOutputDirectory("rcfd-calibrate");
@@ -103,6 +126,15 @@ PetscErrorCode DriftCalibration::evaluate(const std::string &model, double log10
              "rcfd calibrate fits the drift operator, but -pipeline has none (add drift)");
   drift->setModel(model == "A" ? DriftOperator::Model::A : DriftOperator::Model::B);
   drift->setKd(std::pow(10.0, log10kd));
+  if (exponent >= 0.0) {
+    if (!leaving) {
+      auto field = std::make_shared<AgitationField>();
+      PetscCall(field->setUp(*db, AgitationMeasure::LeavingShare));
+      leaving = field;
+    }
+    drift->useAgitation(leaving);
+    drift->setAgitationExponent(exponent);
+  }
   PetscCall(run.setUp());
   PetscCall(run.solve());
   DeltaZSeries s;
@@ -112,6 +144,7 @@ PetscErrorCode DriftCalibration::evaluate(const std::string &model, double log10
   }
   PetscCall(collectively(
       comm, [&] { *score = scoreDeltaZ(reference, s, windowBegin, windowEnd); }, PETSC_ERR_USER_INPUT));
+  scan.push_back({model, std::pow(10.0, log10kd), *score});
   ++count;
   PetscFunctionReturn(PETSC_SUCCESS);
 }
@@ -164,30 +197,176 @@ PetscErrorCode DriftCalibration::search(const std::string &model, Result *result
   result->model = model;
   result->kd = std::pow(10.0, xBest);
   PetscCall(evaluate(model, xBest, &result->score));
+  result->scored = true;
+  PetscCall(keepBestRun(model));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+// k_d by weighted least squares on the measured drift relative to the bulk
+// (fitDriftCoefficient with relativeToBulk), then one scored replay.
+PetscErrorCode DriftCalibration::fitMeasured(const std::string &model, Result *result) {
+  std::vector<double> table;
+  int cols = 0;
+  PetscFunctionBeginUser;
+  PetscCall(db->readMatrix("measured_drift", &table, &cols));
+  PetscCheck(!table.empty(), comm, PETSC_ERR_USER_INPUT,
+             "-calibrate_from measured: database '%s' holds no measured drift (rcfd build from particle "
+             "snapshots stores it; databases from other builders or older versions do not)",
+             db->path().c_str());
+  std::vector<MeasuredDrift::ClassDrift> drift;
+  PetscCall(collectively(comm, [&] {
+    drift = measuredDriftFromTable(table, cols);
+    measuredTable = table;
+    const DriftFit fit =
+        fitDriftCoefficient(drift, sauter, model == "A" ? DriftLawShape::A : DriftLawShape::B, true);
+    // A law scaled by (a/a_bar)^n drifts on average meanFactor times as fast.
+    result->model = model;
+    result->kd = fit.kd / meanFactor;
+    result->kdStandardError = fit.standardError / meanFactor;
+  }, PETSC_ERR_USER_INPUT));
+  PetscCheck(result->kd > 0.0, comm, PETSC_ERR_USER_INPUT,
+             "-calibrate_from measured: the measured drift of '%s' gives k_d = %g for model %s: the "
+             "large particles do not sink relative to the bulk, so no drift law of this form fits",
+             db->path().c_str(), result->kd, model.c_str());
+  if (model == models.front())
+    for (const auto &c : drift)
+      PetscCall(PetscPrintf(comm, "  measured: d = %.4g mm (mass share %.3f): u = %+.3f +- %.3f mm/s relative to the bulk\n",
+                            c.diameter * 1e3, c.massShare, c.velocity * 1e3, c.standardError * 1e3));
+  PetscCall(PetscPrintf(comm, "model %s: k_d = %.4g +- %.2g 1/(m s) from the measured drift (d32 %.4g mm%s)\n",
+                        model.c_str(), result->kd, result->kdStandardError, sauter * 1e3,
+                        meanFactor != 1.0 ? ", divided by the mean agitation factor of the runs' drift" : ""));
+  if (fitExponent) {
+    std::vector<double> mean;
+    int c1 = 0, c2 = 0;
+    PetscCall(db->readMatrix("measured_drift_by_agitation", &byAgitationTable, &c1));
+    PetscCall(db->readMatrix("measured_agitation_mean", &mean, &c2));
+    PetscCheck(!byAgitationTable.empty() && mean.size() == 1, comm, PETSC_ERR_USER_INPUT,
+               "-calibrate_exponent: database '%s' holds no measured drift by agitation (rcfd build from "
+               "particle snapshots stores it from this version on)",
+               db->path().c_str());
+    AgitationDriftFit fit;
+    PetscCall(collectively(comm, [&] {
+      fit = fitAgitationExponent(driftByAgitationFromTable(byAgitationTable, c1), drift, mean[0], sauter,
+                                 model == "A" ? DriftLawShape::A : DriftLawShape::B);
+    }, PETSC_ERR_USER_INPUT));
+    result->kd = fit.kd;
+    result->kdStandardError = 0.0;
+    result->exponent = fit.exponent;
+    agitationMean = mean[0];
+    PetscCall(PetscPrintf(comm, "model %s scaled by (a/a_bar)^n, a = leaving share (a_bar %.4g from the particles): "
+                                "n = %.2f, k_d = %.4g 1/(m s), chi^2/dof %.3g\n",
+                          model.c_str(), mean[0], fit.exponent, fit.kd, fit.chiSquarePerDof));
+  }
+  if (!referenceFile.empty()) {
+    PetscCall(evaluate(model, std::log10(result->kd), &result->score, fitExponent ? result->exponent : -1.0));
+    result->scored = true;
+    PetscCall(keepBestRun(model));
+  }
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+// The last evaluation's cog.csv (the best k_d's run) kept as best-<model>/cog.csv.
+PetscErrorCode DriftCalibration::keepBestRun(const std::string &model) {
+  PetscMPIInt rank;
+  PetscFunctionBeginUser;
+  PetscCallMPI(MPI_Comm_rank(comm, &rank));
+  PetscCall(collectively(comm, [&] {
+    if (rank != 0) return;
+    namespace fs = std::filesystem;
+    const fs::path dir = fs::path(outputDirectory) / ("best-" + model);
+    fs::create_directories(dir);
+    fs::copy_file(fs::path(outputDirectory) / "cog.csv", dir / "cog.csv", fs::copy_options::overwrite_existing);
+  }, PETSC_ERR_FILE_WRITE));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode DriftCalibration::writeFiles() const {
+  PetscMPIInt rank;
+  PetscFunctionBeginUser;
+  PetscCallMPI(MPI_Comm_rank(comm, &rank));
+  auto number = [](double v) {
+    char text[32];
+    std::snprintf(text, sizeof text, "%.9g", v);
+    return std::string(text);
+  };
+  PetscCall(collectively(comm, [&] {
+    if (rank != 0) return;
+    std::ostringstream scanCsv, bestCsv;
+    scanCsv << "# rcfd calibrate: every replay, in the order run; Delta_seg is Eq. 7 over [" << windowBegin
+            << ", " << windowEnd << "] s, rms_over_peak the RMS of Delta z(t) - reference / reference peak\n"
+            << "model,kd,mean_run_m,mean_reference_m,delta_seg_percent,rms_over_peak\n";
+    for (const ScanRow &r : scan)
+      scanCsv << r.model << ',' << number(r.kd) << ',' << number(r.score.meanModel) << ','
+              << number(r.score.meanRef) << ',' << number(r.score.segregationError) << ','
+              << number(r.score.rmsRelative) << '\n';
+    bestCsv << "# rcfd calibrate: the best k_d of every model (from " << source << (source == "cog" ? ", objective " + objectiveName : std::string())
+            << "); scores of its run (best-MODEL/cog.csv), empty without a reference\n"
+            << "model,source,kd,kd_standard_error,agitation_exponent,d32_m,delta_seg_percent,rms_over_peak,mean_run_m,mean_reference_m\n";
+    for (const Result &r : best) {
+      bestCsv << r.model << ',' << source << ',' << number(r.kd) << ',' << number(r.kdStandardError) << ','
+              << number(r.exponent) << ',' << number(sauter);
+      if (r.scored)
+        bestCsv << ',' << number(r.score.segregationError) << ',' << number(r.score.rmsRelative) << ','
+                << number(r.score.meanModel) << ',' << number(r.score.meanRef) << '\n';
+      else
+        bestCsv << ",,,,\n";
+    }
+    std::filesystem::create_directories(outputDirectory);
+    // A stored table as CSV: a comment, the header, the rows (each ending with `extra`).
+    auto writeTable = [&](const std::string &name, const std::string &comment, const std::string &header,
+                          const std::vector<double> &table, int cols, const std::string &extra) {
+      if (table.empty()) return;
+      std::ostringstream m;
+      m << "# rcfd calibrate: " << comment << "\n" << header << "\n";
+      for (std::size_t r = 0; r < table.size(); r += cols) {
+        for (int c = 0; c < cols; ++c) m << (c ? "," : "") << number(table[r + c]);
+        m << extra << '\n';
+      }
+      writeTextAtomically(outputDirectory + "/" + name, m.str());
+    };
+    writeTable("measured_drift.csv",
+               "the drift rcfd build measured in " + db->path() +
+                   ", relative to the bulk solid of each cell; d32_m is the runs' inventory d32",
+               "diameter_m,velocity_m_s,standard_error_m_s,particles,frames,mass_share,d32_m", measuredTable,
+               kMeasuredDriftColumns, "," + number(sauter));
+    writeTable("measured_drift_by_agitation.csv",
+               "the measured drift of " + db->path() +
+                   " by the leaving share of the particle's cell (bins of 0.1); mass_share within the bin",
+               "agitation,diameter_m,velocity_m_s,standard_error_m_s,particles,frames,mass_share,agitation_mean",
+               byAgitationTable, kDriftByAgitationColumns, "," + number(agitationMean));
+    writeTextAtomically(outputDirectory + "/calibrate_scan.csv", scanCsv.str());
+    writeTextAtomically(outputDirectory + "/calibrate_best.csv", bestCsv.str());
+  }, PETSC_ERR_FILE_WRITE));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
 PetscErrorCode DriftCalibration::solve() {
   PetscFunctionBeginUser;
-  PetscCall(PetscPrintf(comm,
-                        "Calibrating k_d in [%g, %g] 1/(m s) against %s, objective %s (%s), "
-                        "Eq. 7 window [%g, %g] s\n",
-                        kdLo, kdHi, referenceFile.c_str(), objectiveName.c_str(),
-                        objectiveName == "rms" ? "RMS of the Delta z(t) difference / reference peak"
-                                               : "|Delta_seg|",
-                        windowBegin, windowEnd));
+  if (source == "cog")
+    PetscCall(PetscPrintf(comm,
+                          "Calibrating k_d in [%g, %g] 1/(m s) against %s, objective %s (%s), "
+                          "Eq. 7 window [%g, %g] s\n",
+                          kdLo, kdHi, referenceFile.c_str(), objectiveName.c_str(),
+                          objectiveName == "rms" ? "RMS of the Delta z(t) difference / reference peak"
+                                                 : "|Delta_seg|",
+                          windowBegin, windowEnd));
+  else
+    PetscCall(PetscPrintf(comm, "Fitting k_d to the measured drift of %s\n", db->path().c_str()));
   best.clear();
+  scan.clear();
   for (const std::string &model : models) {
     Result r;
-    PetscCall(search(model, &r));
+    PetscCall(source == "cog" ? search(model, &r) : fitMeasured(model, &r));
     best.push_back(r);
-    PetscCall(PetscPrintf(comm,
+    if (r.scored) PetscCall(PetscPrintf(comm,
                           "model %s: best k_d = %.4g 1/(m s): Delta_seg %.1f %%, RMS/peak %.3f, "
                           "mean dz %.4g mm (reference %.4g mm)\n",
                           model.c_str(), r.kd, r.score.segregationError, r.score.rmsRelative,
                           1e3 * r.score.meanModel, 1e3 * r.score.meanRef));
   }
-  PetscCall(PetscPrintf(comm, "%d replay runs\n", count));
+  PetscCall(writeFiles());
+  PetscCall(PetscPrintf(comm, "%d replay runs; wrote %s/calibrate_scan.csv, calibrate_best.csv and best-MODEL/cog.csv\n",
+                        count, outputDirectory.c_str()));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 

@@ -4,7 +4,14 @@
 // loaded database; the drift operator of the run's -pipeline set through its
 // typed setters) are scored against the reference with scoreDeltaZ(); a
 // coarse scan of log10 k_d brackets the minimum and a golden-section search
-// refines it.
+// refines it.  With -calibrate_from measured, k_d is instead fitted in
+// seconds to the drift rcfd build measured from the particles (the
+// database's /extra/measured_drift, analysis/measured_drift.hpp), and one
+// replay per model scores the fit when a reference is given.  The scan, the
+// best parameters and scores of every model (calibrate_scan.csv,
+// calibrate_best.csv), each model's best run (best-<model>/cog.csv) and, on
+// the measured path, the measured drift (measured_drift.csv; figure:
+// src/cli/figures/drift_law_form.py) are written to the output directory.
 #pragma once
 
 #include "analysis/segregation_score.hpp"
@@ -16,21 +23,25 @@
 
 namespace rcfd {
 
+class AgitationField;
 class Database;
 
 class DriftCalibration {
 public:
   struct Result {
     std::string model;
-    double kd;         ///< best k_d [1/(m s)]
-    DeltaZScore score; ///< of the run at that k_d
+    double kd;                  ///< best k_d [1/(m s)]
+    double kdStandardError = 0; ///< from the measured drift's spread (measured path)
+    double exponent = 0;        ///< of the agitation scaling (a/a_bar)^n, with -calibrate_exponent
+    bool scored = false;        ///< a reference was given and a run made
+    DeltaZScore score;          ///< of the run at that k_d
   };
 
   /// The registry supplies the run's operators; it must outlive the calibration.
   DriftCalibration(MPI_Comm comm, const OperatorRegistry &registry);
   ~DriftCalibration();
 
-  /// Reads -reference, -calibrate_models, -calibrate_objective,
+  /// Reads -reference, -calibrate_from, -calibrate_models, -calibrate_objective,
   /// -calibrate_kd_range, -calibrate_tolerance, -calibrate_scan,
   /// -rcfd_time_offset and -score_window.  Collective.
   PetscErrorCode setFromOptions();
@@ -46,13 +57,21 @@ public:
   int evaluations() const { return count; }
 
 private:
-  PetscErrorCode evaluate(const std::string &model, double log10kd, DeltaZScore *score);
+  PetscErrorCode evaluate(const std::string &model, double log10kd, DeltaZScore *score,
+                          double exponent = -1.0); // >= 0: scaled by (a/a_bar)^n, a = leaving share
+  PetscErrorCode fitMeasured(const std::string &model, Result *result);
+  PetscErrorCode keepBestRun(const std::string &model);
+  PetscErrorCode writeFiles() const;
   double objective(const DeltaZScore &s) const;
   PetscErrorCode search(const std::string &model, Result *result);
 
   MPI_Comm comm;
   const OperatorRegistry &registry;
   std::string referenceFile, objectiveName = "rms"; // rms: RMS/peak of the curve; seg: |Delta_seg|
+  std::string source = "cog";                       // cog: replays against -reference; measured: regression
+  std::string outputDirectory;                      // the runs' -output_dir
+  double sauter = 0.0;                              // the runs' inventory d32 [m]
+  double meanFactor = 1.0;                          // of the runs' drift scaled by agitation
   std::vector<std::string> models{"B"};
   double offset = 0.0, windowBegin = 0.5, windowEnd = 1.5;
   double kdLo = 1e2, kdHi = 1e6, tolerance = 0.01; // tolerance in log10 k_d
@@ -60,6 +79,17 @@ private:
   DeltaZSeries reference;
   std::shared_ptr<Database> db;
   std::vector<Result> best;
+  struct ScanRow {
+    std::string model;
+    double kd;
+    DeltaZScore score;
+  };
+  std::vector<ScanRow> scan;
+  std::vector<double> measuredTable; // the database's measured drift (measured path)
+  std::vector<double> byAgitationTable; // and by agitation (with -calibrate_exponent)
+  PetscBool fitExponent = PETSC_FALSE;  // -calibrate_exponent
+  double agitationMean = 0.0;           // a bar of the measured drift by agitation
+  std::shared_ptr<const AgitationField> leaving; // shared by the scaled runs
   int count = 0;
 };
 

@@ -1,11 +1,43 @@
 #include "analysis/measured_drift.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <stdexcept>
+#include <string>
 #include <unordered_map>
 
 namespace rcfd {
+
+namespace {
+
+// One frame's mean of every entry seen (sum / count) added to the sums of per-frame means.
+void addFrameMeans(const std::vector<double> &sum, const std::vector<long> &count, std::vector<double> &frameSum,
+                   std::vector<double> &frameSumSq, std::vector<int> &frameCount, std::vector<long> &particles) {
+  for (std::size_t k = 0; k < sum.size(); ++k) {
+    if (count[k] == 0) continue;
+    const double mean = sum[k] / static_cast<double>(count[k]);
+    frameSum[k] += mean;
+    frameSumSq[k] += mean * mean;
+    ++frameCount[k];
+    particles[k] += count[k];
+  }
+}
+
+// Mean and standard error of per-frame means from their count, sum and sum of squares.
+void frameStatistics(int count, double sum, double sumSq, MeasuredDrift::ClassDrift *r) {
+  r->frames = count;
+  if (count == 0) {
+    r->velocity = r->standardError = std::numeric_limits<double>::quiet_NaN();
+    return;
+  }
+  const double n = count;
+  r->velocity = sum / n;
+  const double variance = n > 1 ? std::max(0.0, (sumSq - n * r->velocity * r->velocity) / (n - 1)) : 0.0;
+  r->standardError = std::sqrt(variance / n);
+}
+
+} // namespace
 
 MeasuredDrift::MeasuredDrift(SizeClasses c, AxisMap a, BoxSpec m)
     : classes(std::move(c)), axes(a), mesh(m) {
@@ -14,6 +46,15 @@ MeasuredDrift::MeasuredDrift(SizeClasses c, AxisMap a, BoxSpec m)
   frameSumSq.assign(nc, 0.0);
   frameCount.assign(nc, 0);
   particleCount.assign(nc, 0);
+  classMass.assign(nc, 0.0);
+  const std::size_t nb = kAgitationBins * nc;
+  binFrameSum.assign(nb, 0.0);
+  binFrameSumSq.assign(nb, 0.0);
+  binClassMass.assign(nb, 0.0);
+  binFrameCount.assign(nb, 0);
+  binParticles.assign(nb, 0);
+  binAgitationSum.assign(kAgitationBins, 0.0);
+  binMass.assign(kAgitationBins, 0.0);
 }
 
 void MeasuredDrift::add(const ParticleSnapshot &before, const ParticleSnapshot &after, double dt) {
@@ -25,6 +66,7 @@ void MeasuredDrift::add(const ParticleSnapshot &before, const ParticleSnapshot &
   struct Moved {
     int cell, cls;
     double mass, dz;
+    bool left; // in another cell, or outside, after dt
   };
   std::vector<Moved> moved;
   moved.reserve(before.size());
@@ -35,62 +77,132 @@ void MeasuredDrift::add(const ParticleSnapshot &before, const ParticleSnapshot &
     const Vec3 x0 = axes.apply(before.position[p]), x1 = axes.apply(after.position[it->second]);
     const int cell = mesh.locate(x0);
     if (cls < 0 || cell < 0) continue;
-    moved.push_back({cell, cls, before.mass[p], x1[2] - x0[2]});
+    moved.push_back({cell, cls, before.mass[p], x1[2] - x0[2], mesh.locate(x1) != cell});
   }
   // The bulk's displacement per cell, mass-weighted.
   std::unordered_map<int, std::pair<double, double>> bulk; // cell -> (sum m dz, sum m)
+  std::unordered_map<int, double> leftMass;                 // cell -> mass found elsewhere
   for (const auto &m : moved) {
     auto &b = bulk[m.cell];
     b.first += m.mass * m.dz;
     b.second += m.mass;
+    if (m.left) leftMass[m.cell] += m.mass;
   }
   const std::size_t nc = classes.diameter.size();
   std::vector<double> sum(nc, 0.0);
   std::vector<long> count(nc, 0);
+  const std::size_t nb = kAgitationBins * nc;
+  std::vector<double> binSum(nb, 0.0);
+  std::vector<long> binCount(nb, 0);
   for (const auto &m : moved) {
     const auto &b = bulk[m.cell];
-    sum[m.cls] += (m.dz - b.first / b.second) / dt;
+    const double u = (m.dz - b.first / b.second) / dt;
+    sum[m.cls] += u;
     ++count[m.cls];
+    classMass[m.cls] += m.mass;
+    const double a = leftMass[m.cell] / b.second;
+    const int bin = std::min(kAgitationBins - 1, static_cast<int>(a * kAgitationBins));
+    binSum[bin * nc + m.cls] += u;
+    ++binCount[bin * nc + m.cls];
+    binClassMass[bin * nc + m.cls] += m.mass;
+    binAgitationSum[bin] += m.mass * a;
+    binMass[bin] += m.mass;
+    agitationSum += m.mass * a;
+    agitationMass += m.mass;
   }
-  for (std::size_t c = 0; c < nc; ++c) {
-    if (count[c] == 0) continue;
-    const double mean = sum[c] / static_cast<double>(count[c]);
-    frameSum[c] += mean;
-    frameSumSq[c] += mean * mean;
-    ++frameCount[c];
-    particleCount[c] += count[c];
-  }
+  addFrameMeans(binSum, binCount, binFrameSum, binFrameSumSq, binFrameCount, binParticles);
+  addFrameMeans(sum, count, frameSum, frameSumSq, frameCount, particleCount);
   ++frames;
 }
 
 std::vector<MeasuredDrift::ClassDrift> MeasuredDrift::result() const {
   std::vector<ClassDrift> out(classes.diameter.size());
+  double allMass = 0.0;
+  for (double m : classMass) allMass += m;
   for (std::size_t c = 0; c < out.size(); ++c) {
     ClassDrift &r = out[c];
+    if (allMass > 0.0) r.massShare = classMass[c] / allMass;
     r.diameter = classes.diameter[c];
-    r.frames = frameCount[c];
     r.particles = particleCount[c];
-    if (frameCount[c] == 0) {
-      r.velocity = r.standardError = std::numeric_limits<double>::quiet_NaN();
-      continue;
-    }
-    const double n = frameCount[c];
-    r.velocity = frameSum[c] / n;
-    const double variance = n > 1 ? std::max(0.0, (frameSumSq[c] - n * r.velocity * r.velocity) / (n - 1)) : 0.0;
-    r.standardError = std::sqrt(variance / n);
+    frameStatistics(frameCount[c], frameSum[c], frameSumSq[c], &r);
   }
   return out;
 }
 
+
+std::vector<MeasuredDrift::BinDrift> MeasuredDrift::byAgitation() const {
+  const std::size_t nc = classes.diameter.size();
+  std::vector<BinDrift> out(kAgitationBins * nc);
+  for (int b = 0; b < kAgitationBins; ++b)
+    for (std::size_t c = 0; c < nc; ++c) {
+      const std::size_t k = b * nc + c;
+      BinDrift &r = out[k];
+      r.agitation = binMass[b] > 0.0 ? binAgitationSum[b] / binMass[b] : (b + 0.5) / kAgitationBins;
+      r.drift.diameter = classes.diameter[c];
+      r.drift.particles = binParticles[k];
+      if (binMass[b] > 0.0) r.drift.massShare = binClassMass[k] / binMass[b];
+      frameStatistics(binFrameCount[k], binFrameSum[k], binFrameSumSq[k], &r.drift);
+    }
+  return out;
+}
+
+std::vector<double> driftByAgitationTable(const std::vector<MeasuredDrift::BinDrift> &bins) {
+  std::vector<double> t;
+  for (const auto &b : bins) {
+    t.push_back(b.agitation);
+    const auto row = measuredDriftTable({b.drift});
+    t.insert(t.end(), row.begin(), row.end());
+  }
+  return t;
+}
+
+std::vector<MeasuredDrift::BinDrift> driftByAgitationFromTable(const std::vector<double> &t, int cols) {
+  if (cols != kDriftByAgitationColumns || t.size() % kDriftByAgitationColumns != 0)
+    throw std::invalid_argument("a drift-by-agitation table has " + std::to_string(kDriftByAgitationColumns) +
+                                " columns, this one " + std::to_string(cols));
+  std::vector<MeasuredDrift::BinDrift> out;
+  for (std::size_t r = 0; r < t.size(); r += kDriftByAgitationColumns) {
+    const std::vector<double> row(t.begin() + r + 1, t.begin() + r + kDriftByAgitationColumns);
+    out.push_back({t[r], measuredDriftFromTable(row, kMeasuredDriftColumns)[0]});
+  }
+  return out;
+}
+
+std::vector<double> measuredDriftTable(const std::vector<MeasuredDrift::ClassDrift> &drift) {
+  std::vector<double> t;
+  for (const auto &c : drift)
+    t.insert(t.end(), {c.diameter, c.velocity, c.standardError, static_cast<double>(c.particles),
+                       static_cast<double>(c.frames), c.massShare});
+  return t;
+}
+
+std::vector<MeasuredDrift::ClassDrift> measuredDriftFromTable(const std::vector<double> &t, int cols) {
+  if (cols != kMeasuredDriftColumns || t.size() % kMeasuredDriftColumns != 0)
+    throw std::invalid_argument("a measured-drift table has " + std::to_string(kMeasuredDriftColumns) +
+                                " columns (diameter, velocity, standard error, particles, frames, mass "
+                                "share), this one " + std::to_string(cols));
+  std::vector<MeasuredDrift::ClassDrift> out;
+  for (std::size_t r = 0; r < t.size(); r += kMeasuredDriftColumns)
+    out.push_back({t[r], t[r + 1], t[r + 2], static_cast<long>(t[r + 3]), static_cast<int>(t[r + 4]), t[r + 5]});
+  return out;
+}
+
 DriftFit fitDriftCoefficient(const std::vector<MeasuredDrift::ClassDrift> &drift, double d32,
-                             DriftLawShape shape) {
+                             DriftLawShape shape, bool relativeToBulk) {
+  auto lawOf = [&](double d) {
+    const double dd = d - d32;
+    return shape == DriftLawShape::A ? d * d - d32 * d32 : dd * std::fabs(dd);
+  };
+  double mean = 0.0; // sum_j s_j x_j over the classes with a mass share
+  if (relativeToBulk)
+    for (const auto &c : drift)
+      if (std::isfinite(c.massShare)) mean += c.massShare * lawOf(c.diameter);
   double sxx = 0.0, sxu = 0.0;
   std::vector<std::pair<double, double>> used; // (x, u) with weight
   std::vector<double> weights;
   for (const auto &c : drift) {
     if (c.frames < 2 || !(c.standardError > 0.0) || !std::isfinite(c.velocity)) continue;
-    const double dd = c.diameter - d32;
-    const double x = shape == DriftLawShape::A ? c.diameter * c.diameter - d32 * d32 : dd * std::fabs(dd);
+    const double x = lawOf(c.diameter) - mean;
     const double w = 1.0 / (c.standardError * c.standardError);
     sxx += w * x * x;
     sxu += w * x * c.velocity;
@@ -110,6 +222,53 @@ DriftFit fitDriftCoefficient(const std::vector<MeasuredDrift::ClassDrift> &drift
   }
   fit.chiSquarePerDof = used.size() > 1 ? chi2 / static_cast<double>(used.size() - 1) : 0.0;
   return fit;
+}
+
+} // namespace rcfd
+
+namespace rcfd {
+
+AgitationDriftFit fitAgitationExponent(const std::vector<MeasuredDrift::BinDrift> &bins,
+                                       const std::vector<MeasuredDrift::ClassDrift> &bed, double aBar,
+                                       double d32, DriftLawShape shape, double nMax) {
+  auto lawOf = [&](double d) {
+    const double dd = d - d32;
+    return shape == DriftLawShape::A ? d * d - d32 * d32 : dd * std::fabs(dd);
+  };
+  double mean = 0.0;
+  for (const auto &c : bed)
+    if (std::isfinite(c.massShare)) mean += c.massShare * lawOf(c.diameter);
+  struct Point {
+    double x, r, u, w; // size term, a / a_bar, velocity, weight
+  };
+  std::vector<Point> points;
+  for (const auto &b : bins)
+    if (b.drift.frames >= 2 && b.drift.standardError > 0.0 && std::isfinite(b.drift.velocity) && b.agitation > 0.0)
+      points.push_back({lawOf(b.drift.diameter) - mean, b.agitation / aBar, b.drift.velocity,
+                        1.0 / (b.drift.standardError * b.drift.standardError)});
+  if (points.size() < 2 || !(aBar > 0.0))
+    throw std::invalid_argument("the drift by agitation has fewer than two bins with a spread over two frames: "
+                                "no exponent can be fitted");
+  AgitationDriftFit best;
+  double bestChi2 = std::numeric_limits<double>::infinity();
+  for (int step = 0; step <= static_cast<int>(std::lround(nMax * 100)); ++step) {
+    const double n = step / 100.0;
+    double sxx = 0.0, sxu = 0.0;
+    for (const Point &p : points) {
+      const double x = p.x * std::pow(p.r, n);
+      sxx += p.w * x * x;
+      sxu += p.w * x * p.u;
+    }
+    if (!(sxx > 0.0)) continue;
+    const double kd = -sxu / sxx;
+    double chi2 = 0.0;
+    for (const Point &p : points) {
+      const double res = p.u + kd * p.x * std::pow(p.r, n);
+      chi2 += p.w * res * res;
+    }
+    if (chi2 < bestChi2) bestChi2 = chi2, best = {kd, n, chi2 / static_cast<double>(points.size() - 2)};
+  }
+  return best;
 }
 
 } // namespace rcfd

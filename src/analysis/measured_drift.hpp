@@ -8,6 +8,8 @@
 
 #include "analysis/particle_reference.hpp"
 
+#include <limits>
+#include <string>
 #include <vector>
 
 namespace rcfd {
@@ -28,9 +30,25 @@ public:
     double standardError = 0.0; ///< of the mean, from the spread of per-frame means [m/s]
     long particles = 0;         ///< particle displacements counted
     int frames = 0;             ///< frames in which the class was seen
+    double massShare = std::numeric_limits<double>::quiet_NaN(); ///< of the matched particles' mass
   };
   /// One entry per class (velocity NaN for a class never seen).
   std::vector<ClassDrift> result() const;
+
+  /// The same by the agitation of the particle's cell: the share of the
+  /// matched solid mass of the cell that is in another cell (or outside)
+  /// after dt, which is 1 - T[i,i] of the shift counted by centre.  Bins of
+  /// width 1/kAgitationBins; per bin and class, like result(), with the
+  /// mass-weighted mean agitation of the bin.
+  static constexpr int kAgitationBins = 10;
+  struct BinDrift {
+    double agitation = 0.0; ///< mass-weighted mean leaving share of the bin's particles [-]
+    ClassDrift drift;
+  };
+  /// kAgitationBins x classes entries, bin-major.
+  std::vector<BinDrift> byAgitation() const;
+  /// Mass-weighted mean leaving share of all matched particles (a bar) [-].
+  double meanAgitation() const { return agitationMass > 0.0 ? agitationSum / agitationMass : 0.0; }
   int framesAdded() const { return frames; }
 
 private:
@@ -42,7 +60,31 @@ private:
   std::vector<double> frameSum, frameSumSq;
   std::vector<int> frameCount;
   std::vector<long> particleCount;
+  std::vector<double> classMass;
+  // Per (bin, class): the same sums; per bin: sum m a and sum m.
+  std::vector<double> binFrameSum, binFrameSumSq, binClassMass;
+  std::vector<int> binFrameCount;
+  std::vector<long> binParticles;
+  std::vector<double> binAgitationSum, binMass;
+  double agitationSum = 0.0, agitationMass = 0.0;
 };
+
+/// The drift by agitation as a table, one row per bin and class: mean
+/// agitation of the bin, then the columns of measuredDriftTable (mass share
+/// within the bin).
+constexpr int kDriftByAgitationColumns = 7;
+std::vector<double> driftByAgitationTable(const std::vector<MeasuredDrift::BinDrift> &bins);
+std::vector<MeasuredDrift::BinDrift> driftByAgitationFromTable(const std::vector<double> &rowMajor, int cols);
+
+
+
+/// The measured drift as a table, one row per class: diameter [m], velocity
+/// [m/s], standard error [m/s], particles, frames, mass share (the columns
+/// of the database's /measured_drift, docs/database-format.md).
+constexpr int kMeasuredDriftColumns = 6;
+std::vector<double> measuredDriftTable(const std::vector<MeasuredDrift::ClassDrift> &drift);
+/// Back from such a table; throws std::invalid_argument for another column count.
+std::vector<MeasuredDrift::ClassDrift> measuredDriftFromTable(const std::vector<double> &rowMajor, int cols);
 
 /// A drift law's shape: u_i = -k_d x_i with x_i = d_i^2 - d32^2 (model A) or
 /// (d_i - d32)|d_i - d32| (model B).
@@ -56,8 +98,23 @@ struct DriftFit {
 
 /// Weighted least squares of u_i = -k_d x_i through the origin, weights
 /// 1/se_i^2 (classes with se 0 or fewer than two frames are left out).
+/// With relativeToBulk, x_i - sum_j s_j x_j instead (s_j the classes' mass
+/// shares): the drift relative to the bulk that rcfd's face swaps realise,
+/// since what the sending side lacks the bulk tops up (docs/drift.md), and
+/// the form the measured velocities have (their mass-weighted mean is zero).
 /// Throws std::invalid_argument when fewer than one class can be used.
 DriftFit fitDriftCoefficient(const std::vector<MeasuredDrift::ClassDrift> &drift, double d32,
-                             DriftLawShape shape);
+                             DriftLawShape shape, bool relativeToBulk = false);
+
+/// u_b,i = -k_d (x_i - sum_j s_j x_j) (a_b / a_bar)^n over bins b and classes i
+/// (x and the mass shares s of the whole bed, as fitDriftCoefficient with
+/// relativeToBulk), weights 1/se^2: k_d by least squares for each n of a scan
+/// of [0, nMax] in steps of 0.01, the n of the smallest chi^2.
+struct AgitationDriftFit {
+  double kd = 0.0, exponent = 0.0, chiSquarePerDof = 0.0;
+};
+AgitationDriftFit fitAgitationExponent(const std::vector<MeasuredDrift::BinDrift> &bins,
+                                       const std::vector<MeasuredDrift::ClassDrift> &bed, double aBar,
+                                       double d32, DriftLawShape shape, double nMax = 6.0);
 
 } // namespace rcfd

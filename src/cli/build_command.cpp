@@ -6,6 +6,7 @@
 #include "base/petsc_compat.hpp"
 
 #include "cli/particle_input.hpp"
+#include "analysis/measured_drift.hpp"
 #include "analysis/particle_reference.hpp"
 #include "rcfd/database.hpp"
 #include "base/atomic_file.hpp"
@@ -192,8 +193,14 @@ PetscErrorCode buildCommand(MPI_Comm comm) {
     const auto start = Clock::now();
     auto lastPrint = start;
     builder.add(first);
+    // Each size class's drift relative to its cell's bulk, stored for rcfd calibrate.
+    MeasuredDrift measured(SizeClasses::cluster(first.diameter, in.classTolerance), opt.axes, box);
+    ParticleSnapshot previous = first;
     for (std::size_t k = 1; k < sel.size(); ++k) {
-      builder.add(readParticleSnapshot(in.files[sel[k]], opt.read));
+      ParticleSnapshot next = readParticleSnapshot(in.files[sel[k]], opt.read);
+      builder.add(next);
+      measured.add(previous, next, dtRec);
+      previous = std::move(next);
       const auto now = Clock::now();
       if (talk && (now - lastPrint > std::chrono::seconds(2) || k + 1 == sel.size())) {
         lastPrint = now;
@@ -220,6 +227,16 @@ PetscErrorCode buildCommand(MPI_Comm comm) {
       throw std::runtime_error(text); // the writer removes its temporary file
     }
     writer.setNote("build_report", rep.summary());
+    writer.writeMatrix("measured_drift", measuredDriftTable(measured.result()), kMeasuredDriftColumns,
+                       "per size class: diameter [m], vertical velocity relative to the bulk solid of "
+                       "its cell, up positive [m/s], its standard error from per-frame means [m/s], "
+                       "particle displacements, frames, mass share of the matched particles");
+    writer.writeMatrix("measured_drift_by_agitation", driftByAgitationTable(measured.byAgitation()),
+                       kDriftByAgitationColumns,
+                       "per bin of the cell's leaving share (1 - T[i,i]) and size class: the bin's mean "
+                       "leaving share, then the columns of measured_drift (mass share within the bin)");
+    writer.writeMatrix("measured_agitation_mean", {measured.meanAgitation()}, 1,
+                       "mass-weighted mean leaving share of the matched particles' cells (a bar)");
     writer.finish();
     if (initial) initial();
     if (talk)

@@ -30,8 +30,6 @@ PetscErrorCode AgitationField::setUp(const Database &db, AgitationMeasure measur
   values.assign(K, std::vector<double>(n, 0.0));
   OwnedVec column;
   PetscCall(VecCreateMPI(comm, n, layout.numCells(), column.put()));
-  double sums[2] = {0.0, 0.0}; // sum alpha V a, sum alpha V
-  largest = 0.0;
   for (int k = 0; k < K; ++k) {
     Mat T = db.shift(k);
     if (measure == AgitationMeasure::LeavingShare) {
@@ -63,13 +61,46 @@ PetscErrorCode AgitationField::setUp(const Database &db, AgitationMeasure measur
     for (PetscInt i = 0; i < n; ++i) {
       const double a = measure == AgitationMeasure::LeavingShare ? 1.0 - c[i] : c[i];
       values[k][i] = alpha[i] > 0.0 ? std::max(0.0, a) : 0.0; // round-off never makes it negative
+    }
+    PetscCall(VecRestoreArrayRead(db.alphaS(k), &alpha));
+    PetscCall(VecRestoreArrayRead(column, &c));
+  }
+  PetscCall(normalise(db));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode AgitationField::setValues(const Database &db, AgitationMeasure measure,
+                                         std::vector<std::vector<double>> perFrame) {
+  PetscFunctionBeginUser;
+  const MPI_Comm comm = db.layout().comm();
+  PetscCheck((int)perFrame.size() == db.numFrames(), comm, PETSC_ERR_ARG_SIZ,
+             "An agitation field needs one set of values per frame of '%s' (%d), got %zu",
+             db.path().c_str(), db.numFrames(), perFrame.size());
+  for (const auto &f : perFrame)
+    PetscCheck((PetscInt)f.size() == db.layout().numLocal(), comm, PETSC_ERR_ARG_SIZ,
+               "An agitation field needs one value per local cell (%d), got %zu",
+               (int)db.layout().numLocal(), f.size());
+  kind = measure;
+  values = std::move(perFrame);
+  PetscCall(normalise(db));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode AgitationField::normalise(const Database &db) {
+  PetscFunctionBeginUser;
+  const MPI_Comm comm = db.layout().comm();
+  double sums[2] = {0.0, 0.0}; // sum alpha V a, sum alpha V
+  largest = 0.0;
+  for (int k = 0; k < (int)values.size(); ++k) {
+    const PetscScalar *alpha;
+    PetscCall(VecGetArrayRead(db.alphaS(k), &alpha));
+    for (std::size_t i = 0; i < values[k].size(); ++i) {
       const double solid = alpha[i] * db.localVolumes()[i];
       sums[0] += solid * values[k][i];
       sums[1] += solid;
       largest = std::max(largest, values[k][i]);
     }
     PetscCall(VecRestoreArrayRead(db.alphaS(k), &alpha));
-    PetscCall(VecRestoreArrayRead(column, &c));
   }
   PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, sums, 2, MPI_DOUBLE, MPI_SUM, comm));
   PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, &largest, 1, MPI_DOUBLE, MPI_MAX, comm));

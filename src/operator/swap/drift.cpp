@@ -2,8 +2,11 @@
 #include "base/checked_options.hpp"
 #include "base/petsc_compat.hpp"
 
+#include "rcfd/agitation.hpp"
+
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <cstring>
 
 namespace rcfd {
@@ -17,6 +20,8 @@ PetscErrorCode DriftOperator::setFromOptions(MPI_Comm comm) {
   PetscReal velocities[256] = {0.0}; // -help prints the first entry
   PetscInt nv = 256;
   PetscBool setV = PETSC_FALSE;
+  char agitationText[32];
+  std::snprintf(agitationText, sizeof agitationText, "%s", agitationName.c_str());
   PetscFunctionBeginUser;
   PetscOptionsBegin(comm, prefix.c_str(), "Fractional drift (face swaps along gravity)", "rcfd");
   PetscCall(PetscOptionsEList("-model", "Drift model: A (d^2), B (d|d|), constant or none", "",
@@ -45,7 +50,18 @@ PetscErrorCode DriftOperator::setFromOptions(MPI_Comm comm) {
   PetscCall(checkedInt(PetscOptionsObject, "-every",
                        "Apply the drift of N steps at once, every N steps (speed against splitting error, see docs/drift.md)",
                        &every, 1, 1000000));
+  PetscCall(PetscOptionsString("-agitation",
+                               "Scale u_d in each sending cell by (a/a_bar)^n, a the frame's agitation: "
+                               "none, leaving (1 - T[i,i]) or dispersion (sum_j T[j,i] |x_j - x_i|^2 / dt)",
+                               "", agitationText, agitationText, sizeof agitationText, nullptr));
+  PetscCall(checkedReal(PetscOptionsObject, "-agitation_exponent",
+                        "Exponent n of the agitation scaling (a/a_bar)^n", &agitationExponent,
+                        {0.0, 100.0, true, true, "an exponent in [0, 100]"}));
   PetscOptionsEnd();
+  agitationName = agitationText;
+  PetscCheck(agitationName == "none" || agitationName == "leaving" || agitationName == "dispersion", comm,
+             PETSC_ERR_USER_INPUT, "-%sagitation %s is not known; use none, leaving or dispersion",
+             prefix.c_str(), agitationText);
   model = static_cast<Model>(which);
   constantVelocity.assign(velocities, velocities + (setV ? nv : 0));
   PetscCheck(kd >= 0 && std::isfinite(kd), comm, PETSC_ERR_USER_INPUT,
@@ -98,14 +114,62 @@ PetscErrorCode DriftOperator::setUpSwap(const RunContext &ctx) {
   d32 = d32Override > 0 ? d32Override : ctx.fractions.inventorySauterDiameter();
   velocityCache.resize(nf);
   for (int i = 0; i < nf; ++i) velocityCache[i] = velocity(i, d32);
+  PetscCall(setUpScaling(ctx));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+// The factor (a/a_bar)^n of every cell a face of this rank touches, per
+// frame, computed once: a sweep then multiplies by a number it reads.
+PetscErrorCode DriftOperator::setUpScaling(const RunContext &ctx) {
+  PetscFunctionBeginUser;
+  scaleByFrame.clear();
+  largestScaleByFrame.clear();
+  meanFactor = 1.0;
+  if (!agitation && agitationName == "none") PetscFunctionReturn(PETSC_SUCCESS);
+  if (!agitation) {
+    auto field = std::make_shared<AgitationField>();
+    PetscCall(field->setUp(ctx.db, parseAgitationMeasure(agitationName)));
+    agitation = field;
+  }
+  const double mean = agitation->solidWeightedMean();
+  PetscCheck(mean > 0.0 || agitationExponent == 0.0, comm, PETSC_ERR_USER_INPUT,
+             "-%sagitation %s: the database '%s' shows no agitation at all (a_bar = 0), so u_d "
+             "cannot be scaled by a/a_bar",
+             prefix.c_str(), agitationMeasureName(agitation->measure()), ctx.db.path().c_str());
+  const int K = ctx.db.numFrames();
+  OwnedVec cells;
+  PetscCall(VecDuplicate(ctx.db.alphaS(0), cells.put()));
+  scaleByFrame.resize(K);
+  largestScaleByFrame.assign(K, 0.0);
+  double sums[2] = {0.0, 0.0}; // sum alpha V factor, sum alpha V
+  for (int k = 0; k < K; ++k) {
+    PetscScalar *v;
+    const PetscScalar *alpha;
+    PetscCall(VecGetArray(cells, &v));
+    PetscCall(VecGetArrayRead(ctx.db.alphaS(k), &alpha));
+    const std::vector<double> &a = agitation->frame(k);
+    for (std::size_t i = 0; i < a.size(); ++i) {
+      v[i] = std::pow(a[i] / mean, agitationExponent);
+      sums[0] += alpha[i] * ctx.db.localVolumes()[i] * v[i];
+      sums[1] += alpha[i] * ctx.db.localVolumes()[i];
+    }
+    PetscCall(VecRestoreArrayRead(ctx.db.alphaS(k), &alpha));
+    PetscCall(VecRestoreArray(cells, &v));
+    PetscCall(exchange().gatherScalar(cells, &scaleByFrame[k]));
+    for (double f : scaleByFrame[k]) largestScaleByFrame[k] = std::max(largestScaleByFrame[k], f);
+  }
+  PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, largestScaleByFrame.data(), K, MPI_DOUBLE, MPI_MAX, comm));
+  PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, sums, 2, MPI_DOUBLE, MPI_SUM, comm));
+  meanFactor = sums[1] > 0.0 ? sums[0] / sums[1] : 1.0;
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
 // The largest drift Courant number any cell can reach in a step of dt sets
 // the number of sub-steps: with the inventory's d32 the velocities are
 // fixed, with local d32 each cell's d32 lies between the smallest and the
-// largest diameter, which bounds |u_i|.  The hindrance factor is <= 1.
-PetscErrorCode DriftOperator::substepsFor(double dt, int *n) const {
+// largest diameter, which bounds |u_i|.  The hindrance factor is <= 1; the
+// agitation factor is at most the frame's largest (1 when unscaled).
+PetscErrorCode DriftOperator::substepsFor(double dt, double largestScale, int *n) const {
   PetscFunctionBeginUser;
   double umax = 0.0;
   if (!localD32) {
@@ -116,7 +180,7 @@ PetscErrorCode DriftOperator::substepsFor(double dt, int *n) const {
     for (int i = 0; i < nf; ++i)
       umax = std::max({umax, std::fabs(velocity(i, dmin)), std::fabs(velocity(i, dmax))});
   }
-  const double courant = umax * exchange().maxAreaOverVolume() * dt;
+  const double courant = umax * largestScale * exchange().maxAreaOverVolume() * dt;
   const double needed = std::ceil(courant / maxShare);
   PetscCheck(needed <= substepLimit, comm, PETSC_ERR_NOT_CONVERGED,
              "Drift needs %.0f sub-steps per step (Courant number %.3g), more than -%smax_substeps %d",
@@ -132,8 +196,13 @@ PetscErrorCode DriftOperator::apply(const StepInfo &step, FractionState &state) 
   // N-th step (counted from the run's start, so a restart keeps the rhythm).
   if ((step.step + 1) % every != 0) PetscFunctionReturn(PETSC_SUCCESS);
   const double dt = step.dt * static_cast<double>(every);
-  PetscCall(substepsFor(dt, &n));
-  for (int s = 0; s < n; ++s) PetscCall(substep(dt / n, state));
+  const bool scaled = !scaleByFrame.empty();
+  PetscCheck(!scaled || (step.frame >= 0 && step.frame < (int)scaleByFrame.size()), comm,
+             PETSC_ERR_ARG_OUTOFRANGE, "Drift scaled by agitation was given frame %d of %zu",
+             step.frame, scaleByFrame.size());
+  const double *scale = scaled ? scaleByFrame[step.frame].data() : nullptr;
+  PetscCall(substepsFor(dt, scaled ? largestScaleByFrame[step.frame] : 1.0, &n));
+  for (int s = 0; s < n; ++s) PetscCall(substep(dt / n, scale, state));
   countStep(n);
   PetscFunctionReturn(PETSC_SUCCESS);
 }
@@ -147,21 +216,21 @@ PetscErrorCode DriftOperator::apply(const StepInfo &step, FractionState &state) 
 // take"), so that with the sub-step rule no fraction can leave a cell
 // entirely: per cell the drift part is at most maxShare and the faces'
 // top-ups at most (1 - maxShare) together.
-PetscErrorCode DriftOperator::substep(double dt, FractionState &state) {
+PetscErrorCode DriftOperator::substep(double dt, const double *scale, FractionState &state) {
   PetscFunctionBeginUser;
   PetscCall(exchange().sweep(state.masses(), [&] {
     switch (nf) { // the common inventories get loops the compiler unrolls
-    case 2: sweep<2>(dt); break;
-    case 3: sweep<3>(dt); break;
-    case 4: sweep<4>(dt); break;
-    case 5: sweep<5>(dt); break;
-    default: sweep<0>(dt); break;
+    case 2: sweep<2>(dt, scale); break;
+    case 3: sweep<3>(dt, scale); break;
+    case 4: sweep<4>(dt, scale); break;
+    case 5: sweep<5>(dt, scale); break;
+    default: sweep<0>(dt, scale); break;
     }
   }));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
-template <int NF> void DriftOperator::sweep(double dt) {
+template <int NF> void DriftOperator::sweep(double dt, const double *scale) {
   const int n = NF > 0 ? NF : nf;
   constexpr int cap = NF > 0 ? NF : kMaxFractions;
   FaceExchange &x = exchange();
@@ -183,6 +252,10 @@ template <int NF> void DriftOperator::sweep(double dt) {
     // alpha_s >= alpha_min on both sides, without dividing (most faces stop here or above).
     if (!(ML >= alphaMin * rho * f.volumeLower && MU >= alphaMin * rho * f.volumeUpper)) continue;
     double cL = f.areaOverVolumeLower * dt, cU = f.areaOverVolumeUpper * dt;
+    if (scale) { // u_d of each sending cell times its agitation factor
+      cL *= scale[f.lower];
+      cU *= scale[f.upper];
+    }
     if (hindered) {
       cL *= std::max(0.0, 1.0 - ML / (rho * f.volumeLower * alphaMax));
       cU *= std::max(0.0, 1.0 - MU / (rho * f.volumeUpper * alphaMax));
@@ -223,6 +296,10 @@ PetscErrorCode DriftOperator::view(PetscViewer viewer) const {
                                    names[static_cast<int>(model)], kd, d32 * 1e3,
                                    localD32 ? "local per sending cell" : (d32Override > 0 ? "given" : "inventory"),
                                    hindered ? ", hindered" : "", (int)every));
+  if (agitation)
+    PetscCall(PetscViewerASCIIPrintf(viewer, "  scaled by (a/a_bar)^%g, a = %s agitation of the frame, a_bar = %.4g, a_max = %.4g, solid-weighted mean factor %.4g\n",
+                                     agitationExponent, agitationMeasureName(agitation->measure()),
+                                     agitation->solidWeightedMean(), agitation->maximum(), meanFactor));
   PetscCall(PetscViewerASCIIPushTab(viewer));
   for (int i = 0; i < nf; ++i)
     PetscCall(PetscViewerASCIIPrintf(viewer, "fraction %d (d = %.4g mm): u_d = %+.4g m/s\n", i,
