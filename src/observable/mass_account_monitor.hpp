@@ -5,6 +5,7 @@
 #include "rcfd/observables.hpp"
 
 #include "observable/answers.hpp"
+#include "observable/number_rows.hpp"
 
 namespace rcfd {
 

@@ -6,6 +6,7 @@
 #include "rcfd/observables.hpp"
 
 #include "observable/answers.hpp"
+#include "observable/number_rows.hpp"
 
 #include <limits>
 
