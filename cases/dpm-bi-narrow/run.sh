@@ -32,8 +32,10 @@ echo "== replay runs"
 run() { # run NAME DATABASE [options]
   local name=$1 db=$2
   shift 2
+  # Profiles and halves over the reference's window 0.5-1.5 s (run time starts at the first dump, 5 ms).
   "${launch[@]}" run -options_file "$case_file" -db "$db" -init_file "$out/init.h5" \
-    -output_dir "$out/$name" -quiet -plot false "$@"
+    -output_dir "$out/$name" -quiet -plot false -profiles -profiles_window 0.495,1.495 \
+    -halves -halves_window 0.495,1.495 "$@"
   echo "  $name"
 }
 run shift-only "$out/db-stride1.h5" -drift_model none
