@@ -247,7 +247,7 @@ DatabaseWriter::DatabaseWriter(const std::string &path, const Mesh &mesh,
   if (!(meta.dtRec > 0)) throw std::invalid_argument("dt_rec must be positive");
   if (!(meta.solidDensity > 0)) throw std::invalid_argument("the solid density must be positive");
   impl->cells = mesh.numCells();
-  impl->file = h5::File::create(impl->out.temporaryPath());
+  impl->file = h5::File::create(impl->out);
   const h5::File &f = impl->file;
   f.writeAttr("/", "format", std::string(kFormatName));
   f.writeAttr("/", "format_version", kDatabaseFormatVersion);
