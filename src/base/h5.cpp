@@ -117,20 +117,13 @@ File File::create(const std::string &path) {
 }
 
 File File::create(const AtomicFile &target) {
-  File f = create(target.temporaryPath());
-  f.name = target.path();
-  return f;
-}
-
-File File::openReadWrite(const AtomicFile &target) {
-  silenceHdf5();
-  File f;
-  f.name = target.path();
-  f.writeError = std::make_unique<int>(0);
-  Id fapl(checkedWriteAccess(f.writeError.get()), H5Pclose);
-  f.file = Id(H5Fopen(target.temporaryPath().c_str(), H5F_ACC_RDWR, fapl), H5Fclose);
-  if (!f.file.valid()) throw Error("cannot open HDF5 file '" + target.temporaryPath() + "' for writing");
-  return f;
+  try {
+    File f = create(target.temporaryPath());
+    f.name = target.path();
+    return f;
+  } catch (const Error &) { // name the file the user asked for
+    throw Error("cannot create HDF5 file '" + target.path() + "' (as '" + target.temporaryPath() + "')");
+  }
 }
 
 File File::createParallel(const std::string &path, MPI_Comm comm) {

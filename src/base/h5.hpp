@@ -56,7 +56,7 @@ private:
 
 /// An open HDF5 file and the name it was opened under, for messages.
 ///
-/// Files being written (create, openReadWrite of an AtomicFile) use rcfd's
+/// Files being created use rcfd's
 /// write driver (h5_write_driver.hpp): a failed write, e.g. on a full disk,
 /// is reported by the next write call or close() as a sentence naming the
 /// file and the system's reason, and HDF5 itself never fails to close it.
@@ -69,8 +69,6 @@ public:
   static File create(const std::string &path);
   /// Create target's temporary for writing by one process; messages name target.path().
   static File create(const AtomicFile &target);
-  /// Open target's temporary (made by another writer) to add to it; messages name target.path().
-  static File openReadWrite(const AtomicFile &target);
   /// Create (truncate) for writing by all processes of comm through MPI-IO.
   static File createParallel(const std::string &path, MPI_Comm comm);
   /// Open an existing file for read-write by one process.
