@@ -141,7 +141,9 @@ File File::openReadWrite(const std::string &path) {
   silenceHdf5();
   File f;
   f.name = path;
-  f.file = Id(H5Fopen(path.c_str(), H5F_ACC_RDWR, H5P_DEFAULT), H5Fclose);
+  f.writeError = std::make_unique<int>(0); // a failed write is reported, not a crash at exit
+  Id fapl(checkedWriteAccess(f.writeError.get()), H5Pclose);
+  f.file = Id(H5Fopen(path.c_str(), H5F_ACC_RDWR, fapl), H5Fclose);
   if (!f.file.valid()) throw Error("cannot open HDF5 file '" + path + "' for writing");
   return f;
 }

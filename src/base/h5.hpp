@@ -56,7 +56,7 @@ private:
 
 /// An open HDF5 file and the name it was opened under, for messages.
 ///
-/// Files being created use rcfd's
+/// Files opened for writing use rcfd's
 /// write driver (h5_write_driver.hpp): a failed write, e.g. on a full disk,
 /// is reported by the next write call or close() as a sentence naming the
 /// file and the system's reason, and HDF5 itself never fails to close it.

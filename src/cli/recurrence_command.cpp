@@ -75,6 +75,7 @@ PetscErrorCode recurrenceCommand(MPI_Comm comm, const char *positional) {
       if (f.exists(name)) H5Ldelete(f.id(), name.c_str(), H5P_DEFAULT);
       f.write(name, R, static_cast<hsize_t>(K));
       f.writeAttr(name, "note", note);
+      f.close(); // with its status: the matrix is written into the database in place
     }
     writeMatrixCsv(stem + ".csv", R, K, note + "; database " + file);
   }));
