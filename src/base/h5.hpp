@@ -62,6 +62,17 @@ private:
 /// file and the system's reason, and HDF5 itself never fails to close it.
 class File {
 public:
+  File() = default;
+  File(File &&) = default;
+  File &operator=(File &&other) noexcept {
+    if (this != &other) {
+      file.close(); // while its writeError still exists
+      writeError = std::move(other.writeError);
+      file = std::move(other.file);
+      name = std::move(other.name);
+    }
+    return *this;
+  }
 
   /// Open for reading; with comm != MPI_COMM_NULL through MPI-IO (collective).
   static File openRead(const std::string &path, MPI_Comm comm);
@@ -118,9 +129,10 @@ public:
   void throwIfWriteFailed() const;
 
 private:
+  // Declared before `file`: the driver stores into it until the file is closed.
+  std::unique_ptr<int> writeError; // the first failed write's errno (files opened for writing)
   Id file;
-  std::string name;     // for messages: the final name of an atomic file
-  std::unique_ptr<int> writeError; // the first failed write's errno (files being written)
+  std::string name; // for messages: the final name of an atomic file
 };
 
 } // namespace rcfd::h5
