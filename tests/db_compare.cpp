@@ -122,7 +122,7 @@ int main(int argc, char **argv) {
         dAlpha = std::max(dAlpha, std::fabs(o.alpha[c] - e.alpha[c]));
       }
       const auto ce = columns(e), co = columns(o);
-      const double mass = l1(apply(o, m), apply(e, m)) / total;
+      const double mass = l1(::apply(o, m), ::apply(e, m)) / total;
       const double moved = 0.5 * weightedColumnL1(ce, ident, m) / total;
       const double tv = 0.5 * weightedColumnL1(co, ce, m) / total;
       double residual = -1.0;
@@ -130,7 +130,7 @@ int main(int argc, char **argv) {
         next = readFrame(fo, k + 1);
         std::vector<double> mn(n);
         for (int c = 0; c < n; ++c) mn[c] = ve[c] * next.alpha[c];
-        residual = l1(apply(o, mo), mn) / totalO;
+        residual = l1(::apply(o, mo), mn) / totalO;
       }
       std::printf("%d %.6e %.6e %.6e %.6e %.3e\n", k, mass, moved, tv, residual, dAlpha);
       const double v[5] = {mass, moved, tv, residual, dAlpha};

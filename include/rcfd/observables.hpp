@@ -158,6 +158,12 @@ public:
                        const std::string &directory, Vec stateTemplate);
   PetscErrorCode write(double time, int frame, Vec masses);
   int count() const { return static_cast<int>(times.size()); }
+  /// The times written so far, oldest first (kept by checkpoints).
+  const std::vector<double> &outputTimes() const { return times; }
+  /// After a restart, continue the series of an earlier run (collective):
+  /// when its files are all in this directory they are kept and the index
+  /// lists their times too; otherwise the series starts afresh.
+  PetscErrorCode continueSeries(const std::vector<double> &earlier);
 
 private:
   PetscErrorCode writeIndex() const;

@@ -1,6 +1,7 @@
 #include "analysis/comparison.hpp"
 
 #include "analysis/bed_dynamics.hpp"
+#include "base/atomic_file.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -182,16 +183,7 @@ double bedDynamicsOfFile(const CsvTable &table) {
 void writeTextFile(const std::string &path, const std::string &text) {
   const std::filesystem::path p(path);
   if (p.has_parent_path()) std::filesystem::create_directories(p.parent_path());
-  const std::string tmp = path + ".tmp";
-  {
-    std::ofstream f(tmp);
-    f << text;
-    f.close();
-    if (!f) throw std::runtime_error("cannot write '" + path + "'.");
-  }
-  std::error_code ec;
-  std::filesystem::rename(tmp, path, ec);
-  if (ec) throw std::runtime_error("cannot write '" + path + "': " + ec.message() + ".");
+  writeTextAtomically(path, text);
 }
 
 } // namespace rcfd

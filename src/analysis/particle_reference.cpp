@@ -1,5 +1,6 @@
 #include "analysis/particle_reference.hpp"
 
+#include "base/atomic_file.hpp"
 #include "base/constants.hpp"
 
 #include <algorithm>
@@ -13,19 +14,6 @@ namespace rcfd {
 namespace {
 
 
-using FilePtr = std::unique_ptr<std::FILE, int (*)(std::FILE *)>;
-
-FilePtr openForWriting(const std::string &path) {
-  FilePtr f(std::fopen(path.c_str(), "w"), &std::fclose);
-  if (!f) throw std::runtime_error("cannot write reference file '" + path + "'.");
-  return f;
-}
-
-void finish(FilePtr f, const std::string &path) {
-  const bool bad = std::ferror(f.get()) != 0;
-  if (std::fclose(f.release()) != 0 || bad)
-    throw std::runtime_error("writing reference file '" + path + "' failed.");
-}
 
 /// Mass-median height: the height of the particle at which the cumulative
 /// mass, counted from the bottom, first reaches half the total.  That
@@ -211,7 +199,7 @@ ParticleReference::Halves ParticleReference::halves() const {
 void ParticleReference::writeCogCsv(const std::string &path) const {
   // The columns and their names are those of rcfd run's cog.csv (SI units in
   // the names), so that the two files compare column by column.
-  FilePtr f = openForWriting(path);
+  AtomicTextFile f(path); // complete under its name, or not there
   const std::size_t nc = opt.classes.diameter.size();
   std::fprintf(f.get(), "time_s,z_cog_bed_m");
   for (std::size_t c = 0; c < nc; ++c)
@@ -222,14 +210,14 @@ void ParticleReference::writeCogCsv(const std::string &path) const {
     for (double z : s.zClass) std::fprintf(f.get(), ",%.9g", z);
     std::fprintf(f.get(), ",%.9g\n", deltaZ(s));
   }
-  finish(std::move(f), path);
+  f.commit();
 }
 
 void ParticleReference::writeProfilesCsv(const std::string &path) const {
   if (!opt.profileMesh) throw std::logic_error("ParticleReference: no profile mesh was given");
   const BoxSpec &m = *opt.profileMesh;
   const auto prof = profiles();
-  FilePtr f = openForWriting(path);
+  AtomicTextFile f(path); // complete under its name, or not there
   std::fprintf(
       f.get(),
       "# SI units: z [m] layer centre; alpha = solid volume of the class's particles %s "
@@ -249,12 +237,12 @@ void ParticleReference::writeProfilesCsv(const std::string &path) const {
     }
     std::fprintf(f.get(), ",%.9g\n", total);
   }
-  finish(std::move(f), path);
+  f.commit();
 }
 
 void ParticleReference::writeHalvesCsv(const std::string &path) const {
   const Halves h = halves();
-  FilePtr f = openForWriting(path);
+  AtomicTextFile f(path); // complete under its name, or not there
   std::fprintf(
       f.get(),
       "# mass fractions of each size class below / above the bed's mass-median height, mean "
@@ -265,7 +253,7 @@ void ParticleReference::writeHalvesCsv(const std::string &path) const {
     std::fprintf(f.get(), "%s,%.9g,%.9g,%.9g\n", opt.classes.label(static_cast<int>(c)).c_str(),
                  opt.classes.diameter[c], c < h.bottom.size() ? h.bottom[c] : 0.0,
                  c < h.top.size() ? h.top[c] : 0.0);
-  finish(std::move(f), path);
+  f.commit();
 }
 
 } // namespace rcfd

@@ -21,4 +21,12 @@ PetscErrorCode agreeOnFailure(MPI_Comm comm, bool failed, const std::string &why
   SETERRQ(comm, code, "%s", text.c_str());
 }
 
+PetscErrorCode agreeOnStatus(MPI_Comm comm, PetscErrorCode status) {
+  const char *generic = nullptr;
+  char *specific = nullptr;
+  if (status) PetscErrorMessage(status, &generic, &specific);
+  const std::string why = specific && *specific ? specific : (generic ? generic : "");
+  return agreeOnFailure(comm, status != 0, why, status ? status : PETSC_ERR_FILE_UNEXPECTED);
+}
+
 } // namespace rcfd

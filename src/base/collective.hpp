@@ -14,6 +14,12 @@ namespace rcfd {
 PetscErrorCode agreeOnFailure(MPI_Comm comm, bool failed, const std::string &why,
                               PetscErrorCode code = PETSC_ERR_FILE_UNEXPECTED);
 
+/// Collective.  `status` is this rank's result of a call that may fail on
+/// some ranks only (a file written by rank 0); if it failed anywhere, every
+/// rank returns an error with the lowest failing rank's message, so that no
+/// rank goes on to wait in the next collective call.
+PetscErrorCode agreeOnStatus(MPI_Comm comm, PetscErrorCode status);
+
 /// Collective.  Runs body(); an exception thrown on any rank becomes a PETSc
 /// error on all ranks carrying its message.
 template <typename Body>

@@ -1,7 +1,11 @@
 #include "base/h5.hpp"
 
+#include "base/atomic_file.hpp"
+#include "base/h5_write_driver.hpp"
+
 #include <algorithm>
 #include <cstdint>
+#include <cstring>
 #include <cstdio>
 #include <type_traits>
 #include <numeric>
@@ -44,8 +48,9 @@ void writeAttrArray(const File &f, const std::string &object, const std::string 
   if (H5Aexists(obj, attr.c_str()) > 0) H5Adelete(obj, attr.c_str());
   Id space(n == 1 ? H5Screate(H5S_SCALAR) : H5Screate_simple(1, &n, nullptr), H5Sclose);
   Id a(H5Acreate2(obj, attr.c_str(), nativeType<T>(), space, H5P_DEFAULT, H5P_DEFAULT), H5Aclose);
-  if (!a.valid() || H5Awrite(a, nativeType<T>(), data) < 0)
-    throw Error("could not write attribute '" + attr + "' to '" + f.path() + "'");
+  const bool written = a.valid() && H5Awrite(a, nativeType<T>(), data) >= 0;
+  f.throwIfWriteFailed();
+  if (!written) throw Error("could not write attribute '" + attr + "' to '" + f.path() + "'");
 }
 
 template <typename T>
@@ -104,9 +109,21 @@ File File::create(const std::string &path) {
   silenceHdf5();
   File f;
   f.name = path;
-  f.file = Id(H5Fcreate(path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT), H5Fclose);
+  f.writeError = std::make_unique<int>(0);
+  Id fapl(checkedWriteAccess(f.writeError.get()), H5Pclose);
+  f.file = Id(H5Fcreate(path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, fapl), H5Fclose);
   if (!f.file.valid()) throw Error("cannot create HDF5 file '" + path + "'");
   return f;
+}
+
+File File::create(const AtomicFile &target) {
+  try {
+    File f = create(target.temporaryPath());
+    f.name = target.path();
+    return f;
+  } catch (const Error &) { // name the file the user asked for
+    throw Error("cannot create HDF5 file '" + target.path() + "' (as '" + target.temporaryPath() + "')");
+  }
 }
 
 File File::createParallel(const std::string &path, MPI_Comm comm) {
@@ -124,14 +141,24 @@ File File::openReadWrite(const std::string &path) {
   silenceHdf5();
   File f;
   f.name = path;
-  f.file = Id(H5Fopen(path.c_str(), H5F_ACC_RDWR, H5P_DEFAULT), H5Fclose);
+  f.writeError = std::make_unique<int>(0); // a failed write is reported, not a crash at exit
+  Id fapl(checkedWriteAccess(f.writeError.get()), H5Pclose);
+  f.file = Id(H5Fopen(path.c_str(), H5F_ACC_RDWR, fapl), H5Fclose);
   if (!f.file.valid()) throw Error("cannot open HDF5 file '" + path + "' for writing");
   return f;
 }
 
 void File::close() {
-  if (file.valid() && file.close() < 0)
-    throw Error("could not finish writing HDF5 file '" + name + "' (closing it failed; disk full?)");
+  if (!file.valid()) return;
+  const herr_t closed = file.close();
+  throwIfWriteFailed();
+  if (closed < 0)
+    throw Error("could not finish writing HDF5 file '" + name + "' (closing it failed)");
+}
+
+void File::throwIfWriteFailed() const {
+  if (writeError && *writeError)
+    throw Error("could not write HDF5 file '" + name + "': " + std::strerror(*writeError));
 }
 
 bool File::exists(const std::string &object) const {
@@ -157,6 +184,7 @@ Id File::openDataset(const std::string &dataset) const {
 void File::createGroup(const std::string &group) const {
   if (exists(group)) return;
   Id g(H5Gcreate2(file, group.c_str(), H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), H5Gclose);
+  throwIfWriteFailed();
   if (!g.valid()) throw Error("cannot create group '" + group + "' in '" + name + "'");
 }
 
@@ -245,7 +273,9 @@ void File::writeAttr(const std::string &object, const std::string &attr,
   Id space(H5Screate(H5S_SCALAR), H5Sclose);
   Id a(H5Acreate2(obj, attr.c_str(), type, space, H5P_DEFAULT, H5P_DEFAULT), H5Aclose);
   std::string padded = v.empty() ? std::string(1, '\0') : v;
-  if (!a.valid() || H5Awrite(a, type, padded.data()) < 0)
+  const bool written = a.valid() && H5Awrite(a, type, padded.data()) >= 0;
+  throwIfWriteFailed();
+  if (!written)
     throw Error("could not write attribute '" + attr + "' to '" + name + "'");
 }
 
@@ -256,8 +286,10 @@ void File::write(const std::string &dataset, const std::vector<T> &data, hsize_t
   Id d(H5Dcreate2(file, dataset.c_str(), nativeType<T>(), space, H5P_DEFAULT, H5P_DEFAULT,
                   H5P_DEFAULT),
        H5Dclose);
-  if (!d.valid() ||
-      (!data.empty() && H5Dwrite(d, nativeType<T>(), H5S_ALL, H5S_ALL, H5P_DEFAULT, data.data()) < 0))
+  const bool written =
+      d.valid() && (data.empty() || H5Dwrite(d, nativeType<T>(), H5S_ALL, H5S_ALL, H5P_DEFAULT, data.data()) >= 0);
+  throwIfWriteFailed(); // the system's reason, when there is one, rather than HDF5's
+  if (!written)
     throw Error("could not write dataset '" + dataset + "' to '" + name + "'");
 }
 

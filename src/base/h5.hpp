@@ -6,9 +6,14 @@
 #include <hdf5.h>
 
 #include <array>
+#include <memory>
 #include <stdexcept>
 #include <string>
 #include <vector>
+
+namespace rcfd {
+class AtomicFile;
+}
 
 namespace rcfd::h5 {
 
@@ -50,12 +55,31 @@ private:
 };
 
 /// An open HDF5 file and the name it was opened under, for messages.
+///
+/// Files opened for writing use rcfd's
+/// write driver (h5_write_driver.hpp): a failed write, e.g. on a full disk,
+/// is reported by the next write call or close() as a sentence naming the
+/// file and the system's reason, and HDF5 itself never fails to close it.
 class File {
 public:
+  File() = default;
+  File(File &&) = default;
+  File &operator=(File &&other) noexcept {
+    if (this != &other) {
+      file.close(); // while its writeError still exists
+      writeError = std::move(other.writeError);
+      file = std::move(other.file);
+      name = std::move(other.name);
+    }
+    return *this;
+  }
+
   /// Open for reading; with comm != MPI_COMM_NULL through MPI-IO (collective).
   static File openRead(const std::string &path, MPI_Comm comm);
   /// Create (truncate) for writing by one process.
   static File create(const std::string &path);
+  /// Create target's temporary for writing by one process; messages name target.path().
+  static File create(const AtomicFile &target);
   /// Create (truncate) for writing by all processes of comm through MPI-IO.
   static File createParallel(const std::string &path, MPI_Comm comm);
   /// Open an existing file for read-write by one process.
@@ -101,9 +125,14 @@ public:
   std::vector<T> readRuns(const std::string &dataset,
                           const std::vector<std::pair<hsize_t, hsize_t>> &runs) const;
 
+  /// Throws naming the file if one of its writes failed on disk.
+  void throwIfWriteFailed() const;
+
 private:
+  // Declared before `file`: the driver stores into it until the file is closed.
+  std::unique_ptr<int> writeError; // the first failed write's errno (files opened for writing)
   Id file;
-  std::string name;
+  std::string name; // for messages: the final name of an atomic file
 };
 
 } // namespace rcfd::h5

@@ -3,12 +3,13 @@
 
 #include "cli/figures.hpp"
 #include "path/database_recurrence.hpp"
+#include "base/atomic_file.hpp"
 #include "base/collective.hpp"
 #include "base/h5.hpp"
 
 #include <algorithm>
 #include <cstdio>
-#include <fstream>
+#include <sstream>
 
 namespace rcfd::cli {
 namespace {
@@ -16,14 +17,12 @@ namespace {
 /// The K x K matrix as CSV (row i, column j: frames i and j), for the heat
 /// map's script and for anyone's own analysis; written atomically.
 void writeMatrixCsv(const std::string &path, const std::vector<double> &R, int K, const std::string &note) {
-  const std::string tmp = path + ".tmp";
-  std::ofstream out(tmp);
+  std::ostringstream out;
   out.precision(6);
   out << "# " << note << "; row i, column j: frames i and j\n";
   for (int i = 0; i < K; ++i)
     for (int j = 0; j < K; ++j) out << R[static_cast<size_t>(i) * K + j] << (j + 1 < K ? ',' : '\n');
-  out.close();
-  if (!out || std::rename(tmp.c_str(), path.c_str()) != 0) throw std::runtime_error("cannot write '" + path + "'");
+  writeTextAtomically(path, out.str());
 }
 
 } // namespace
@@ -76,6 +75,7 @@ PetscErrorCode recurrenceCommand(MPI_Comm comm, const char *positional) {
       if (f.exists(name)) H5Ldelete(f.id(), name.c_str(), H5P_DEFAULT);
       f.write(name, R, static_cast<hsize_t>(K));
       f.writeAttr(name, "note", note);
+      f.close(); // with its status: the matrix is written into the database in place
     }
     writeMatrixCsv(stem + ".csv", R, K, note + "; database " + file);
   }));

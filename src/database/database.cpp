@@ -282,7 +282,7 @@ DatabaseWriter::DatabaseWriter(const std::string &path, const Mesh &mesh,
   impl->cells = mesh.numCells();
   impl->hash.add(std::vector<double>{static_cast<double>(impl->cells), meta.dtRec, meta.solidDensity, meta.gravity[0],
                                      meta.gravity[1], meta.gravity[2]});
-  impl->file = h5::File::create(impl->out.temporaryPath());
+  impl->file = h5::File::create(impl->out);
   const h5::File &f = impl->file;
   f.writeAttr("/", "format", std::string(kFormatName));
   f.writeAttr("/", "format_version", kDatabaseFormatVersion);

@@ -47,6 +47,11 @@ public:
   PetscErrorCode sample(const MonitorContext &ctx) override {
     return writer.write(ctx.time, ctx.frame, ctx.state.masses());
   }
+  /// The times written so far: a restart continues the series.
+  std::vector<double> saveState() const override { return writer.outputTimes(); }
+  PetscErrorCode restoreState(const std::vector<double> &times) override {
+    return writer.continueSeries(times);
+  }
 
 private:
   FieldWriter writer;

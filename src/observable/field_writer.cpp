@@ -7,6 +7,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <unistd.h>
 
 namespace rcfd {
 namespace {
@@ -57,7 +58,7 @@ PetscErrorCode FieldWriter::write(double time, int frame, Vec masses) {
   const PetscScalar *m = nullptr, *a = nullptr;
   PetscCall(VecGetArrayRead(zeroMasses, &m));
   PetscCall(VecGetArrayRead(zeroAlpha, &a));
-  PetscCall(collectively(db->layout().comm(), [&] {
+  const PetscErrorCode written = collectively(db->layout().comm(), [&] {
     if (rank != 0) return;
     // Derived fields: alpha_s of the state, alpha of each fraction, local
     // Sauter diameter; and the database's alpha_s for comparison.
@@ -77,18 +78,33 @@ PetscErrorCode FieldWriter::write(double time, int frame, Vec masses) {
       fields[1][c] = surface > 0 ? total / surface : NAN; // no solid: no diameter (ParaView greys it)
     }
     AtomicFile target(file); // declared first: on failure the file is closed, then removed
-    h5::File out = h5::File::create(target.temporaryPath());
+    h5::File out = h5::File::create(target);
     out.write("/alpha_s", fields[0]);
     out.write("/d32", fields[1]);
     for (int i = 0; i < nf; ++i) out.write("/alpha_" + fractions->label(i), fields[2 + i]);
     out.write("/alpha_s_database", std::vector<double>(a, a + n));
     out.close();
     target.commit();
-  }, PETSC_ERR_FILE_WRITE));
+  }, PETSC_ERR_FILE_WRITE);
   PetscCall(VecRestoreArrayRead(zeroAlpha, &a));
   PetscCall(VecRestoreArrayRead(zeroMasses, &m));
+  PetscCall(written);
   times.push_back(time);
-  PetscCall(writeIndex());
+  PetscCall(agreeOnStatus(db->layout().comm(), writeIndex())); // written by rank 0: the others must not wait
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode FieldWriter::continueSeries(const std::vector<double> &earlier) {
+  PetscMPIInt rank;
+  int complete = 1;
+  PetscFunctionBeginUser;
+  PetscCallMPI(MPI_Comm_rank(db->layout().comm(), &rank));
+  if (rank == 0)
+    for (size_t t = 0; t < earlier.size() && complete; ++t)
+      complete = access((dir + "/" + fieldFileName(static_cast<int>(t))).c_str(), F_OK) == 0;
+  PetscCallMPI(MPI_Bcast(&complete, 1, MPI_INT, 0, db->layout().comm()));
+  if (complete) times = earlier;
+  else times.clear(); // another directory: a series of its own
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 

@@ -1,4 +1,6 @@
 #include "path/frame_path.hpp"
+
+#include "base/atomic_file.hpp"
 #include "base/petsc_compat.hpp"
 
 #include "path/builtin_paths.hpp"
@@ -135,14 +137,11 @@ std::unique_ptr<FramePath> makeFramePath(const std::string &kind, int K,
 
 void writePathFile(const std::string &filename, const std::vector<int> &frames,
                    const std::string &header) {
-  std::ofstream out(filename);
-  if (!out) throw std::runtime_error("cannot open the path file " + filename + " for writing");
   std::string h = header;
   std::replace(h.begin(), h.end(), '\n', ' '); // the header is one comment line
-  out << "# " << h << '\n';
-  for (int f : frames) out << f << '\n';
-  out.flush();
-  if (!out) throw std::runtime_error("writing the path file " + filename + " failed");
+  std::string text = "# " + h + '\n';
+  for (int f : frames) text += std::to_string(f) + '\n';
+  writeTextAtomically(filename, text);
 }
 
 std::vector<int> readPathFile(const std::string &filename) {

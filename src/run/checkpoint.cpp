@@ -114,27 +114,27 @@ std::vector<std::pair<std::string, std::string>> Run::Impl::physicsRecord() cons
 
 PetscErrorCode Run::Impl::writeCheckpoint(long step) const {
   namespace fs = std::filesystem;
-  // All ranks write the masses to the temporary; rank 0 adds the rest and commits.
-  const std::string tmp = AtomicFile::temporaryPathOf(checkpointFile);
+  // The masses are gathered on rank 0, which writes the file (as the fields
+  // are written): a failed write then stops every rank with its reason
+  // instead of leaving the others in a collective HDF5 call.
   const int nf = set.size();
   PetscMPIInt rank;
   PetscFunctionBeginUser;
   PetscCallMPI(MPI_Comm_rank(comm, &rank));
   std::unique_ptr<AtomicFile> out; // removes the temporary if anything below fails
   if (rank == 0) PetscCallCXX(out = std::make_unique<AtomicFile>(checkpointFile));
-  OwnedVec natural;
-  OwnedScatter scatter;
+  OwnedVec natural, onZero;
+  OwnedScatter scatter, toZero;
   PetscCall(db->layout().naturalScatter(nf, fstate.masses(), natural.put(), scatter.put()));
   PetscCall(VecScatterBegin(scatter, fstate.masses(), natural, INSERT_VALUES, SCATTER_FORWARD));
   PetscCall(VecScatterEnd(scatter, fstate.masses(), natural, INSERT_VALUES, SCATTER_FORWARD));
-  PetscCall(PetscObjectSetName((PetscObject)natural.get(), "masses"));
-  {
-    PetscViewer v;
-    PetscCall(PetscViewerHDF5Open(comm, tmp.c_str(), FILE_MODE_WRITE, &v));
-    const PetscErrorCode viewed = VecView(natural, v);
-    PetscCall(PetscViewerDestroy(&v)); // closes the file, with its status checked
-    PetscCall(viewed);
-  }
+  PetscCall(VecScatterCreateToZero(natural, toZero.put(), onZero.put()));
+  PetscCall(VecScatterBegin(toZero, natural, onZero, INSERT_VALUES, SCATTER_FORWARD));
+  PetscCall(VecScatterEnd(toZero, natural, onZero, INSERT_VALUES, SCATTER_FORWARD));
+  PetscInt gathered;
+  const PetscScalar *masses = nullptr;
+  PetscCall(VecGetLocalSize(onZero, &gathered));
+  PetscCall(VecGetArrayRead(onZero, &masses));
   std::vector<std::pair<std::string, std::vector<double>>> states; // the same on every rank
   for (const auto &e : monitors) {
     states.emplace_back(e.name, e.monitor->saveState());
@@ -146,10 +146,12 @@ PetscErrorCode Run::Impl::writeCheckpoint(long step) const {
   std::vector<std::pair<std::string, std::vector<double>>> operatorStates;
   for (const auto &op : ops.operators()) operatorStates.emplace_back(op->type(), op->saveState());
   const auto physics = physicsRecord();
-  PetscCall(collectively(comm, [&] {
+  const PetscErrorCode written = collectively(comm, [&] {
     if (rank != 0) return;
     {
-      h5::File f = h5::File::openReadWrite(tmp);
+      h5::File f = h5::File::create(*out);
+      // As PETSc's VecView writes a vector of block size nf (VecLoad reads it).
+      f.write("/masses", std::vector<double>(masses, masses + gathered), nf > 1 ? static_cast<hsize_t>(nf) : 0);
       f.writeAttr("/", "format", std::string("rcfd-checkpoint"));
       f.writeAttr("/", "version", kCheckpointVersion);
       f.writeAttr("/", "step", static_cast<long long>(step));
@@ -172,7 +174,9 @@ PetscErrorCode Run::Impl::writeCheckpoint(long step) const {
       f.close();
     }
     out->commit();
-  }));
+  });
+  PetscCall(VecRestoreArrayRead(onZero, &masses));
+  PetscCall(written);
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 

@@ -3,6 +3,7 @@
 #include "state/initial_state.hpp"
 #include "base/petsc_compat.hpp"
 
+#include "base/atomic_file.hpp"
 #include "base/collective.hpp"
 
 #include <algorithm>
@@ -248,7 +249,7 @@ PetscErrorCode Run::Impl::callMonitors(long step, double time, int frame, bool l
   for (auto &e : monitors)
     if (step == 0 || last || (e.every > 0 && step % e.every == 0)) {
       const double start = MPI_Wtime();
-      PetscCall(e.monitor->sample(m));
+      PetscCall(agreeOnStatus(comm, e.monitor->sample(m))); // a file rank 0 failed to write stops all
       e.seconds += MPI_Wtime() - start;
     }
   PetscFunctionReturn(PETSC_SUCCESS);
@@ -259,7 +260,7 @@ PetscErrorCode Run::Impl::flushMonitors() {
   PetscCall(pathFile->flush());
   for (auto &e : monitors) {
     const double start = MPI_Wtime();
-    PetscCall(e.monitor->flush());
+    PetscCall(agreeOnStatus(comm, e.monitor->flush()));
     e.seconds += MPI_Wtime() - start;
   }
   PetscFunctionReturn(PETSC_SUCCESS);
@@ -279,21 +280,19 @@ PetscErrorCode Run::Impl::progress(long step, double time, bool last) {
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
-PetscErrorCode Run::solve() {
-  Impl &r = *impl;
+// The time loop of solve(), up to the path file; an error returns to solve(),
+// which reports it in the output directory.
+PetscErrorCode Run::Impl::march() {
+  Impl &r = *this;
   PetscFunctionBeginUser;
-  PetscCheck(r.isSetUp && !r.solved, r.comm, PETSC_ERR_ORDER,
-             "Run::solve() needs Run::setUp() first and runs once");
-  r.solved = true;
   const double dt = r.db->metadata().dtRec;
-  std::vector<double> initialMass;
-  PetscCall(r.fstate.totals(&initialMass));
   const bool conservative = r.ops.conservesMass();
   const bool ledgerOn = conservative || r.ops.accountsMass(); // mass changed on purpose is accounted
   if (ledgerOn && r.startStep == 0) PetscCall(r.ledger.start(r.fstate));
   std::vector<double> added; // by the operators that change mass on purpose, since the start
   // The frame of the next step; after a restart the path stands on it.
   int frame = r.startStep == 0 ? r.path->next() : r.path->frame();
+  r.lastStep = r.startStep;
   if (r.startStep == 0) PetscCall(r.callMonitors(0, 0.0, frame, r.steps == 0));
   const long checkpointSteps =
       r.checkpointEvery > 0 ? std::max(1L, std::lround(r.checkpointEvery / dt)) : 0L;
@@ -313,6 +312,7 @@ PetscErrorCode Run::solve() {
       info.nextFrame = (frame + 1) % r.db->numFrames();
       info.jump = info.nextFrame != frame + 1;
     }
+    r.lastStep = s + 1;
     PetscCall(r.pathFile->add(std::to_string(frame)));
     if (r.keepHistory) r.frames.push_back(frame);
     if (info.jump && !wrapNoted && r.path->kind() == "replay") {
@@ -345,6 +345,48 @@ PetscErrorCode Run::solve() {
   PetscCall(r.writeJumps(frame));
   // figures: drawn by the CLI (rcfd run), not by the library
   PetscCall(r.progress(r.steps, r.steps * dt, true));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+// A run that fails after it started says so in its output directory (the
+// file FAILED: the sentence, the step and the time) and keeps what it had
+// reported: the monitors' files are flushed.  A run that starts removes the
+// FAILED of an earlier one.
+PetscErrorCode Run::Impl::reportFailure(PetscErrorCode status) {
+  PetscMPIInt rank;
+  const char *generic = nullptr;
+  char *specific = nullptr;
+  PetscErrorMessage(status, &generic, &specific);
+  const std::string why = specific && *specific ? specific : (generic ? generic : "unknown error");
+  PetscFunctionBeginUser;
+  PetscCallMPI(MPI_Comm_rank(comm, &rank));
+  const double t = lastStep * db->metadata().dtRec;
+  (void)flushMonitors(); // best effort: the disk may be what failed
+  if (rank == 0) {
+    char where[160];
+    std::snprintf(where, sizeof where, "rcfd run failed at step %ld of %ld (t = %.9g s): ", lastStep, steps, t);
+    try {
+      writeTextAtomically(outputDir + "/FAILED", where + why + "\n");
+    } catch (const std::exception &) { // nowhere to say it but the error itself
+    }
+  }
+  SETERRQ(comm, status, "%s", why.c_str()); // the first failure, not a later one while flushing
+}
+
+PetscErrorCode Run::solve() {
+  Impl &r = *impl;
+  PetscFunctionBeginUser;
+  PetscCheck(r.isSetUp && !r.solved, r.comm, PETSC_ERR_ORDER,
+             "Run::solve() needs Run::setUp() first and runs once");
+  r.solved = true;
+  PetscMPIInt rank;
+  PetscCallMPI(MPI_Comm_rank(r.comm, &rank));
+  if (rank == 0) std::remove((r.outputDir + "/FAILED").c_str()); // from an earlier run, if any
+  std::vector<double> initialMass;
+  PetscCall(r.fstate.totals(&initialMass));
+  const PetscErrorCode marched = r.march();
+  if (marched) PetscCall(r.reportFailure(marched));
+  const double dt = r.db->metadata().dtRec;
 
   PetscCall(r.ops.viewRequested());
   std::vector<double> finalMass;

@@ -27,6 +27,8 @@ struct Run::Impl {
 
   PetscErrorCode callMonitors(long step, double time, int frame, bool last);
   PetscErrorCode flushMonitors();
+  PetscErrorCode march();                               // solve()'s time loop
+  PetscErrorCode reportFailure(PetscErrorCode status); // OUTPUT_DIR/FAILED; returns the error
   PetscErrorCode progress(long step, double time, bool last);
   PetscErrorCode writeCheckpoint(long step) const; // src/run/checkpoint.cpp
   PetscErrorCode readCheckpoint();                 // src/run/checkpoint.cpp
@@ -52,7 +54,7 @@ struct Run::Impl {
   Answers answers; // the monitors a case asks for by option (profiles, halves, ...)
   std::unique_ptr<CsvSeries> pathFile; // OUTPUT_DIR/path.txt, the frame of every step, appended
   std::vector<int> frames;             // the same, in memory, only with keepHistory
-  long startStep = 0;
+  long startStep = 0, lastStep = 0;    // lastStep: the step being made, for a failure report
   bool isSetUp = false, solved = false, keepHistory = false;
 
   // Options.
