@@ -69,4 +69,19 @@ inline int globalFailures() {
   return total;
 }
 
+/// main() of a test run at 1 and 2 ranks: PETSc up (errors returned, not
+/// printed as tracebacks), `run(dir)` in rankCountDirectory(argc, argv, name),
+/// the failures of all ranks summed into the exit status.
+template <typename F> int rankTestMain(int argc, char **argv, const std::string &name, F &&run) {
+  if (PetscInitialize(&argc, &argv, nullptr, nullptr)) return 1;
+  PetscPushErrorHandler(PetscReturnErrorHandler, nullptr);
+  RCFD_CHECK(argc > 1);
+  const std::string dir = rankCountDirectory(argc, argv, name);
+  RCFD_CHECK(!dir.empty() && run(dir) == 0);
+  PetscPopErrorHandler();
+  const int failed = globalFailures();
+  if (PetscFinalize()) return 1;
+  return failed == 0 ? 0 : 1;
+}
+
 } // namespace rcfd::test

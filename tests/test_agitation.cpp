@@ -15,10 +15,9 @@ namespace {
 
 PetscErrorCode run(const std::string &dir) {
   PetscFunctionBeginUser;
-  int rank, size;
+  int rank;
   MPI_Comm_rank(PETSC_COMM_WORLD, &rank);
-  MPI_Comm_size(PETSC_COMM_WORLD, &size);
-  const std::string path = dir + "/agitation_np" + std::to_string(size) + ".h5";
+  const std::string path = dir + "/agitation.h5";
   // A column of three 0.1 m cells.  Frame 0: half of cell 0 moves up one cell,
   // 3/4 of cell 1 moves up one cell, cell 2 keeps its solid; frame 1: nothing moves.
   if (rank == 0) {
@@ -77,11 +76,4 @@ PetscErrorCode run(const std::string &dir) {
 
 } // namespace
 
-int main(int argc, char **argv) {
-  PetscCall(PetscInitialize(&argc, &argv, nullptr, nullptr));
-  RCFD_CHECK(argc > 1);
-  RCFD_CHECK(run(argc > 1 ? argv[1] : ".") == 0);
-  const int failed = test::globalFailures();
-  PetscCall(PetscFinalize());
-  return failed == 0 ? 0 : 1;
-}
+int main(int argc, char **argv) { return test::rankTestMain(argc, argv, "agitation", run); }

@@ -83,13 +83,4 @@ PetscErrorCode run(const std::string &dir) {
 
 } // namespace
 
-int main(int argc, char **argv) {
-  PetscCall(PetscInitialize(&argc, &argv, nullptr, nullptr));
-  PetscPushErrorHandler(PetscReturnErrorHandler, nullptr);
-  RCFD_CHECK(argc > 1);
-  RCFD_CHECK(run(test::rankCountDirectory(argc, argv, "initial_state")) == 0);
-  PetscPopErrorHandler();
-  const int failed = test::globalFailures();
-  PetscCall(PetscFinalize());
-  return failed == 0 ? 0 : 1;
-}
+int main(int argc, char **argv) { return test::rankTestMain(argc, argv, "initial_state", run); }

@@ -22,9 +22,7 @@ PetscErrorCode run(const std::string &dir) {
   s.nz = 4;
   s.length = {0.2, 0.1, 0.4};
   const Mesh mesh = Mesh::box(s);
-  int size;
-  MPI_Comm_size(PETSC_COMM_WORLD, &size); // np1 and np2 run side by side
-  const std::string path = dir + "/layers_np" + std::to_string(size) + ".h5";
+  const std::string path = dir + "/layers.h5";
   test::writeIdentityDatabase(path, mesh, std::vector<double>(8, 0.5), DatabaseMetadata{});
   std::unique_ptr<Database> db;
   PetscCall(Database::load(PETSC_COMM_WORLD, path, DatabaseLoadOptions{}, &db));
@@ -79,11 +77,4 @@ PetscErrorCode run(const std::string &dir) {
 
 } // namespace
 
-int main(int argc, char **argv) {
-  PetscCall(PetscInitialize(&argc, &argv, nullptr, nullptr));
-  RCFD_CHECK(argc > 1);
-  RCFD_CHECK(run(argc > 1 ? argv[1] : ".") == 0);
-  const int failed = test::globalFailures();
-  PetscCall(PetscFinalize());
-  return failed == 0 ? 0 : 1;
-}
+int main(int argc, char **argv) { return test::rankTestMain(argc, argv, "layers", run); }
