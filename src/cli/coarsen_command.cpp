@@ -87,9 +87,12 @@ PetscErrorCode coarsenCommand(MPI_Comm comm, const char *positional) {
              "-time_factor %d: expected 1 or 2 (compose twice for 4)", (int)timeFactor);
   PetscCheck(!initIn[0] == !initOut[0], comm, PETSC_ERR_USER_INPUT, "-init_file and -init_out go together");
   PetscCheck(file != out, comm, PETSC_ERR_USER_INPUT, "-o names the input database; give another file");
-  // The loader checks the file (format, sizes, columns) and gives mesh and metadata.
+  // The loader checks the file's format and sizes and gives mesh and metadata;
+  // the frames are read below as stored, so it need not build the shifts.
+  DatabaseLoadOptions headerOnly;
+  headerOnly.loadShifts = false;
   std::unique_ptr<Database> db;
-  PetscCall(Database::load(comm, file, DatabaseLoadOptions{}, &db));
+  PetscCall(Database::load(comm, file, headerOnly, &db));
   const int cells = db->mesh().numCells();
   PetscCheck(db->mesh().isBox(), comm, PETSC_ERR_SUP, "Database '%s': rcfd coarsen needs a box mesh", file.c_str());
   const int K = db->numFrames() / static_cast<int>(timeFactor);
