@@ -50,7 +50,11 @@ public:
   /// The default does nothing.
   virtual PetscErrorCode setUp(const RunContext &run, const FractionState &state,
                                const std::string &outputDirectory);
+  /// Collective, and called often (every `every` steps): a monitor that writes a
+  /// file on one rank here makes the outcome known to all (agreeOnStatus), so
+  /// that a failed write cannot leave the other ranks waiting.
   virtual PetscErrorCode sample(const MonitorContext &ctx) = 0;
+  /// Collective; the run agrees on its status, so rank 0 may write alone here.
   /// The default does nothing.
   virtual PetscErrorCode flush();
 

@@ -1,6 +1,7 @@
 // Mid-plane snapshots of each fraction's volume fraction (paper Fig. 1).
 #include "observable/answers.hpp"
 #include "base/petsc_compat.hpp"
+#include "base/collective.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -74,27 +75,30 @@ PetscErrorCode SnapshotMonitor::sample(const MonitorContext &ctx) {
     std::vector<double> all(rank == 0 ? offsets[size - 1] + counts[size - 1] : 0);
     PetscCallMPI(MPI_Gatherv(local.data(), count, MPI_DOUBLE, all.data(), counts.data(), offsets.data(), MPI_DOUBLE,
                              0, comm));
-    if (rank != 0) continue;
-    std::vector<std::size_t> order(all.size() / width);
-    for (std::size_t r = 0; r < order.size(); ++r) order[r] = r;
-    std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { // bottom row first, then across
-      const double *x = &all[a * width], *y = &all[b * width];
-      return x[1] != y[1] ? x[1] < y[1] : x[0] < y[0];
-    });
-    std::string text = header + "\n";
-    char number[32];
-    for (std::size_t r : order) {
-      double total = 0.0;
-      for (int c = 0; c < width; ++c) {
-        std::snprintf(number, sizeof number, "%.9g", all[r * width + c]);
-        text += (c ? "," : "") + std::string(number);
-        if (c >= 2) total += all[r * width + c];
+    PetscErrorCode written = PETSC_SUCCESS;
+    if (rank == 0) {
+      std::vector<std::size_t> order(all.size() / width);
+      for (std::size_t r = 0; r < order.size(); ++r) order[r] = r;
+      std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { // bottom row first, then across
+        const double *x = &all[a * width], *y = &all[b * width];
+        return x[1] != y[1] ? x[1] < y[1] : x[0] < y[0];
+      });
+      std::string text = header + "\n";
+      char number[32];
+      for (std::size_t r : order) {
+        double total = 0.0;
+        for (int c = 0; c < width; ++c) {
+          std::snprintf(number, sizeof number, "%.9g", all[r * width + c]);
+          text += (c ? "," : "") + std::string(number);
+          if (c >= 2) total += all[r * width + c];
+        }
+        std::snprintf(number, sizeof number, ",%.9g\n", total);
+        text += number;
       }
-      std::snprintf(number, sizeof number, ",%.9g\n", total);
-      text += number;
+      std::snprintf(number, sizeof number, "%.4f", ctx.time);
+      written = writeFileAtomically(directory + "/snapshot_" + number + "s.csv", text);
     }
-    std::snprintf(number, sizeof number, "%.4f", ctx.time);
-    PetscCall(writeFileAtomically(directory + "/snapshot_" + number + "s.csv", text));
+    PetscCall(agreeOnStatus(comm, written)); // written by rank 0 alone: the others must not wait
   }
   PetscFunctionReturn(PETSC_SUCCESS);
 }
