@@ -110,9 +110,9 @@ done
 for bed in narrow wide; do
   "$rcfd" compare -reference "$out/$bed-ref/cog.csv" \
     -rcfd "$out/$bed/paper-B-5e3/cog.csv,$out/$bed/B-measured/cog.csv,$out/$bed/B-leaving2/cog.csv" \
-    -labels "B k_d 5e3 (paper),B k_d 2.28e4 (measured drift),B scaled (a/a_bar)^2 k_d 1.73e4" \
+    -labels 'B $k_d$ 5e3 (paper),B $k_d$ 2.28e4 (measured drift),B scaled by $(a/\bar{a})^2$ with $k_d$ 1.73e4' \
     -rcfd_time_offset 0.2 -score_window 0.5,1.5 -o "$out/compare-$bed.csv" -png "$out/validation-drift-laws-$bed.png" \
-    -title "dpm-bi-$bed: Delta z(t), CFD-DEM and rcfd replays from t = 0.2 s (laws fitted on dpm-bi-narrow)" >/dev/null
+    -title "dpm-bi-$bed: "'$\Delta z(t)$'", CFD-DEM and rcfd replays from t = 0.2 s (laws fitted on dpm-bi-narrow)" >/dev/null
 done
 "$rcfd" calibrate "${wide[@]}" -calibrate_from measured -t_end 0.01 -output_dir "$out/measured-wide" >/dev/null
 py=/usr/bin/python3 # Debian's python3 has python3-matplotlib
