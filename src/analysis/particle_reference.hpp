@@ -19,6 +19,7 @@
 
 #include "builders/particles/cell_shares.hpp"
 #include "builders/particles/particle_dump.hpp"
+#include "builders/particles/size_classes.hpp"
 #include "rcfd/mesh.hpp"
 
 #include <limits>
@@ -27,25 +28,6 @@
 #include <vector>
 
 namespace rcfd {
-
-/// Size classes by diameter.  A particle of diameter d is in the class of
-/// the nearest diameter D when |d - D| <= relTol * D.
-struct SizeClasses {
-  std::vector<double> diameter; // m, ascending
-  double relTol = 0.01;
-
-  /// Class index of diameter d, or -1 when no class is within tolerance.
-  int classOf(double d) const;
-  /// Column label, e.g. "d1.950mm".
-  std::string label(int c) const;
-
-  /// Automatic classes: the sorted diameters are cut into groups wherever a
-  /// diameter exceeds its group's smallest by more than relTol (relative);
-  /// each class diameter is the mean of its group (one entry per particle).
-  /// Meant for a few distinct sizes; a continuous distribution gives
-  /// classes relTol wide.
-  static SizeClasses cluster(std::vector<double> diameters, double relTol);
-};
 
 struct ReferenceOptions {
   /// With no diameters given, the classes are clustered from the first

@@ -6,7 +6,7 @@
 
 #include "builders/particles/cell_shares.hpp"
 #include "builders/particles/particle_dump.hpp"
-#include "analysis/particle_reference.hpp"
+#include "builders/particles/size_classes.hpp"
 #include "rcfd/mesh.hpp"
 
 #include <array>
