@@ -8,6 +8,8 @@
 #include "base/h5.hpp"
 
 #include <algorithm>
+#include <filesystem>
+#include <stdexcept>
 #include <cstdio>
 #include <sstream>
 
@@ -69,13 +71,23 @@ PetscErrorCode recurrenceCommand(MPI_Comm comm, const char *positional) {
   PetscCall(collectively(comm, [&] {
     if (rank != 0) return;
     if (store) {
-      h5::File f = h5::File::openReadWrite(file);
+      // Into a copy that replaces the database when complete: an interrupted
+      // or failed write leaves the database as it was.
+      AtomicFile updated(file);
+      std::error_code copyError;
+      std::filesystem::copy_file(file, updated.temporaryPath(),
+                                 std::filesystem::copy_options::overwrite_existing, copyError);
+      if (copyError)
+        throw std::runtime_error("cannot copy database '" + file + "' to store the recurrence matrix: " +
+                                 copyError.message());
+      h5::File f = h5::File::openReadWrite(updated.temporaryPath());
       f.createGroup("/extra");
       const std::string name = "/extra/" + recurrenceDatasetName(norm);
       if (f.exists(name)) H5Ldelete(f.id(), name.c_str(), H5P_DEFAULT);
       f.write(name, R, static_cast<hsize_t>(K));
       f.writeAttr(name, "note", note);
-      f.close(); // with its status: the matrix is written into the database in place
+      f.close(); // with its status
+      updated.commit();
     }
     writeMatrixCsv(stem + ".csv", R, K, note + "; database " + file);
   }));
