@@ -110,6 +110,14 @@ else
   fail "no small database in $data (fixture small_db)"
 fi
 
+# ---- more runs than PETSc's array options used to hold (16): every one is scored, none dropped.
+runs=$(for i in $(seq 1 20); do printf '%s,' "$work/run.csv"; done)
+if run "compare 20 runs" "$rcfd" compare -reference "$work/ref.csv" -rcfd "${runs%,}" -rcfd_time_offset -0.1 \
+  -score_window 0,1 -o "$work/many.csv"; then
+  same "20 runs scored" "$(($(grep -vc "^#" "$work/many-scores.csv") - 1))" 20 0
+fi
+expect_error "-mesh_cells takes at most 3 comma-separated values" build -dumps "$work/none.*" -mesh_cells 2,2,2,2
+
 # ---- bad input: one sentence naming the file.
 expect_error "'$work/ref.csv', delta_z: the scoring window [5, 10] s holds no sample of the reference." compare \
   -reference "$work/ref.csv" -rcfd "$work/run.csv" -score_window 5,10

@@ -1,7 +1,7 @@
 #include "analysis/calibration.hpp"
-#include "base/checked_options.hpp"
 #include "base/petsc_compat.hpp"
 
+#include "base/checked_options.hpp"
 #include "analysis/measured_drift.hpp"
 #include "base/atomic_file.hpp"
 #include "base/collective.hpp"
@@ -45,8 +45,8 @@ PetscErrorCode DriftCalibration::setFromOptions() {
   PetscCall(PetscOptionsString("-calibrate_objective",
                                "rms: RMS of Delta z(t) - reference / reference peak; seg: |Eq. 7 error| in the window",
                                "", objective, objective, sizeof objective, nullptr));
-  PetscCall(PetscOptionsRealArray("-calibrate_kd_range", "Search interval of k_d [1/(m s)]", "",
-                                  range, &nrange, &setRange));
+  PetscCall(checkedRealArray(PetscOptionsObject, "-calibrate_kd_range", "Search interval of k_d [1/(m s)]",
+                             range, &nrange, &setRange));
   PetscCall(checkedReal(PetscOptionsObject, "-calibrate_tolerance",
                         "Width of the final interval in log10 k_d", &tolerance, kPositive));
   PetscCall(checkedInt(PetscOptionsObject, "-calibrate_scan",
@@ -54,8 +54,8 @@ PetscErrorCode DriftCalibration::setFromOptions() {
   PetscCall(checkedReal(PetscOptionsObject, "-rcfd_time_offset",
                         "Physical time of the database's frame 0 [s], added to the runs' times",
                         &offset, {-1e9, 1e9, true, true, "a finite time in s"}));
-  PetscCall(PetscOptionsRealArray("-score_window", "Window t0,t1 [s] of the Eq. 7 means", "",
-                                  window, &nwindow, &setWindow));
+  PetscCall(checkedRealArray(PetscOptionsObject, "-score_window", "Window t0,t1 [s] of the Eq. 7 means", window,
+                             &nwindow, &setWindow));
   PetscOptionsEnd();
   std::vector<std::string> given;
   for (PetscInt i = 0; i < (setModels ? nmodels : 0); ++i) {

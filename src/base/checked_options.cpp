@@ -1,7 +1,9 @@
 #include "base/checked_options.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <vector>
 
 namespace rcfd {
 
@@ -34,6 +36,57 @@ PetscErrorCode checkedInt(PetscOptionItems *PetscOptionsObject, const char *opti
   PetscCheck(*value >= low && *value <= high, PetscOptionsObject->comm, PETSC_ERR_USER_INPUT,
              "-%s%s %" PetscInt_FMT ": expected a whole number from %" PetscInt_FMT " to %" PetscInt_FMT, prefix,
              option + 1, *value, low, high);
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+namespace {
+
+/// Reads one slot more than `*n` into a copy, so that a value too many is seen.
+template <typename T, typename Read>
+PetscErrorCode boundedArray(PetscOptionItems *PetscOptionsObject, const char *option, T *values, PetscInt *n,
+                            PetscBool *set, Read read) {
+  PetscBool given = PETSC_FALSE;
+  PetscFunctionBeginUser;
+  const PetscInt capacity = *n;
+  std::vector<T> buffer(values, values + capacity);
+  buffer.push_back(T{});
+  PetscInt count = capacity + 1;
+  PetscCall(read(buffer.data(), &count, &given));
+  if (set) *set = given;
+  if (!given) PetscFunctionReturn(PETSC_SUCCESS);
+  const char *prefix = PetscOptionsObject->prefix ? PetscOptionsObject->prefix : "";
+  PetscCheck(count <= capacity, PetscOptionsObject->comm, PETSC_ERR_USER_INPUT,
+             "-%s%s takes at most %" PetscInt_FMT " comma-separated values", prefix, option + 1, capacity);
+  std::copy(buffer.begin(), buffer.begin() + count, values);
+  *n = count;
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+} // namespace
+
+PetscErrorCode checkedRealArray(PetscOptionItems *PetscOptionsObject, const char *option, const char *text,
+                                PetscReal *values, PetscInt *n, PetscBool *set) {
+  PetscBool given = PETSC_FALSE;
+  PetscFunctionBeginUser;
+  PetscCall(boundedArray(PetscOptionsObject, option, values, n, &given,
+                         [&](PetscReal *v, PetscInt *m, PetscBool *s) {
+                           return PetscOptionsRealArray(option, text, "", v, m, s);
+                         }));
+  if (set) *set = given;
+  const char *prefix = PetscOptionsObject->prefix ? PetscOptionsObject->prefix : "";
+  for (PetscInt i = 0; given && i < *n; ++i)
+    PetscCheck(std::isfinite(values[i]), PetscOptionsObject->comm, PETSC_ERR_USER_INPUT,
+               "-%s%s: value %" PetscInt_FMT " is not a finite number", prefix, option + 1, i + 1);
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode checkedIntArray(PetscOptionItems *PetscOptionsObject, const char *option, const char *text,
+                               PetscInt *values, PetscInt *n, PetscBool *set) {
+  PetscFunctionBeginUser;
+  PetscCall(boundedArray(PetscOptionsObject, option, values, n, set,
+                         [&](PetscInt *v, PetscInt *m, PetscBool *s) {
+                           return PetscOptionsIntArray(option, text, "", v, m, s);
+                         }));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 

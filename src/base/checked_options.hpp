@@ -31,4 +31,13 @@ PetscErrorCode checkedReal(PetscOptionItems *PetscOptionsObject, const char *opt
 PetscErrorCode checkedInt(PetscOptionItems *PetscOptionsObject, const char *option, const char *text,
                           PetscInt *value, PetscInt low, PetscInt high, PetscBool *set = nullptr);
 
+/// PetscOptionsRealArray / IntArray that refuse too many values: PETSc stops
+/// reading at the array's size and drops the rest silently (`-synth_cells
+/// 10,2,20,7` would run with 10,2,20).  On input *n is the capacity of
+/// `values`; on output, the number given.  Real values must be finite.
+PetscErrorCode checkedRealArray(PetscOptionItems *PetscOptionsObject, const char *option, const char *text,
+                                PetscReal *values, PetscInt *n, PetscBool *set);
+PetscErrorCode checkedIntArray(PetscOptionItems *PetscOptionsObject, const char *option, const char *text,
+                               PetscInt *values, PetscInt *n, PetscBool *set);
+
 } // namespace rcfd

@@ -2,9 +2,9 @@
 // frames (x y z alpha Ux Uy Uz Usx Usy Usz per cell), shifts by tracing the
 // solid velocity and proportional scaling (src/database/eulerian_frames.hpp).
 #include "cli/commands.hpp"
-#include "base/checked_options.hpp"
 #include "base/petsc_compat.hpp"
 
+#include "base/checked_options.hpp"
 #include "builders/eulerian/eulerian_frames.hpp"
 #include "builders/particles/snapshot_series.hpp"
 #include "rcfd/database.hpp"
@@ -47,12 +47,12 @@ PetscErrorCode readEulerianOptions(MPI_Comm comm, EulerianInput *in) {
   PetscCall(PetscOptionsString("-o", "Output database file", "", db, db, sizeof db, nullptr));
   PetscCall(checkedReal(PetscOptionsObject, "-dt_rec",
                         "Time between the frame files [s] (required)", &b.dtRec, kPositive, &setDt));
-  PetscCall(PetscOptionsIntArray("-mesh_cells", "Cells nx,ny,nz (default: from the cell centres)",
-                                 "", cells, &ncells, &setCells));
-  PetscCall(PetscOptionsRealArray("-mesh_lo", "Lower corner x,y,z [m] (default: from the centres)",
-                                  "", lo, &nlo, &setLo));
-  PetscCall(PetscOptionsRealArray("-mesh_hi", "Upper corner x,y,z [m] (default: from the centres)",
-                                  "", hi, &nhi, &setHi));
+  PetscCall(checkedIntArray(PetscOptionsObject, "-mesh_cells",
+                            "Cells nx,ny,nz (default: from the cell centres)", cells, &ncells, &setCells));
+  PetscCall(checkedRealArray(PetscOptionsObject, "-mesh_lo",
+                             "Lower corner x,y,z [m] (default: from the centres)", lo, &nlo, &setLo));
+  PetscCall(checkedRealArray(PetscOptionsObject, "-mesh_hi",
+                             "Upper corner x,y,z [m] (default: from the centres)", hi, &nhi, &setHi));
   PetscCall(checkedInt(PetscOptionsObject, "-tracers_per_cell",
                        "Tracers per occupied cell and frame", &tracers, 1, 1000000));
   PetscCall(checkedInt(PetscOptionsObject, "-tracer_seed",

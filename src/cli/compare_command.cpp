@@ -8,6 +8,7 @@
 #include "cli/commands.hpp"
 #include "base/petsc_compat.hpp"
 
+#include "base/checked_options.hpp"
 #include "analysis/bed_dynamics.hpp"
 #include "analysis/comparison.hpp"
 #include "analysis/halves_comparison.hpp"
@@ -25,7 +26,9 @@
 namespace rcfd::cli {
 namespace {
 
-constexpr int kMaxSeries = 16;
+// PETSc's array options stop silently at the array's size, so one more slot
+// than allowed is read and a full array is refused.
+constexpr int kMaxSeries = 1024;
 
 struct CompareOptions {
   std::string reference, output, scores, png, title;
@@ -42,10 +45,14 @@ std::string sibling(const std::string &path, const std::string &suffix) {
 
 PetscErrorCode readStrings(const char *name, const char *help, std::vector<std::string> *out, PetscBool *set,
                            PetscOptionItems *PetscOptionsObject) {
-  char *values[kMaxSeries] = {};
-  PetscInt n = kMaxSeries;
+  std::vector<char *> values(kMaxSeries + 1, nullptr);
+  PetscInt n = kMaxSeries + 1;
   PetscFunctionBeginUser;
-  PetscCall(PetscOptionsStringArray(name, help, "", values, &n, set));
+  PetscCall(PetscOptionsStringArray(name, help, "", values.data(), &n, set));
+  for (PetscInt i = kMaxSeries; i < (*set ? n : 0); ++i)
+    PetscCall(PetscFree(values[i]));
+  PetscCheck(!*set || n <= kMaxSeries, PetscOptionsObject->comm, PETSC_ERR_USER_INPUT,
+             "%s takes at most %d comma-separated entries", name, kMaxSeries);
   for (PetscInt i = 0; i < (*set ? n : 0); ++i) {
     out->emplace_back(values[i]);
     PetscCall(PetscFree(values[i]));
@@ -57,7 +64,9 @@ PetscErrorCode readCompareOptions(MPI_Comm comm, CompareOptions *o) {
   char ref[PETSC_MAX_PATH_LEN] = "", out[PETSC_MAX_PATH_LEN] = "", scores[PETSC_MAX_PATH_LEN] = "",
        png[PETSC_MAX_PATH_LEN] = "", title[256] = "";
   PetscInt nwindow = 2 * kMaxSeries;
-  PetscReal window[2 * kMaxSeries] = {0.5, 1.5};
+  std::vector<PetscReal> window(2 * kMaxSeries, 0.0);
+  window[0] = 0.5;
+  window[1] = 1.5;
   PetscBool setRef = PETSC_FALSE, setRuns = PETSC_FALSE, setLabels = PETSC_FALSE, setOut = PETSC_FALSE,
             setScores = PETSC_FALSE, setWindow = PETSC_FALSE, setPng = PETSC_FALSE, setDistance = PETSC_FALSE;
   PetscFunctionBeginUser;
@@ -72,8 +81,9 @@ PetscErrorCode readCompareOptions(MPI_Comm comm, CompareOptions *o) {
   PetscCall(PetscOptionsReal("-rcfd_time_offset",
                              "Added to the runs' times: the physical time of the database's frame 0 [s]",
                              "", o->offset, &o->offset, nullptr));
-  PetscCall(PetscOptionsRealArray("-score_window", "Windows t0,t1[,t0,t1...] [s] of the window means (Eq. 7)",
-                                  "", window, &nwindow, &setWindow));
+  PetscCall(checkedRealArray(PetscOptionsObject, "-score_window",
+                             "Windows t0,t1[,t0,t1...] [s] of the window means (Eq. 7)", window.data(),
+                             &nwindow, &setWindow));
   PetscCall(readStrings("-db_distance", "Two bed dynamics A,B (a database .h5, a cog.csv or bed_dynamics.csv): "
                         "Delta DB = |Delta z_CoG,A - Delta z_CoG,B| / Delta z_CoG,B", &o->distance, &setDistance,
                         PetscOptionsObject));

@@ -1,7 +1,7 @@
 #include "cli/particle_input.hpp"
-#include "base/checked_options.hpp"
 #include "base/petsc_compat.hpp"
 
+#include "base/checked_options.hpp"
 #include "cli/commands.hpp"
 
 #include <stdexcept>
@@ -63,19 +63,22 @@ PetscErrorCode readParticleInputOptions(MPI_Comm comm, ParticleInput *in) {
                                "", axis, axis, sizeof axis, nullptr));
   PetscCall(PetscOptionsInt("-gravity_sign", "-1: gravity points to -vertical_axis; +1: to +axis",
                             "", gravitySign, &gravitySign, nullptr));
-  PetscCall(PetscOptionsIntArray("-mesh_cells", "Cells nx,ny,nz of the box mesh", "", cells,
-                                 &ncells, &setCells));
+  PetscCall(checkedIntArray(PetscOptionsObject, "-mesh_cells", "Cells nx,ny,nz of the box mesh", cells, &ncells,
+                            &setCells));
   PetscCall(checkedReal(PetscOptionsObject, "-mesh_cell_size",
                         "Or the cell size [m] (counts rounded)", &cellSize, kPositive));
-  PetscCall(PetscOptionsRealArray("-mesh_lo", "Lower corner x,y,z [m, z up] (default: the first snapshot's box)",
-                                  "", lo, &nlo, &setLo));
-  PetscCall(PetscOptionsRealArray("-mesh_hi", "Upper corner x,y,z [m, z up] (default: the first snapshot's box)",
-                                  "", hi, &nhi, &setHi));
+  PetscCall(checkedRealArray(PetscOptionsObject, "-mesh_lo",
+                             "Lower corner x,y,z [m, z up] (default: the first snapshot's box)", lo, &nlo,
+                             &setLo));
+  PetscCall(checkedRealArray(PetscOptionsObject, "-mesh_hi",
+                             "Upper corner x,y,z [m, z up] (default: the first snapshot's box)", hi, &nhi,
+                             &setHi));
   PetscCall(checkedInt(PetscOptionsObject, "-frame_stride",
                        "Use every n-th snapshot (dt_rec = n * snapshot interval)",
                        &stride, 1, PETSC_MAX_INT));
-  PetscCall(PetscOptionsIntArray("-window", "First and last snapshot index to use, inclusive (last -1: to the end)",
-                                 "", window, &nwindow, &setWindow));
+  PetscCall(checkedIntArray(PetscOptionsObject, "-window",
+                            "First and last snapshot index to use, inclusive (last -1: to the end)", window,
+                            &nwindow, &setWindow));
   PetscCall(checkedReal(PetscOptionsObject, "-solid_density",
                         "Particle density [kg/m^3] for files without density or mass columns",
                         &in->solidDensity, {0.0, 1e6, false, true, "a positive density in kg/m^3"}));

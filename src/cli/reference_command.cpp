@@ -5,6 +5,7 @@
 #include "cli/commands.hpp"
 #include "base/petsc_compat.hpp"
 
+#include "base/checked_options.hpp"
 #include "cli/particle_input.hpp"
 #include "analysis/particle_reference.hpp"
 #include "base/collective.hpp"
@@ -37,12 +38,12 @@ PetscErrorCode readReferenceOptions(MPI_Comm comm, ReferenceOutputs *o) {
                     "rcfd");
   PetscCall(PetscOptionsString("-o", "Output directory (cog.csv, profiles.csv, halves.csv)", "", dir,
                                dir, sizeof dir, nullptr));
-  PetscCall(PetscOptionsRealArray("-average_window",
-                                  "Time window t0,t1 [s] of the profiles and halves (default: all)",
-                                  "", window, &nwindow, &setWindow));
-  PetscCall(PetscOptionsRealArray("-classes",
-                                  "Size class diameters [m] (default: clustered from the first snapshot)",
-                                  "", classes, &nclasses, &setClasses));
+  PetscCall(checkedRealArray(PetscOptionsObject, "-average_window",
+                             "Time window t0,t1 [s] of the profiles and halves (default: all)", window,
+                             &nwindow, &setWindow));
+  PetscCall(checkedRealArray(PetscOptionsObject, "-classes",
+                             "Size class diameters [m] (default: clustered from the first snapshot)", classes,
+                             &nclasses, &setClasses));
   PetscCall(PetscOptionsBool("-quiet", "No progress or summary", "", o->quiet, &o->quiet, nullptr));
   PetscOptionsEnd();
   PetscCheck(!setWindow || (nwindow == 2 && window[0] <= window[1]), comm, PETSC_ERR_USER_INPUT,

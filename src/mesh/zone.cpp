@@ -1,6 +1,7 @@
 #include "rcfd/zone.hpp"
 #include "base/petsc_compat.hpp"
 
+#include "base/checked_options.hpp"
 #include <algorithm>
 #include <cmath>
 #include <sstream>
@@ -174,8 +175,8 @@ PetscErrorCode ZoneSet::setFromOptions(MPI_Comm comm) {
       PetscReal values[8];
       PetscInt n = 8;
       PetscBool given = PETSC_FALSE;
-      PetscCall(PetscOptionsRealArray((std::string("-") + info.option).c_str(), info.meaning, "", values,
-                                      &n, &given));
+      PetscCall(checkedRealArray(PetscOptionsObject, (std::string("-") + info.option).c_str(), info.meaning,
+                                 values, &n, &given));
       if (!given) continue;
       ++found;
       zones.emplace_back(name, info.shape, std::vector<double>(values, values + n));

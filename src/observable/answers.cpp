@@ -2,6 +2,7 @@
 #include "observable/answers.hpp"
 #include "base/petsc_compat.hpp"
 
+#include "base/checked_options.hpp"
 #include "base/collective.hpp"
 
 #include <cmath>
@@ -49,7 +50,7 @@ PetscErrorCode windowOption(PetscOptionItems *PetscOptionsObject, MPI_Comm comm,
   PetscInt n = 2;
   PetscBool set = PETSC_FALSE;
   PetscFunctionBeginUser;
-  PetscCall(PetscOptionsRealArray(name, help, "", v, &n, &set));
+  PetscCall(checkedRealArray(PetscOptionsObject, name, help, v, &n, &set));
   if (!set) PetscFunctionReturn(PETSC_SUCCESS);
   PetscCheck(n == 2 && v[0] <= v[1] && v[0] >= 0, comm, PETSC_ERR_USER_INPUT,
              "%s takes two times t0,t1 in seconds with 0 <= t0 <= t1", name);
@@ -97,7 +98,8 @@ PetscErrorCode Answers::setFromOptions(MPI_Comm c) {
   PetscReal times[64] = {0.0};
   PetscInt nt = 64;
   PetscBool snapshots = PETSC_FALSE;
-  PetscCall(PetscOptionsRealArray("-snapshots_times", "Times [s] of mid-plane snapshots", "", times, &nt, &snapshots));
+  PetscCall(checkedRealArray(PetscOptionsObject, "-snapshots_times", "Times [s] of mid-plane snapshots", times,
+                             &nt, &snapshots));
   if (snapshots) snapshotTimes.assign(times, times + nt);
   PetscCheck(!snapshots || nt >= 1, comm, PETSC_ERR_USER_INPUT, "-snapshots_times needs at least one time in seconds");
   PetscOptionsEnd();

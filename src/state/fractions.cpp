@@ -1,6 +1,7 @@
 #include "rcfd/fractions.hpp"
 #include "base/petsc_compat.hpp"
 
+#include "base/checked_options.hpp"
 #include "base/collective.hpp"
 
 #include <algorithm>
@@ -56,11 +57,10 @@ PetscErrorCode FractionSet::fromOptions(MPI_Comm comm, FractionSet *set) {
   PetscBool setD = PETSC_FALSE, setW = PETSC_FALSE;
   PetscFunctionBeginUser;
   PetscOptionsBegin(comm, nullptr, "Particle-size fractions", "rcfd");
-  PetscCall(PetscOptionsRealArray("-fractions_diameters", "Diameter of each size fraction [m]", "",
-                                  dd, &nd, &setD));
-  PetscCall(PetscOptionsRealArray("-fractions_mass_shares",
-                                  "Share of the inventory's mass in each fraction (sums to 1)", "",
-                                  ww, &nw, &setW));
+  PetscCall(checkedRealArray(PetscOptionsObject, "-fractions_diameters", "Diameter of each size fraction [m]",
+                             dd, &nd, &setD));
+  PetscCall(checkedRealArray(PetscOptionsObject, "-fractions_mass_shares",
+                             "Share of the inventory's mass in each fraction (sums to 1)", ww, &nw, &setW));
   PetscOptionsEnd();
   PetscBool namedD = PETSC_FALSE, namedW = PETSC_FALSE;
   PetscCall(PetscOptionsHasName(nullptr, nullptr, "-fractions_diameters", &namedD));
