@@ -5,10 +5,12 @@
 #include "path/frame_path.hpp"
 #include "path/recurrence.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
+#include <numeric>
 #include <functional>
 #include <stdexcept>
 #include <string>
@@ -472,6 +474,101 @@ void testBadParameters() {
   RCFD_CHECK(throwsWith([&] { makeFramePath("random", K, R, z); }, "exceeds"));
 }
 
+/// How far the use of frames 1 ... K-1 (steps spent in each) is from uniform:
+/// the larger of largest / mean and mean / smallest, so 2 means "within a factor
+/// 2 of uniform" (issue 15).  Frame 0 is entered only at the start (every
+/// target is J + 1).
+double unevenness(const std::vector<Step> &steps, int K) {
+  std::vector<double> use(K, 0.0);
+  for (const auto &s : steps) use[s.frame] += 1.0;
+  const double mean = std::accumulate(use.begin() + 1, use.end(), 0.0) / (K - 1);
+  const auto [lo, hi] = std::minmax_element(use.begin() + 1, use.end());
+  return *lo > 0.0 ? std::max(*hi / mean, mean / *lo) : 1e300;
+}
+
+// The least-used rule (issue 15): every jump goes to the candidate whose next
+// minLength frames (cut at the last frame) the path has used least per frame
+// so far, checked by brute force for every kind; reproducible for a seed; its
+// counts are saved and restored; its frame use is more even than the uniform
+// draw's.
+void testLeastUsed() {
+  const int K = 200, n = 12, minLength = 4;
+  const auto R = makeMatrix(K, 12);
+  const auto byBand = [](int i, int j) { return std::abs(i - j) >= 20; }; // K / 10
+  const auto byQuarter = [K](int i, int j) { return 4 * j / K == (4 * i / K + 2) % 4; };
+  for (const char *kind : {"random", "markov", "quarter"}) {
+    PathParams q;
+    q.candidates = n;
+    q.minLength = minLength;
+    q.leastUsed = true;
+    q.seed = 5;
+    auto a = makeFramePath(kind, K, R, q);
+    const auto steps = run(*a, 20000);
+    const bool quarter = std::string(kind) == "quarter";
+    std::vector<std::uint64_t> use(K, 0);
+    ++use[steps[0].frame];
+    bool leastUsed = true, jumped = false;
+    for (std::size_t k = 1; k < steps.size(); ++k) {
+      if (steps[k].jump) {
+        jumped = true;
+        const int J = steps[k].frame - 1;
+        const auto best = quarter ? bestMatches(R, K, steps[k - 1].frame, n, byQuarter)
+                                  : bestMatches(R, K, steps[k - 1].frame, n, byBand);
+        const auto window = [&](int j, std::uint64_t &frames) {
+          const int last = std::min(j + minLength, K - 1);
+          std::uint64_t u = 0;
+          for (int f = j + 1; f <= last; ++f) u += use[f];
+          frames = static_cast<std::uint64_t>(last - j);
+          return u;
+        };
+        std::uint64_t fJ = 0, fc = 0;
+        const std::uint64_t uJ = window(J, fJ);
+        leastUsed = leastUsed && std::find(best.begin(), best.end(), J) != best.end();
+        for (int c : best) {
+          const std::uint64_t uc = window(c, fc);
+          leastUsed = leastUsed && uJ * fc <= uc * fJ; // mean use of J's window <= c's
+        }
+      }
+      ++use[steps[k].frame];
+    }
+    RCFD_CHECK(jumped && leastUsed);
+    auto b = makeFramePath(kind, K, R, q);
+    RCFD_CHECK(same(run(*b, 20000), steps));
+    RCFD_CHECK(b->describe().find("leastUsed") != std::string::npos);
+    // Restored mid-run with its counts, it continues identically.
+    auto c = makeFramePath(kind, K, R, q);
+    run(*c, 1234);
+    const auto state = c->saveState();
+    const auto cont = run(*c, 5000);
+    auto d = makeFramePath(kind, K, R, q);
+    d->restoreState(state);
+    RCFD_CHECK(same(run(*d, 5000), cont));
+    // The rule is part of the configuration: states do not cross between the rules.
+    PathParams uniform = q;
+    uniform.leastUsed = false;
+    RCFD_CHECK(throwsWith([&] { makeFramePath(kind, K, R, uniform)->restoreState(state); },
+                          "other parameters"));
+    RCFD_CHECK(throwsWith([&] { makeFramePath(kind, K, R, q)->restoreState(
+                                    makeFramePath(kind, K, R, uniform)->saveState()); },
+                          "other parameters"));
+    auto truncated = state;
+    truncated.pop_back();
+    RCFD_CHECK(throwsWith([&] { d->restoreState(truncated); }, "wrong size"));
+    if (quarter) continue;
+    // Over a long path, the frames are used far more evenly than with the uniform draw.
+    const double even = unevenness(steps, K),
+                 drawn = unevenness(run(*makeFramePath(kind, K, R, uniform), 20000), K);
+    std::printf("%s path, %d frames, 20000 steps: use of frames 1..K-1 within a factor %.2f of "
+                "uniform (least used), %.2f (uniform draw)\n", kind, K, even, drawn);
+    RCFD_CHECK(even < 2.0);
+    RCFD_CHECK(even < drawn);
+  }
+  // Replay has no jump targets to choose.
+  PathParams r;
+  r.leastUsed = true;
+  RCFD_CHECK(throwsWith([&] { makeFramePath("replay", K, {}, r); }, "leastUsed"));
+}
+
 } // namespace
 
 int main() {
@@ -484,6 +581,7 @@ int main() {
   testPeriodicDatabase();
   testSeeds();
   testSaveRestore();
+  testLeastUsed();
   testRecorded();
   testBadParameters();
   return RCFD_TEST_RESULT();

@@ -129,6 +129,7 @@ std::unique_ptr<FramePath> makeFramePath(const std::string &kind, int K,
   unused(p.band.has_value(), "band");
   unused(p.meanIntervalSteps.has_value(), "meanIntervalSteps");
   unused(p.candidates != 1, "candidates");
+  unused(p.leastUsed, "leastUsed");
   return newReplayPath(K, p.startFrame);
 }
 

@@ -43,6 +43,11 @@ struct PathParams {
   /// Stitching kinds: the jump target is drawn uniformly among the
   /// `candidates` best allowed matches; 1 (default) takes the best match.
   int candidates = 1;
+  /// Stitching kinds: jump to the least-used of the candidate targets J, by
+  /// the steps the path has spent so far in the frames J+1 ... J+minLength
+  /// that its next sequence starts with (ties drawn at random), so that frames
+  /// are used about equally often (issue 15).  false (default): uniform draw.
+  bool leastUsed = false;
 };
 
 /// Adds replay, random, markov, quarter and recorded to a registry.

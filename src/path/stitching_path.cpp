@@ -32,6 +32,7 @@ struct StitchingConfig {
   int minLength = 1, maxLength = 1, band = 0;
   double meanInterval = 0.0;
   int candidates = 1;
+  bool leastUsed = false; ///< jump to the least-used candidate (PathParams::leastUsed)
 };
 
 /// For every frame i, the `width` best allowed targets j (smallest R[i][j],
@@ -90,6 +91,7 @@ void configureStitching(const std::string &kind, int K, const std::vector<double
   c.seed = p.seed;
   c.start = p.startFrame;
   c.candidates = p.candidates;
+  c.leastUsed = p.leastUsed;
   if (p.candidates < 1)
     throw std::invalid_argument(pathParameterError(kind, "candidates must be at least 1, not " +
                                                      std::to_string(p.candidates)));
@@ -193,6 +195,7 @@ public:
       os << " maxLength=" << cfg_.maxLength;
     if (cfg_.ending == Ending::UniformLength) os << " band=" << cfg_.band;
     os << " candidates=" << cfg_.candidates;
+    if (cfg_.leastUsed) os << " leastUsed";
     return os.str();
   }
 
@@ -200,20 +203,18 @@ protected:
   int advance(bool &jump) override {
     if (frame() < 0) {
       beginSequence(cfg_.start);
-      return cfg_.start;
+      return counted(cfg_.start);
     }
     const int i = frame();
     if (sequenceEnds(i)) {
-      const int n = count_[i];
-      const int pick = n > 1 ? static_cast<int>(rng_.below(static_cast<std::uint64_t>(n))) : 0;
-      const int s = table_[static_cast<std::size_t>(i) * cfg_.candidates + pick] + 1;
+      const int s = (cfg_.leastUsed ? leastUsedTarget(i) : drawnTarget(i)) + 1;
       beginSequence(s);
       jump = true;
-      return s;
+      return counted(s);
     }
     // Within a sequence; sequenceEnds() guarantees i + 1 <= K - 1.
     ++used_;
-    return i + 1;
+    return counted(i + 1);
   }
 
   std::uint64_t fingerprint() const override {
@@ -224,6 +225,7 @@ protected:
     for (int v : {cfg_.start, cfg_.minLength, cfg_.maxLength, cfg_.band, cfg_.candidates})
       h.add(static_cast<std::uint64_t>(v));
     h.add(cfg_.meanInterval);
+    if (cfg_.leastUsed) h.add(std::string("leastUsed")); // absent: the hash of earlier versions
     for (int v : table_) h.add(static_cast<std::uint64_t>(v));
     return h.value();
   }
@@ -231,15 +233,17 @@ protected:
     out.push_back(static_cast<std::uint64_t>(length_));
     out.push_back(static_cast<std::uint64_t>(used_));
     for (std::uint64_t w : rng_.state()) out.push_back(w);
+    out.insert(out.end(), use_.begin(), use_.end()); // empty unless leastUsed
   }
   void restoreExtra(const std::uint64_t *d, std::size_t n) override {
     const auto K = static_cast<std::uint64_t>(numFrames());
-    if (n != 6 || d[0] > K || d[1] > K)
+    if (n != 6 + use_.size() || d[0] > K || d[1] > K)
       throw std::invalid_argument("restoreState: wrong size or values for a " + cfg_.kind +
                                   " path state");
     rng_.setState({d[2], d[3], d[4], d[5]});
     length_ = static_cast<int>(d[0]);
     used_ = static_cast<int>(d[1]);
+    std::copy(d + 6, d + n, use_.begin());
   }
 
 private:
@@ -252,6 +256,48 @@ private:
     configureStitching(kind, K, R, params_, cfg_, table_, count_);
     rng_ = Xoshiro256(cfg_.seed);
     jumpProbability_ = 1.0 / (1.0 + cfg_.meanInterval);
+    use_.assign(cfg_.leastUsed ? K : 0, 0);
+  }
+
+  /// Counts the step in frame f (leastUsed only) and returns f.
+  int counted(int f) {
+    if (!use_.empty()) ++use_[f];
+    return f;
+  }
+
+  /// Jump target J of a sequence ending at frame i: one of its best matches,
+  /// drawn uniformly.
+  int drawnTarget(int i) {
+    const int n = count_[i];
+    const int pick = n > 1 ? static_cast<int>(rng_.below(static_cast<std::uint64_t>(n))) : 0;
+    return table_[static_cast<std::size_t>(i) * cfg_.candidates + pick];
+  }
+
+  /// The best match J of frame i whose next frames J+1 ... J+minLength (the
+  /// ones the next sequence surely uses, up to the last frame) the path has
+  /// used least so far, per frame (a window cut at the last frame holds fewer
+  /// frames and must not look less used for it); ties drawn uniformly.
+  /// Integers only (means compared by cross-multiplication), so every rank
+  /// and platform picks the same target.
+  int leastUsedTarget(int i) {
+    const int n = count_[i], K = numFrames();
+    const int *row = table_.data() + static_cast<std::size_t>(i) * cfg_.candidates;
+    std::uint64_t fewest = 0, fewestFrames = 0; // the least mean use so far, as a fraction
+    ties_.clear();
+    for (int c = 0; c < n; ++c) {
+      const int last = std::min(row[c] + cfg_.minLength, K - 1);
+      std::uint64_t u = 0;
+      for (int f = row[c] + 1; f <= last; ++f) u += use_[f];
+      const auto frames = static_cast<std::uint64_t>(last - row[c]); // >= 1: J <= K - 2
+      if (ties_.empty() || u * fewestFrames < fewest * frames) {
+        fewest = u;
+        fewestFrames = frames;
+        ties_.clear();
+      }
+      if (u * fewestFrames == fewest * frames) ties_.push_back(row[c]);
+    }
+    const auto tied = static_cast<std::uint64_t>(ties_.size());
+    return tied > 1 ? ties_[rng_.below(tied)] : ties_.front();
   }
 
   void beginSequence(int s) {
@@ -291,6 +337,8 @@ private:
   double jumpProbability_ = 0.0;
   int length_ = 0; // planned length of the current sequence (not for markov)
   int used_ = 0;   // frames of the current sequence used so far
+  std::vector<std::uint64_t> use_; // leastUsed: steps spent in each frame so far
+  std::vector<int> ties_;          // leastUsed: scratch for the tied targets
 };
 
 
@@ -300,6 +348,7 @@ PetscErrorCode StitchingPath::setFromOptions(MPI_Comm comm) {
   PetscInt seed = static_cast<PetscInt>(params_.seed), start = params_.startFrame;
   PetscInt minLength = params_.minLength.value_or(-1), maxLength = params_.maxLength.value_or(-1);
   PetscInt band = params_.band.value_or(-1), candidates = params_.candidates;
+  PetscBool leastUsed = params_.leastUsed ? PETSC_TRUE : PETSC_FALSE;
   PetscReal meanInterval = params_.meanIntervalSteps.value_or(-1.0);
   char norm[32];
   PetscFunctionBeginUser;
@@ -326,6 +375,10 @@ PetscErrorCode StitchingPath::setFromOptions(MPI_Comm comm) {
                           "Mean extra steps before a jump (default: K/10)", &meanInterval, kNonNegative));
   PetscCall(PetscOptionsInt("-candidates", "Jump to one of this many best matches, at random", "",
                             candidates, &candidates, nullptr));
+  PetscCall(PetscOptionsBool("-least_used",
+                             "Jump to the candidate whose next frames the path has used least "
+                             "(evens out how often frames are used)",
+                             "", leastUsed, &leastUsed, nullptr));
   PetscCall(PetscOptionsString("-recurrence_norm", "Distance between frames: sqrDiff, euclidean, absDiff or max",
                                "", norm, norm, sizeof norm, nullptr));
   PetscOptionsEnd();
@@ -347,6 +400,7 @@ PetscErrorCode StitchingPath::setFromOptions(MPI_Comm comm) {
   if (band > 0) params_.band = static_cast<int>(band);
   if (meanInterval >= 0) params_.meanIntervalSteps = meanInterval;
   params_.candidates = static_cast<int>(candidates);
+  params_.leastUsed = leastUsed == PETSC_TRUE;
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
