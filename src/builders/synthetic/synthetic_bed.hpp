@@ -3,7 +3,8 @@
 // balance); it moves Lagrangian parcels with a prescribed velocity field so
 // that the frames look like a bubbling bed (rising voids, a free surface, an
 // empty freeboard, solids circulation) and the shift matrices are exact.
-// See docs/synthetic-bed.md for the construction and its limits.
+// See docs/synthetic-bed.md for the construction and its limits, and
+// docs/synthetic.md for other gas velocities and how stationary the bed is.
 #pragma once
 
 #include "rcfd/frames.hpp"
@@ -35,8 +36,8 @@ struct SyntheticBedOptions {
   // Bubbles: nucleation at the distributor, growth with height, rise, eruption.
   double nucleationRate = 2500.0; ///< new bubbles per second and m^2 of distributor
   /// steady: one bubble every 1 / (rate x area), into nucleationStrips strips of the
-  /// distributor along x in shuffled rounds (stationary bed); poisson: a Poisson
-  /// process at random places (the bed of earlier versions, with -warm_up 1: bit for bit).
+  /// distributor along x in shuffled rounds (a steadier bed, docs/synthetic.md);
+  /// poisson: a Poisson process at random places (earlier versions' bed, bit for bit).
   enum class Nucleation { steady, poisson } nucleation = Nucleation::steady;
   int nucleationStrips = 8;       ///< strips of the distributor along x for steady nucleation,
                                   ///< about as wide as a bubble (2.5 cm here)
