@@ -9,7 +9,8 @@
 #   bench/synth_conditions.sh [U...]        default: 0.9 1.1 1.3; "default" is the bed without the option
 #
 # Environment: RCFD (default build/rcfd), T_END (5), WORK (/tmp/rcfd-synth-conditions, removed
-# unless KEEP=1), SYNTH (extra rcfd synth options, e.g. "-synth_nucleation poisson").
+# unless KEEP=1), SYNTH (extra rcfd synth options; default "-synth_nucleation steady", the stationary bed;
+# SYNTH= gives the default Poisson bed).
 set -euo pipefail
 root=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 rcfd=${RCFD:-$root/build/rcfd}
@@ -27,7 +28,7 @@ for u in "$@"; do
   knob=()
   [ "$u" = default ] || knob=(-synth_superficial_velocity "$u")
   # shellcheck disable=SC2086
-  synth=$("$rcfd" synth -o "$db" "${knob[@]}" ${SYNTH:-} | grep -v '^  frame')
+  synth=$("$rcfd" synth -o "$db" "${knob[@]}" ${SYNTH-"-synth_nucleation steady"} | grep -v '^  frame')
   frames=$(echo "$synth" | sed -n 's/.*: \([0-9]*\) frames of.*/\1/p')
   dt=$(echo "$synth" | sed -n 's/.* every \([0-9.e-]*\) s;.*/\1/p')
   height=$(echo "$synth" | sed -n 's/.*mean bed height \([0-9.]*\) m.*/\1/p')

@@ -37,6 +37,7 @@ SyntheticBedOptions smallBed() {
   o.nucleationRate = 20000.0;
   o.warmUpTime = 0.3;
   o.nucleationStrips = 4; // strips about 1.25 cm wide, a bubble's size here
+  o.nucleation = SyntheticBedOptions::Nucleation::steady;
   return o;
 }
 

@@ -57,7 +57,7 @@ PetscErrorCode readSynthOptions(MPI_Comm comm, SyntheticBedOptions *o, std::stri
   PetscInt nucleation = static_cast<PetscInt>(o->nucleation);
   PetscCall(PetscOptionsEList("-synth_nucleation",
                               "Bubbles nucleate steadily over the distributor (stationary bed) or as a Poisson process"
-                              " (the default bed of earlier versions, bit for bit)",
+                              " (the default)",
                               "", nucleations, 2, nucleations[nucleation], &nucleation, nullptr));
   o->nucleation = static_cast<SyntheticBedOptions::Nucleation>(nucleation);
   PetscInt strips = o->nucleationStrips;

@@ -38,7 +38,7 @@ struct SyntheticBedOptions {
   /// steady: one bubble every 1 / (rate x area), into nucleationStrips strips of the
   /// distributor along x in shuffled rounds (a steadier bed, docs/synthetic.md);
   /// poisson: a Poisson process at random places (earlier versions' bed, bit for bit).
-  enum class Nucleation { steady, poisson } nucleation = Nucleation::steady;
+  enum class Nucleation { steady, poisson } nucleation = Nucleation::poisson;
   int nucleationStrips = 8;       ///< strips of the distributor along x for steady nucleation,
                                   ///< about as wide as a bubble (2.5 cm here)
   double initialDiameter = 0.015; ///< D0: size a new bubble opens to at the distributor
