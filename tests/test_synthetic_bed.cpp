@@ -1,9 +1,17 @@
 // Synthetic bed generator: exact shifts (column-stochastic, T_k alpha_k =
 // alpha_k+1), bounded alpha_s, conserved solid, an empty freeboard, rising
-// voids, determinism, and clear errors for bad options.
+// voids, determinism, and clear errors for bad options; the operating point
+// (two-phase scaling: more excess gas, more bubble volume) and stationarity
+// over the recorded span (halves, frame use of a random path).
 #include "check.hpp"
+#include "analysis/bed_dynamics.hpp"
 #include "builders/synthetic/synthetic_bed.hpp"
+#include "builders/synthetic/two_phase_scaling.hpp"
+#include "path/frame_path.hpp"
+#include "path/recurrence.hpp"
+#include "rcfd/path.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 #include <vector>
@@ -28,6 +36,8 @@ SyntheticBedOptions smallBed() {
   o.growthLength = 0.03;
   o.nucleationRate = 20000.0;
   o.warmUpTime = 0.3;
+  o.nucleationStrips = 4; // strips about 1.25 cm wide, a bubble's size here
+  o.nucleation = SyntheticBedOptions::Nucleation::steady;
   return o;
 }
 
@@ -78,8 +88,7 @@ bool hasVoidBelowSurface(const std::vector<double> &alpha, const rcfd::BoxSpec &
   return false;
 }
 
-void testFrames() {
-  const SyntheticBedOptions o = smallBed();
+void testFrames(const SyntheticBedOptions &o) {
   const rcfd::BoxSpec &b = o.box;
   const int n = b.numCells();
   const double cellVolume = b.spacing()[0] * b.spacing()[1] * b.spacing()[2];
@@ -150,6 +159,103 @@ void testDeterminism() {
   RCFD_CHECK(!sameFrames(first, generate(o, nullptr)));
 }
 
+void testTwoPhaseScaling() {
+  const rcfd::TwoPhaseScaling same = rcfd::twoPhaseScaling(1.0);
+  RCFD_CHECK(same.diameterFactor == 1.0 && same.nucleationFactor == 1.0 && same.holdUpFactor == 1.0);
+  SyntheticBedOptions o = smallBed();
+  rcfd::applyTwoPhaseScaling(same, &o);
+  RCFD_CHECK(o.initialDiameter == smallBed().initialDiameter && o.nucleationRate == smallBed().nucleationRate);
+  const double r = 1.764;
+  const rcfd::TwoPhaseScaling s = rcfd::twoPhaseScaling(r);
+  RCFD_CHECK_CLOSE(s.diameterFactor, std::pow(r, 0.4), 1e-14);   // Darton: D ~ (U - U_mf)^0.4
+  RCFD_CHECK_CLOSE(s.nucleationFactor, std::pow(r, -0.2), 1e-14); // bubble flow ~ U - U_mf
+  RCFD_CHECK_CLOSE(s.holdUpFactor, std::pow(r, 0.8), 1e-14);
+  rcfd::applyTwoPhaseScaling(s, &o);
+  const double flow = o.nucleationRate * std::pow(o.initialDiameter, 3.0);
+  const double flow0 = smallBed().nucleationRate * std::pow(smallBed().initialDiameter, 3.0);
+  RCFD_CHECK_CLOSE(flow / flow0, r, 1e-13);
+  for (double bad : {0.0, -1.0, std::nan(""), HUGE_VAL}) {
+    bool refused = false;
+    try {
+      rcfd::twoPhaseScaling(bad);
+    } catch (const std::invalid_argument &) {
+      refused = true;
+    }
+    RCFD_CHECK(refused);
+  }
+}
+
+/// The small bed at excess-gas ratio r (two-phase scaling), long enough for means.
+SyntheticBedOptions smallBedAt(double r, int frames) {
+  SyntheticBedOptions o = smallBed();
+  o.numFrames = frames;
+  o.warmUpTime = 1.0;
+  rcfd::applyTwoPhaseScaling(rcfd::twoPhaseScaling(r), &o);
+  return o;
+}
+
+// More excess gas, more bubble volume: the bed expands more and its centre of
+// gravity moves more.  Two-phase theory predicts the hold-up as (U - U_mf)^0.8;
+// the kinematic bed's expansion follows with an exponent of 0.6 (measured);
+// accepted: 0.4 to 1.2.  The frames stay exact at both points.
+void testExcessGas() {
+  rcfd::SyntheticBedReport low, high;
+  const SyntheticBedOptions lo = smallBedAt(0.3, 200), hi = smallBedAt(3.0, 200);
+  generate(lo, &low);
+  generate(hi, &high);
+  const double expansionLow = low.meanBedHeight / lo.bedHeight - 1.0;
+  const double expansionHigh = high.meanBedHeight / hi.bedHeight - 1.0;
+  RCFD_CHECK(expansionLow > 0.0 && expansionHigh > expansionLow);
+  const double exponent = std::log(expansionHigh / expansionLow) / std::log(3.0 / 0.3);
+  RCFD_CHECK(exponent > 0.4 && exponent < 1.2);
+  RCFD_CHECK(rcfd::bedDynamics(high.centreOfGravity) > 2.0 * rcfd::bedDynamics(low.centreOfGravity));
+  SyntheticBedOptions exact = smallBedAt(3.0, 20);
+  exact.warmUpTime = 0.3;
+  testFrames(exact);
+}
+
+double meanOf(const std::vector<double> &v, size_t first, size_t last) {
+  double sum = 0.0;
+  for (size_t k = first; k < last; ++k) sum += v[k];
+  return sum / static_cast<double>(last - first);
+}
+
+/// Largest over smallest number of steps a 12,000-step random path (today's
+/// rule, 4 candidates as in runs) spends in each quarter of the frames.
+double frameUseRatio(const std::vector<FrameRecord> &frames, std::uint64_t seed) {
+  std::vector<const double *> alpha;
+  for (const FrameRecord &f : frames) alpha.push_back(f.alphaS.data());
+  const std::vector<double> volume(frames[0].alphaS.size(), 1.0);
+  const std::vector<double> R =
+      rcfd::recurrenceMatrix(rcfd::RecurrenceNorm::SqrDiff, alpha, volume.data(), volume.size());
+  rcfd::PathParams params;
+  params.seed = seed;
+  params.candidates = 4;
+  const int K = static_cast<int>(frames.size());
+  auto path = rcfd::makeFramePath("random", K, R, params);
+  std::vector<int> use(4, 0);
+  for (int step = 0; step <= 12000; ++step) ++use[4 * path->next() / K];
+  return static_cast<double>(*std::max_element(use.begin(), use.end())) /
+         std::max(1, *std::min_element(use.begin(), use.end()));
+}
+
+// Stationary after the warm-up (issue 15's targets on a small bed): the mean
+// bed height of the two halves of the span within 2 %, and a random path's
+// frame use within a factor 2 of uniform.  (Delta z_CoG of the halves is not
+// asserted: over a span of a few bubble transit times it is a noisy estimate,
+// docs/synthetic.md.)
+void testStationarity() {
+  for (std::uint64_t seed : {1u, 2u}) {
+    SyntheticBedOptions o = smallBedAt(1.0, 400);
+    o.seed = seed;
+    rcfd::SyntheticBedReport report;
+    const std::vector<FrameRecord> frames = generate(o, &report);
+    const std::vector<double> &h = report.surfaceHeight;
+    RCFD_CHECK_CLOSE(meanOf(h, 0, 200) / meanOf(h, 200, 400), 1.0, 0.02);
+    RCFD_CHECK(frameUseRatio(frames, 1) <= 2.0);
+  }
+}
+
 template <class Change> bool rejects(Change change) {
   SyntheticBedOptions o = smallBed();
   change(o);
@@ -169,6 +275,7 @@ void testBadOptions() {
   RCFD_CHECK(rejects([](SyntheticBedOptions &o) { o.packing = 0.7; }));
   RCFD_CHECK(rejects([](SyntheticBedOptions &o) { o.maxDiameter = 0.005; }));  // below initial
   RCFD_CHECK(rejects([](SyntheticBedOptions &o) { o.wakeFraction = 0.6; }));
+  RCFD_CHECK(rejects([](SyntheticBedOptions &o) { o.nucleationStrips = 0; }));
   bool emptySink = false;
   try {
     rcfd::generateSyntheticBed(smallBed(), rcfd::FrameSink());
@@ -181,7 +288,15 @@ void testBadOptions() {
 } // namespace
 
 int main() {
-  testFrames();
+  testFrames(smallBed());
+  testFrames([] {
+    SyntheticBedOptions o = smallBed();
+    o.nucleation = SyntheticBedOptions::Nucleation::poisson;
+    return o;
+  }());
+  testTwoPhaseScaling();
+  testExcessGas();
+  testStationarity();
   testDeterminism();
   testBadOptions();
   return RCFD_TEST_RESULT();

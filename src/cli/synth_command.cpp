@@ -3,16 +3,30 @@
 #include "base/petsc_compat.hpp"
 
 #include "builders/synthetic/synthetic_bed.hpp"
+#include "builders/synthetic/two_phase_scaling.hpp"
+#include "analysis/bed_dynamics.hpp"
+#include "observable/min_fluidization.hpp"
 #include "rcfd/database.hpp"
 #include "base/collective.hpp"
 
+#include <cmath>
 #include <cstdio>
+#include <string>
 
 namespace rcfd::cli {
 namespace {
 
+/// The operating point that sets the bubbling (-synth_superficial_velocity,
+/// -synth_min_fluidization_velocity); unset: the default bed as it is.
+struct SynthOperatingPoint {
+  PetscReal superficialVelocity = kSyntheticReferenceVelocity;
+  PetscReal minFluidizationVelocity = NAN; // NaN: Wen & Yu at the reference inventory
+  PetscBool velocitySet = PETSC_FALSE, minFluidizationSet = PETSC_FALSE;
+  bool given() const { return velocitySet || minFluidizationSet; }
+};
+
 PetscErrorCode readSynthOptions(MPI_Comm comm, SyntheticBedOptions *o, std::string *path,
-                                PetscBool *quiet) {
+                                SynthOperatingPoint *point, PetscBool *quiet) {
   char text[PETSC_MAX_PATH_LEN] = "default-bed.h5";
   PetscInt cells[3] = {o->box.nx, o->box.ny, o->box.nz}, ncells = 3;
   PetscReal length[3] = {o->box.length[0], o->box.length[1], o->box.length[2]};
@@ -39,8 +53,28 @@ PetscErrorCode readSynthOptions(MPI_Comm comm, SyntheticBedOptions *o, std::stri
                         "Bubbles per second and m^2 of distributor", &o->nucleationRate, kNonNegative));
   PetscCall(checkedReal(PetscOptionsObject, "-synth_max_diameter",
                         "Largest bubble diameter [m]", &o->maxDiameter, kPositive));
+  const char *const nucleations[] = {"steady", "poisson"};
+  PetscInt nucleation = static_cast<PetscInt>(o->nucleation);
+  PetscCall(PetscOptionsEList("-synth_nucleation",
+                              "Bubbles nucleate steadily over the distributor (stationary bed) or as a Poisson process"
+                              " (the default)",
+                              "", nucleations, 2, nucleations[nucleation], &nucleation, nullptr));
+  o->nucleation = static_cast<SyntheticBedOptions::Nucleation>(nucleation);
+  PetscInt strips = o->nucleationStrips;
+  PetscCall(checkedInt(PetscOptionsObject, "-synth_nucleation_strips",
+                       "Strips of the distributor along x that steady nucleation visits in shuffled rounds"
+                       " (about a bubble wide)", &strips, 1, 1000));
+  o->nucleationStrips = static_cast<int>(strips);
   PetscCall(checkedReal(PetscOptionsObject, "-synth_warm_up",
                         "Simulated time before frame 0 [s]", &o->warmUpTime, kNonNegative));
+  PetscCall(checkedReal(PetscOptionsObject, "-synth_superficial_velocity",
+                        "Superficial gas velocity U [m/s]: sets bubble sizes and nucleation by two-phase theory"
+                        " (docs/synthetic.md; not given: the default bed, which stands for 1.1 m/s)",
+                        &point->superficialVelocity, kPositive, &point->velocitySet));
+  PetscCall(checkedReal(PetscOptionsObject, "-synth_min_fluidization_velocity",
+                        "Minimum fluidization velocity U_mf [m/s] (nan: Wen & Yu at d32 = 2.026 mm,"
+                        " the bi-wide inventory, with -gas_density and -gas_kinematic_viscosity)",
+                        &point->minFluidizationVelocity, kPositive, &point->minFluidizationSet));
   PetscCall(PetscOptionsBool("-quiet", "No report", "", *quiet, quiet, nullptr));
   PetscOptionsEnd();
   PetscCheck((!setCells || ncells == 3) && (!setLength || nlength == 3), comm, PETSC_ERR_USER_INPUT,
@@ -61,20 +95,92 @@ PetscErrorCode readSynthOptions(MPI_Comm comm, SyntheticBedOptions *o, std::stri
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
+/// u_mf by Wen & Yu (1966), the answers' default correlation, of the inventory
+/// the default bed stands for, in `gas`.
+double referenceMinFluidization(const GasProperties &gas, double solidDensity, double gravity) {
+  return minFluidizationVelocity(findUmfCorrelation("wen-yu"), kSyntheticReferenceSauterDiameter,
+                                 solidDensity, gas, gravity);
+}
+
+/// Scales the bed's bubbles to the operating point (two_phase_scaling.hpp),
+/// records u_sup in `conditions` and describes the point in `note`.  The
+/// excess gas of the default bed is U_ref - U_mf of the reference inventory in
+/// the default gas, so that -synth_superficial_velocity 1.1 alone is the
+/// default bed, bit for bit.
+PetscErrorCode applyOperatingPoint(MPI_Comm comm, SynthOperatingPoint point, OperatingConditions *conditions,
+                                   SyntheticBedOptions *o, std::string *note) {
+  PetscFunctionBeginUser;
+  const double solidDensity = DatabaseMetadata{}.solidDensity;
+  GasProperties gas;
+  if (std::isfinite(conditions->gasDensity)) gas.density = conditions->gasDensity;
+  if (std::isfinite(conditions->gasKinematicViscosity)) gas.kinematicViscosity = conditions->gasKinematicViscosity;
+  PetscCheck(gas.density < solidDensity, comm, PETSC_ERR_USER_INPUT,
+             "-gas_density %g kg/m^3 must be below the solid density %g kg/m^3", gas.density,
+             solidDensity);
+  const double referenceExcess =
+      kSyntheticReferenceVelocity - referenceMinFluidization(GasProperties{}, solidDensity, o->gravity);
+  const bool derived = !point.minFluidizationSet;
+  if (derived) point.minFluidizationVelocity = referenceMinFluidization(gas, solidDensity, o->gravity);
+  const double U = point.superficialVelocity, Umf = point.minFluidizationVelocity;
+  PetscCheck(U > Umf, comm, PETSC_ERR_USER_INPUT,
+             "-synth_superficial_velocity %g m/s must exceed the minimum fluidization velocity"
+             " %g m/s (%s): below it the bed does not bubble",
+             U, Umf, derived ? "Wen & Yu at d32 = 2.026 mm; -synth_min_fluidization_velocity sets it"
+                             : "-synth_min_fluidization_velocity");
+  PetscCheck(!std::isfinite(conditions->superficialVelocity) || conditions->superficialVelocity == U, comm,
+             PETSC_ERR_USER_INPUT,
+             "-superficial_velocity %g m/s and -synth_superficial_velocity %g m/s disagree; give one",
+             conditions->superficialVelocity, U);
+  const TwoPhaseScaling scaling = twoPhaseScaling((U - Umf) / referenceExcess);
+  applyTwoPhaseScaling(scaling, o);
+  conditions->superficialVelocity = U;
+  char text[512];
+  std::snprintf(text, sizeof text,
+                "u_sup = %g m/s, u_mf = %.4g m/s (%s); excess gas %.4g times the default bed's (%.4g m/s):"
+                " bubble diameters x%.4f, nucleation rate x%.4f, bubble hold-up predicted x%.4f",
+                U, Umf, derived ? "Wen & Yu (1966) at d32 = 2.026 mm" : "given", scaling.excessRatio,
+                referenceExcess, scaling.diameterFactor, scaling.nucleationFactor, scaling.holdUpFactor);
+  *note = text;
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/// Mean of v[first, last).
+double meanOf(const std::vector<double> &v, size_t first, size_t last) {
+  double sum = 0.0;
+  for (size_t k = first; k < last; ++k) sum += v[k];
+  return sum / static_cast<double>(last - first);
+}
+
+/// Whether the span is statistically stationary, as its two halves see it
+/// (docs/synthetic.md): mean bed height and Delta z_CoG of each half.
+void printHalves(MPI_Comm comm, const SyntheticBedReport &report) {
+  const size_t n = report.surfaceHeight.size(), half = n / 2;
+  if (half < 1) return;
+  const std::vector<double> &z = report.centreOfGravity;
+  const double h1 = meanOf(report.surfaceHeight, 0, half), h2 = meanOf(report.surfaceHeight, half, n);
+  const double d1 = bedDynamics({z.begin(), z.begin() + half}), d2 = bedDynamics({z.begin() + half, z.end()});
+  PetscCallVoid(PetscPrintf(comm,
+                            "Halves of the span: mean bed height %.4f / %.4f m (%+.1f %%), Delta z_CoG %.3f / %.3f mm"
+                            " (%+.1f %%)\n",
+                            h1, h2, 100.0 * (h2 / h1 - 1.0), 1e3 * d1, 1e3 * d2, 100.0 * (d2 / d1 - 1.0)));
+}
+
 } // namespace
 
 PetscErrorCode synthCommand(MPI_Comm comm) {
   SyntheticBedOptions options;
-  std::string path;
+  SynthOperatingPoint point;
+  std::string path, pointNote;
   PetscBool quiet = PETSC_FALSE;
   PetscMPIInt rank;
   PetscFunctionBeginUser;
   PetscCallMPI(MPI_Comm_rank(comm, &rank));
-  PetscCall(readSynthOptions(comm, &options, &path, &quiet));
+  PetscCall(readSynthOptions(comm, &options, &path, &point, &quiet));
   OperatingConditions conditions; // recorded in the file when given (format version 2)
   PetscCall(OperatingConditions::fromOptions(comm, &conditions));
   if (helpRequested()) PetscFunctionReturn(PETSC_SUCCESS);
   PetscCall(rejectUnusedOptions(comm, "synth"));
+  if (point.given()) PetscCall(applyOperatingPoint(comm, point, &conditions, &options, &pointNote));
   PetscCall(collectively(comm, [&] { validateSyntheticBedOptions(options); }, PETSC_ERR_USER_INPUT));
 
   // The generator is serial: rank 0 makes and writes the file, the others wait.
@@ -87,7 +193,13 @@ PetscErrorCode synthCommand(MPI_Comm comm) {
     meta.conditions = conditions;
     meta.source = "rcfd synth: kinematic stand-in for a bubbling bed (not physics), seed " +
                   std::to_string(options.seed);
+    if (!pointNote.empty()) { // the conditions, for humans (the number is in the metadata)
+      char at[64];
+      std::snprintf(at, sizeof at, ", at u_sup = %g m/s", conditions.superficialVelocity);
+      meta.source += at;
+    }
     DatabaseWriter writer(path, Mesh::box(options.box), meta);
+    if (!pointNote.empty()) writer.setNote("synth_operating_point", pointNote);
     report = generateSyntheticBed(options, [&](const FrameRecord &frame) {
       writer.append(frame);
       if (!quiet && (writer.numFrames() % 50 == 0 || writer.numFrames() == options.numFrames))
@@ -95,6 +207,7 @@ PetscErrorCode synthCommand(MPI_Comm comm) {
     });
     writer.finish();
   }));
+  if (!quiet && !pointNote.empty()) PetscCall(PetscPrintf(comm, "Operating point: %s\n", pointNote.c_str()));
   if (!quiet)
     PetscCall(PetscPrintf(comm,
                           "Wrote %s: %d frames of %d cells every %g s; %ld parcels, largest alpha_s %.3f,"
@@ -102,6 +215,7 @@ PetscErrorCode synthCommand(MPI_Comm comm) {
                           path.c_str(), options.numFrames, options.box.numCells(), options.dtRec,
                           report.parcels, report.maxAlpha, report.meanBedHeight,
                           report.bubblesErupted, 100 * report.wrapMismatchRelative));
+  if (!quiet) printHalves(comm, report); // rank 0 made the report; PetscPrintf prints rank 0's
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 

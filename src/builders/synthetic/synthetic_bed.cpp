@@ -31,6 +31,7 @@
 #include "base/random.hpp"
 
 #include <algorithm>
+#include <numeric>
 #include <array>
 #include <cmath>
 #include <stdexcept>
@@ -136,6 +137,7 @@ public:
 
 private:
   void nucleate(double dt);
+  void openBubble(double u, double v);
   void moveBubbles(double dt);
   void mergeBubbles();
   void buildDipoles();
@@ -198,6 +200,12 @@ private:
   std::vector<int32_t> slot_, id_;
   std::vector<uint8_t> airborne_, pulled_;
   long substeps_ = 0;
+  // Steady nucleation: bubbles still due (a bubble when it drops to 0), and
+  // the strips of the distributor in this round's order.
+  double nucleationDue_ = 0.0;
+  bool nucleationStarted_ = false;
+  std::vector<int> stripOrder_;
+  int stripCursor_ = 0;
   // Parcels grouped by column: dense in slot order, then airborne.
   std::vector<int32_t> order_, colStart_, denseEnd_, top_;
   std::vector<Bubble> bubbles_;
@@ -237,6 +245,8 @@ SyntheticBed::SyntheticBed(const SyntheticBedOptions &options) : opt_(options), 
   invHy_ = ny_ / ly_;
   slotHeight_ = hz_ / ppc_;
   wakeLevel_ = levelBelowShare(opt_.wakeFraction);
+  stripOrder_.resize(opt_.nucleationStrips);
+  std::iota(stripOrder_.begin(), stripOrder_.end(), 0);
   bx_ = (nx_ + 1) / 2;
   by_ = (ny_ + 1) / 2;
   // Coalescence may not grow a bubble beyond half the wider side of the bed.
@@ -292,27 +302,58 @@ void SyntheticBed::advance(double dt) {
   ++substeps_;
 }
 
-// Nucleation is a Poisson process, sampled as several Bernoulli trials per
-// substep (no logarithms, so no libm dependence).
+// Bubbles nucleate steadily (the default; two-phase theory: the excess gas
+// flows into bubbles at a steady rate, so the bubble flow at the distributor
+// has no Poisson shot noise, which made the bed height wander over the
+// recorded span, docs/synthetic.md), or as a Poisson process sampled as
+// several Bernoulli trials per substep (the bed before; no logarithms, so no
+// libm dependence).
 void SyntheticBed::nucleate(double dt) {
   const double expected = opt_.nucleationRate * lx_ * ly_ * dt;
-  const int trials = std::max(1, static_cast<int>(std::ceil(expected / 0.05)));
-  const double p = expected / trials;
-  const double r = 0.5 * opt_.initialDiameter;
-  for (int t = 0; t < trials; ++t) {
-    if (!(rng_.uniform() < p)) continue;
-    const double mx = centreMargin(r, lx_, hx_), my = centreMargin(r, ly_, hy_);
-    Bubble b;
-    b.x = mx + rng_.uniform() * (lx_ - 2.0 * mx);
-    b.y = my + rng_.uniform() * (ly_ - 2.0 * my);
-    b.z = r; // resting on the distributor
-    // The void opens gradually (see moveBubbles), so the bed above is lifted
-    // smoothly rather than by a whole bubble at once.
-    b.diameter = 0.3 * opt_.initialDiameter;
-    b.target = opt_.initialDiameter;
-    bubbles_.push_back(b);
-    ++nucleated;
+  if (opt_.nucleation == SyntheticBedOptions::Nucleation::poisson) {
+    const int trials = std::max(1, static_cast<int>(std::ceil(expected / 0.05)));
+    const double p = expected / trials;
+    for (int t = 0; t < trials; ++t)
+      if (rng_.uniform() < p) {
+        const double u = rng_.uniform(); // x before y (argument order is unspecified)
+        openBubble(u, rng_.uniform());
+      }
+    return;
   }
+  // Steady: a bubble each time the released gas has reached one more bubble
+  // (the first after a random share of the interval, so that seeds differ in
+  // phase), into the strips of the distributor along x in a fresh random
+  // order every round.
+  if (!nucleationStarted_) {
+    nucleationDue_ = rng_.uniform();
+    nucleationStarted_ = true;
+  }
+  nucleationDue_ -= expected;
+  for (; nucleationDue_ <= 0.0; nucleationDue_ += 1.0) {
+    if (stripCursor_ == 0) // Fisher-Yates shuffle of the strips
+      for (int z = opt_.nucleationStrips - 1; z > 0; --z)
+        std::swap(stripOrder_[z], stripOrder_[std::min(z, static_cast<int>(rng_.uniform() * (z + 1)))]);
+    const double u = (stripOrder_[stripCursor_] + rng_.uniform()) / opt_.nucleationStrips;
+    stripCursor_ = (stripCursor_ + 1) % opt_.nucleationStrips;
+    openBubble(u, rng_.uniform());
+  }
+}
+
+// A new bubble at the distributor, at the shares (u, v) of the allowed centre
+// range in x and y.
+void SyntheticBed::openBubble(double u, double v) {
+  const double r = 0.5 * opt_.initialDiameter;
+  const double mx = centreMargin(r, lx_, hx_), my = centreMargin(r, ly_, hy_);
+  Bubble b;
+  b.x = mx + u * (lx_ - 2.0 * mx);
+  b.y = my + v * (ly_ - 2.0 * my);
+  b.z = r; // resting on the distributor
+  // The void opens gradually (see moveBubbles), so the bed above is lifted
+  // smoothly rather than by a whole bubble at once.
+  b.diameter = 0.3 * opt_.initialDiameter;
+  b.target = opt_.initialDiameter;
+  bubbles_.push_back(b);
+  ++nucleated;
 }
 
 void SyntheticBed::moveBubbles(double dt) {
@@ -1153,6 +1194,15 @@ private:
   std::vector<std::array<int, 3>> ijk_;
 };
 
+/// Height of the solid's centre of gravity [m] from the parcels' cells (all
+/// parcels have the same volume; heights are cell centres, as for alpha_s).
+double centreOfGravity(const BoxSpec &box, const std::vector<int32_t> &cells) {
+  const int perLayer = box.nx * box.ny;
+  double sum = 0.0;
+  for (int32_t c : cells) sum += c / perLayer + 0.5;
+  return sum / static_cast<double>(cells.size()) * box.spacing()[2];
+}
+
 void require(bool ok, const std::string &sentence) {
   if (!ok) throw std::invalid_argument("synthetic bed: " + sentence);
 }
@@ -1186,6 +1236,8 @@ void validateSyntheticBedOptions(const SyntheticBedOptions &o) {
   require(o.surfaceDiffusivity >= 0.0, "surfaceDiffusivity must not be negative.");
   require(o.nucleationRate >= 0.0 && std::isfinite(o.nucleationRate),
           "nucleationRate must not be negative.");
+  require(o.nucleationStrips >= 1 && o.nucleationStrips <= 1000,
+          "nucleationStrips must be between 1 and 1000.");
   require(o.initialDiameter > 0.0, "initialDiameter must be positive.");
   require(o.maxDiameter >= o.initialDiameter, "maxDiameter must not be below initialDiameter.");
   require(o.initialDiameter < std::min(box.length[0], box.length[2]),
@@ -1230,8 +1282,12 @@ SyntheticBedReport generateSyntheticBed(const SyntheticBedOptions &options, cons
   FrameRecord frame;
   frame.alphaS = alpha0;
   double heightSum = 0.0;
+  report.surfaceHeight.reserve(options.numFrames);
+  report.centreOfGravity.reserve(options.numFrames);
   for (int k = 0; k < options.numFrames; ++k) {
     heightSum += bed.meanSurfaceHeight();
+    report.surfaceHeight.push_back(bed.meanSurfaceHeight());
+    report.centreOfGravity.push_back(centreOfGravity(box, cells));
     for (int s = 0; s < substeps; ++s) bed.advance(dt);
     bed.cellsOf(next);
     frame.shift = shiftBetween(numCells, cells, next);

@@ -3,7 +3,8 @@
 // balance); it moves Lagrangian parcels with a prescribed velocity field so
 // that the frames look like a bubbling bed (rising voids, a free surface, an
 // empty freeboard, solids circulation) and the shift matrices are exact.
-// See docs/synthetic-bed.md for the construction and its limits.
+// See docs/synthetic-bed.md for the construction and its limits, and
+// docs/synthetic.md for other gas velocities and how stationary the bed is.
 #pragma once
 
 #include "rcfd/frames.hpp"
@@ -11,6 +12,7 @@
 #include "base/constants.hpp"
 
 #include <cstdint>
+#include <vector>
 
 namespace rcfd {
 
@@ -33,6 +35,12 @@ struct SyntheticBedOptions {
 
   // Bubbles: nucleation at the distributor, growth with height, rise, eruption.
   double nucleationRate = 2500.0; ///< new bubbles per second and m^2 of distributor
+  /// steady: one bubble every 1 / (rate x area), into nucleationStrips strips of the
+  /// distributor along x in shuffled rounds (a steadier bed, docs/synthetic.md);
+  /// poisson: a Poisson process at random places (earlier versions' bed, bit for bit).
+  enum class Nucleation { steady, poisson } nucleation = Nucleation::poisson;
+  int nucleationStrips = 8;       ///< strips of the distributor along x for steady nucleation,
+                                  ///< about as wide as a bubble (2.5 cm here)
   double initialDiameter = 0.015; ///< D0: size a new bubble opens to at the distributor
   double maxDiameter = 0.05;      ///< asymptote of the growth law D(h) = D0 + (Dmax - D0) h / (h + L);
                                   ///< coalescence may exceed it, up to half the wider bed side
@@ -61,6 +69,9 @@ struct SyntheticBedReport {
   int maxCellJump = 0;        ///< largest per-axis cell distance travelled by a parcel in one dtRec
   double wrapMismatchL1 = 0.0;       ///< sum_c |alpha_K - alpha_0| V_c [m^3]
   double wrapMismatchRelative = 0.0; ///< wrapMismatchL1 / solidVolume
+  /// Per recorded frame k (state t_k): the column-averaged surface height and
+  /// the solid's centre of gravity height [m], for stationarity checks.
+  std::vector<double> surfaceHeight, centreOfGravity;
 };
 
 /// Throws std::invalid_argument with a sentence naming the first bad option.
