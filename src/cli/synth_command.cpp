@@ -36,9 +36,9 @@ PetscErrorCode readSynthOptions(MPI_Comm comm, SyntheticBedOptions *o, std::stri
   PetscFunctionBeginUser;
   PetscOptionsBegin(comm, nullptr, "rcfd synth: the embedded default database", "rcfd");
   PetscCall(PetscOptionsString("-o", "Output database file", "", text, text, sizeof text, nullptr));
-  PetscCall(PetscOptionsIntArray("-synth_cells", "Cells nx,ny,nz", "", cells, &ncells, &setCells));
-  PetscCall(PetscOptionsRealArray("-synth_length", "Box size lx,ly,lz [m]", "", length, &nlength,
-                                  &setLength));
+  PetscCall(checkedIntArray(PetscOptionsObject, "-synth_cells", "Cells nx,ny,nz", cells, &ncells, &setCells));
+  PetscCall(checkedRealArray(PetscOptionsObject, "-synth_length", "Box size lx,ly,lz [m]", length, &nlength,
+                             &setLength));
   PetscCall(checkedInt(PetscOptionsObject, "-synth_frames", "Number of frames K", &frames, 1, 10000000));
   PetscCall(checkedReal(PetscOptionsObject, "-synth_dt",
                         "Time between frames dt_rec [s]", &o->dtRec, kPositive));
