@@ -266,19 +266,22 @@ PetscErrorCode Run::Impl::callMonitors(long step, double time, int frame, bool l
 }
 
 // Under -stop_at_steady: whether a detector due at this step (any detector:
-// `anyDue`) finds its criterion met; one reduction, so every rank agrees.
+// `anyDue`) finds its criterion met; one reduction where one was asked, so
+// every rank agrees.
 PetscErrorCode Run::Impl::steadyAt(long step, double time, int frame, bool anyDue, bool *steady) {
   PetscFunctionBeginUser;
   const RunContext ctx = context();
   const MonitorContext m{step, time, frame, false, fstate, ctx, outputDir};
   int met = 0;
+  bool asked = false; // the same on every rank: no reduction at the steps no detector is due
   for (auto &e : monitors)
     if (e.monitor->detectsSteadyState() && (anyDue || (e.every > 0 && step % e.every == 0))) {
       bool found = false;
       PetscCall(e.monitor->steadyAt(m, &found));
       met |= found;
+      asked = true;
     }
-  PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, &met, 1, MPI_INT, MPI_LOR, comm));
+  if (asked) PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, &met, 1, MPI_INT, MPI_LOR, comm));
   *steady = met;
   PetscFunctionReturn(PETSC_SUCCESS);
 }
