@@ -70,6 +70,8 @@ for np in 1 2; do
   run "stopped np$np" mpiexec -n $np "$rcfd" run "${steady[@]}" -checkpoint_every 1 -output_dir "$work/stop$np" || continue
   stopped=$(grep -o "Stopped at t = [0-9.]* s (step [0-9]*)" "$work/out.txt")
   [ "$stopped" = "Stopped at t = 4.4 s (step 880)" ] && ok || fail "np$np: expected to stop at t = 4.4 s (step 880), got '$stopped'"
+  # The monitors had their final call there (the product's summary line).
+  grep -q "granulator: product steady from t = 4.4 s" "$work/out.txt" && ok || fail "np$np: no final call of the product monitor at the stop"
   # The stop is the detector's row: product.csv ends there steady, cog.csv and mass_account.csv have their final row.
   tail -1 "$work/stop$np/product.csv" | awk -F, '{ exit !($1 == 4.4 && $NF == 1 && $(NF - 1) <= 0.03) }' && ok ||
     fail "np$np: product.csv does not end with the steady row at 4.4 s: $(tail -1 "$work/stop$np/product.csv")"
