@@ -6,6 +6,9 @@
 # - 1 and 2 ranks give the same files within round-off;
 # - the per-class balance closes in every row of mass_account.csv;
 # - a case without the granulation operators writes none of their files;
+# - -stop_at_steady ends the run at the detector's step, the same at 1 and 2 ranks, with the
+#   final rows and a checkpoint; a restart from before the stop stops there with the same files;
+#   one from the stop has nothing to do (or continues without -stop_at_steady);
 # - a zone that is not defined, or holds no solid in any frame, is refused with one sentence.
 # usage: test_granulation_run.sh RCFD CSV_COMPARE DATA_DIR SOURCE_DIR
 set -u
@@ -58,7 +61,48 @@ for f in product mass_account steady_state; do
   [ ! -e "$work/plain/$f.csv" ] && ok || fail "a run without granulation wrote $f.csv"
 done
 
+# -stop_at_steady: tau ~ 1 s (2 kg/s through a ~2 kg bed), rows every 0.1 s; the criterion is met at
+# t = 4.4 s with a tolerance of 0.03, long before -t_end 8.
+steady=("${chamber[@]}" -feed_rate 2 -discharge_rate 2 -discharge_sample_interval 0.1
+  -discharge_steady_tolerance 0.03 -stop_at_steady -t_end 8)
+steady=("${steady[@]/-quiet/}")
+for np in 1 2; do
+  run "stopped np$np" mpiexec -n $np "$rcfd" run "${steady[@]}" -checkpoint_every 1 -output_dir "$work/stop$np" || continue
+  stopped=$(grep -o "Stopped at t = [0-9.]* s (step [0-9]*)" "$work/out.txt")
+  [ "$stopped" = "Stopped at t = 4.4 s (step 880)" ] && ok || fail "np$np: expected to stop at t = 4.4 s (step 880), got '$stopped'"
+  # The monitors had their final call there (the product's summary line).
+  grep -q "granulator: product steady from t = 4.4 s" "$work/out.txt" && ok || fail "np$np: no final call of the product monitor at the stop"
+  # The stop is the detector's row: product.csv ends there steady, cog.csv and mass_account.csv have their final row.
+  tail -1 "$work/stop$np/product.csv" | awk -F, '{ exit !($1 == 4.4 && $NF == 1 && $(NF - 1) <= 0.03) }' && ok ||
+    fail "np$np: product.csv does not end with the steady row at 4.4 s: $(tail -1 "$work/stop$np/product.csv")"
+  for f in cog mass_account; do
+    [ "$(tail -1 "$work/stop$np/$f.csv" | cut -d, -f1)" = 4.4 ] && ok || fail "np$np: $f.csv does not end at 4.4 s"
+  done
+  same "np$np steady_state.csv steady and end times" "$(tail -1 "$work/stop$np/steady_state.csv" | cut -d, -f3,4 | tr , ' ')" "4.4 4.4"
+  # From a checkpoint before the stop: it stops at the same step with the same files.
+  run "before the stop np$np" mpiexec -n $np "$rcfd" run "${steady[@]}" -t_end 3 -checkpoint_every 3 \
+    -output_dir "$work/early$np" &&
+    run "restart, stops np$np" mpiexec -n $np "$rcfd" run "${steady[@]}" -restart "$work/early$np/checkpoint.h5" \
+      -output_dir "$work/late$np" || continue
+  for f in product mass_account cog steady_state; do
+    cmp -s "$work/stop$np/$f.csv" "$work/late$np/$f.csv" && ok || fail "np$np: restarted before the stop, $f.csv differs"
+  done
+  # From the stop's checkpoint: nothing to do, the files stay; without -stop_at_steady it goes on.
+  run "restart at the stop np$np" mpiexec -n $np "$rcfd" run "${steady[@]}" -restart "$work/stop$np/checkpoint.h5" \
+    -output_dir "$work/again$np" &&
+    grep -q "Steady already at the checkpoint's t = 4.4 s" "$work/out.txt" && ok || fail "np$np: restart at the stop: $(cat "$work/out.txt")"
+  cmp -s "$work/stop$np/product.csv" "$work/again$np/product.csv" && ok || fail "np$np: restart at the stop changed product.csv"
+  run "continue np$np" mpiexec -n $np "$rcfd" run "${steady[@]/-stop_at_steady/}" -t_end 5 \
+    -restart "$work/stop$np/checkpoint.h5" -output_dir "$work/on$np" &&
+    [ "$(tail -1 "$work/on$np/product.csv" | cut -d, -f1)" = 5 ] && ok || fail "np$np: a restart without -stop_at_steady did not go on to 5 s"
+done
+for f in product mass_account cog; do
+  "$compare" "$work/stop1/$f.csv" "$work/stop2/$f.csv" 1e-10 1e-14 >/dev/null && ok || fail "stopped runs: 1 and 2 ranks differ in $f.csv"
+done
+
 short=("${chamber[@]}" -t_end 0.05 -output_dir "$work/bad")
+expect_error "-stop_at_steady needs a steady-state criterion, and -pipeline shift,drift,carry has none" run \
+  -db "$db" -quiet -fields 0 -plot 0 -t_end 0.05 -output_dir "$work/bad" -stop_at_steady
 expect_error "-discharge_zone outlet names no zone of the case (-zones spray,feed,discharge)" run "${short[@]}" \
   -discharge_zone outlet
 expect_error "Zone 'feed' of the feed operator (feed: box 0,0.2,0,0.05,0.6,0.7, 60 cells, 0.00105 m^3) holds no solid in any of the database's 60 frames" \

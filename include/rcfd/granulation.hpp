@@ -73,7 +73,10 @@ protected:
 /// in proportion to m_i,c / d_i.  A fraction c_g (-growth_transfer_fraction,
 /// 0.01) of it moves mass from class i to the next larger class each step:
 /// T = c_g m_g,i,c dt, never more than the cell's class i holds.  The largest
-/// class keeps what it receives (nothing leaves it).  -growth_mass says what
+/// class keeps what it receives (-growth_top closed, default), or its own
+/// growth T leaves the bed as oversize (-growth_top open; oversize(); the
+/// spray cells keep their bulk with -growth_keep_bulk, default, as feed and
+/// discharge do).  -growth_mass says what
 /// the moved particles weigh in the larger class:
 ///  - transfer (default, the paper): class i+1 receives T; the bed's mass and
 ///    each cell's bulk are kept (they are the database's); the particles
@@ -98,7 +101,11 @@ public:
 
   void setRate(double kgPerSecond, double transferFraction) { rate = kgPerSecond, fraction = transferFraction; }
   void setMass(Mass m) { mass = m; }
-  /// Mass moved out of each class so far [kg] (the largest: 0).
+  /// Open top: the largest class's growth leaves the bed (before setUp).
+  void setOpenTop(bool open) { openTop = open; }
+  /// Mass that left the bed as oversize [kg] (open top; 0 when closed).
+  double oversize() const { return oversizeMass; }
+  /// Mass moved out of each class so far [kg] (the largest: 0 when closed, its oversize when open).
   const std::vector<double> &movedOut() const { return moved; }
   /// Mass that could not move because a cell's class held less [kg], and the
   /// mass that did not move because the spray zone was empty [kg].
@@ -113,8 +120,9 @@ private:
   std::vector<double> diameter;
   std::vector<int> next; // next larger class of each, -1 for the largest
   std::vector<double> moved;
-  double limitedMass = 0.0, missedMass = 0.0, coating = 0.0;
+  double limitedMass = 0.0, missedMass = 0.0, coating = 0.0, oversizeMass = 0.0;
   long emptySteps = 0;
+  bool openTop = false;
 };
 
 /// Feed into the feed zone (-feed_zone, default "feed"): m_f (-feed_rate,

@@ -75,6 +75,14 @@ public:
   /// Collective.  The default refuses a non-empty state (a monitor that saves
   /// state must restore it).
   virtual PetscErrorCode restoreState(const std::vector<double> &state);
+
+  /// A steady-state detector (the granulator's product.csv) lets a run end
+  /// when its criterion is met (-stop_at_steady).  The run asks steadyAt()
+  /// at the steps where the monitor is due, before sample(), with the state
+  /// after the step (and, on restart, at the checkpoint's step).  Collective;
+  /// the answer must come from globally reduced values.  Defaults: no detector.
+  virtual bool detectsSteadyState() const { return false; }
+  virtual PetscErrorCode steadyAt(const MonitorContext &ctx, bool *steady) const;
 };
 
 /// A monitor given as a function.

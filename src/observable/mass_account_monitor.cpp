@@ -1,5 +1,6 @@
 #include "observable/mass_account_monitor.hpp"
 #include "base/petsc_compat.hpp"
+#include "observable/number_rows.hpp"
 
 namespace rcfd {
 
@@ -7,18 +8,18 @@ PetscErrorCode MassAccountMonitor::setUp(const RunContext &run, const FractionSt
   PetscFunctionBeginUser;
   comm = run.db.layout().comm();
   nf = run.fractions.size();
-  path = dir + "/mass_account.csv";
   reporting.clear();
   for (const auto &op : pipeline.operators())
     if (op->addedMass()) reporting.push_back(op.get());
-  header = "time_s";
+  std::string header = "time_s";
   const auto columns = [&](const std::string &what) {
     for (int i = 0; i < nf; ++i) header += "," + what + "_" + run.fractions.label(i);
   };
   columns("holdup");
   for (const Operator *op : reporting) columns(op->type());
   columns("residual");
-  rows = NumberRows(1 + nf * (2 + static_cast<int>(reporting.size())));
+  csv = std::make_unique<CsvSeries>(comm, dir + "/mass_account.csv", header);
+  initial.clear();
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
@@ -36,31 +37,26 @@ PetscErrorCode MassAccountMonitor::sample(const MonitorContext &ctx) {
     for (int i = 0; i < nf; ++i) residual[i] -= added[i];
   }
   row.insert(row.end(), residual.begin(), residual.end());
-  rows.add(row);
+  PetscCall(csv->add(numberRow(row)));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
-PetscErrorCode MassAccountMonitor::flush() {
-  PetscMPIInt rank;
-  PetscFunctionBeginUser;
-  PetscCallMPI(MPI_Comm_rank(comm, &rank));
-  if (rank == 0) PetscCall(writeFileAtomically(path, rows.csv(header)));
-  PetscFunctionReturn(PETSC_SUCCESS);
-}
+PetscErrorCode MassAccountMonitor::flush() { return csv->flush(); }
 
 std::vector<double> MassAccountMonitor::saveState() const {
   std::vector<double> state = initial;
-  state.insert(state.end(), rows.flat().begin(), rows.flat().end());
+  const std::vector<double> length = csv->state();
+  state.insert(state.end(), length.begin(), length.end());
   return state;
 }
 
 PetscErrorCode MassAccountMonitor::restoreState(const std::vector<double> &state) {
   PetscFunctionBeginUser;
-  PetscCheck(state.size() >= static_cast<std::size_t>(nf) &&
-                 rows.restore(state.data() + nf, state.size() - nf),
-             comm, PETSC_ERR_USER_INPUT,
-             "The checkpoint's mass_account.csv state does not fit this run (other operators or fractions?)");
+  PetscCheck(state.size() == static_cast<std::size_t>(nf) + 1, comm, PETSC_ERR_USER_INPUT,
+             "The checkpoint's mass_account.csv state holds %zu numbers, this run needs %d (other fractions?)",
+             state.size(), nf + 1);
   initial.assign(state.begin(), state.begin() + nf);
+  PetscCall(csv->resume(state[nf]));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 

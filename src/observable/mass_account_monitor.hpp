@@ -5,7 +5,7 @@
 #include "rcfd/observables.hpp"
 
 #include "observable/answers.hpp"
-#include "observable/number_rows.hpp"
+#include <memory>
 
 namespace rcfd {
 
@@ -16,13 +16,14 @@ namespace rcfd {
 /// which is round-off when every operator tells the truth (the run's mass
 /// ledger refuses more than -mass_leak_tolerance every -mass_check_every steps).
 /// Columns: time_s, holdup_<f>..., <op>_<f>... per operator, residual_<f>...
+/// Rows are appended to the file as they are made (CsvSeries).
 class MassAccountMonitor final : public Monitor {
 public:
   explicit MassAccountMonitor(const Pipeline &pipeline) : pipeline(pipeline) {}
   PetscErrorCode setUp(const RunContext &run, const FractionState &, const std::string &dir) override;
   PetscErrorCode sample(const MonitorContext &ctx) override;
   PetscErrorCode flush() override;
-  /// {initial holdup..., rows...}
+  /// {initial holdup..., length of mass_account.csv} (the length missing before it is written)
   std::vector<double> saveState() const override;
   PetscErrorCode restoreState(const std::vector<double> &state) override;
 
@@ -31,9 +32,8 @@ private:
   std::vector<const Operator *> reporting; // operators with addedMass()
   MPI_Comm comm = MPI_COMM_NULL;
   int nf = 0;
-  std::string path, header;
   std::vector<double> initial;
-  NumberRows rows;
+  std::unique_ptr<CsvSeries> csv;
 };
 
 } // namespace rcfd

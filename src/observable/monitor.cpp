@@ -9,6 +9,10 @@ PetscErrorCode Monitor::setUp(const RunContext &, const FractionState &, const s
 }
 PetscErrorCode Monitor::flush() { return PETSC_SUCCESS; }
 std::vector<double> Monitor::saveState() const { return {}; }
+PetscErrorCode Monitor::steadyAt(const MonitorContext &, bool *steady) const {
+  *steady = false;
+  return PETSC_SUCCESS;
+}
 
 PetscErrorCode Monitor::restoreState(const std::vector<double> &state) {
   PetscFunctionBeginUser;

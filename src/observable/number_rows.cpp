@@ -4,23 +4,14 @@
 
 namespace rcfd {
 
-std::string NumberRows::csv(const std::string &header) const {
-  std::string text = header + "\n";
+std::string numberRow(const std::vector<double> &values) {
+  std::string text;
   char number[32];
-  for (std::size_t r = 0; r < size(); ++r) {
-    for (int c = 0; c < width; ++c) {
-      std::snprintf(number, sizeof number, "%.10g", values[r * width + c]);
-      text += (c ? "," : "") + std::string(number);
-    }
-    text += "\n";
+  for (std::size_t c = 0; c < values.size(); ++c) {
+    std::snprintf(number, sizeof number, "%.10g", values[c]);
+    text += (c ? "," : "") + std::string(number);
   }
   return text;
-}
-
-bool NumberRows::restore(const double *begin, std::size_t n) {
-  if (width == 0 || n % width != 0) return false;
-  values.assign(begin, begin + n);
-  return true;
 }
 
 } // namespace rcfd

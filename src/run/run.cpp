@@ -141,6 +141,8 @@ PetscErrorCode Run::setFromOptions() {
                         "Particle density [kg/m^3] (default: the database's)", &r.solidDensity,
                         {0.0, 1e6, false, true, "a positive density in kg/m^3"}));
   PetscCall(PetscOptionsBool("-quiet", "No progress or summary output", "", r.quiet, &r.quiet, nullptr));
+  PetscCall(PetscOptionsBool("-stop_at_steady", "End the run when a steady-state criterion is met (the "
+                             "granulator's product, docs/granulation.md)", "", r.stopAtSteady, &r.stopAtSteady, nullptr));
   PetscCall(checkedReal(PetscOptionsObject, "-progress_interval", "Wall seconds between progress lines",
                         &r.progressInterval, kNonNegative));
   PetscOptionsEnd();
@@ -223,6 +225,11 @@ PetscErrorCode Run::setUp() {
   for (const auto &op : r.ops.operators()) PetscCall(op->monitors(ctx, &brought));
   for (auto &b : brought) r.monitors.push_back({std::move(b.monitor), b.every, b.name});
   for (auto &m : r.monitors) PetscCall(m.monitor->setUp(ctx, r.fstate, r.outputDir));
+  PetscCheck(!r.stopAtSteady || std::any_of(r.monitors.begin(), r.monitors.end(),
+                                            [](const Impl::Entry &e) { return e.monitor->detectsSteadyState(); }),
+             r.comm, PETSC_ERR_USER_INPUT,
+             "-stop_at_steady needs a steady-state criterion, and -pipeline %s has none (the discharge operator's "
+             "product.csv is one)", r.pipelineSpec.c_str());
   r.cog->keepSamples(r.keepHistory);
   r.pathFile = std::make_unique<CsvSeries>(
       r.comm, r.outputDir + "/path.txt",
@@ -255,6 +262,27 @@ PetscErrorCode Run::Impl::callMonitors(long step, double time, int frame, bool l
       PetscCall(e.monitor->sample(m));
       e.seconds += MPI_Wtime() - start;
     }
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+// Under -stop_at_steady: whether a detector due at this step (any detector:
+// `anyDue`) finds its criterion met; one reduction where one was asked, so
+// every rank agrees.
+PetscErrorCode Run::Impl::steadyAt(long step, double time, int frame, bool anyDue, bool *steady) {
+  PetscFunctionBeginUser;
+  const RunContext ctx = context();
+  const MonitorContext m{step, time, frame, false, fstate, ctx, outputDir};
+  int met = 0;
+  bool asked = false; // the same on every rank: no reduction at the steps no detector is due
+  for (auto &e : monitors)
+    if (e.monitor->detectsSteadyState() && (anyDue || (e.every > 0 && step % e.every == 0))) {
+      bool found = false;
+      PetscCall(e.monitor->steadyAt(m, &found));
+      met |= found;
+      asked = true;
+    }
+  if (asked) PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, &met, 1, MPI_INT, MPI_LOR, comm));
+  *steady = met;
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
@@ -303,7 +331,16 @@ PetscErrorCode Run::Impl::march() {
   double lastFlush = r.wallStart;
   StepInfo info;
   info.dt = dt;
-  bool wrapNoted = false;
+  bool wrapNoted = false, stop = false;
+  if (r.stopAtSteady && r.startStep > 0) { // the checkpoint's run may have stopped there
+    PetscCall(r.steadyAt(r.startStep, r.startStep * dt, frame, true, &stop));
+    if (stop) {
+      if (!r.quiet)
+        PetscCall(PetscPrintf(r.comm, "Steady already at the checkpoint's t = %g s (-stop_at_steady): no steps to "
+                                      "make; the output files are the checkpoint's\n", r.startStep * dt));
+      r.steps = r.startStep;
+    }
+  }
   for (long s = r.startStep; s < r.steps; ++s) {
     info.step = s;
     info.time = s * dt;
@@ -328,12 +365,13 @@ PetscErrorCode Run::Impl::march() {
                               info.nextFrame, (s + 1) * dt, r.outputDir.c_str()));
     }
     PetscCall(r.ops.apply(info, r.fstate));
-    if (ledgerOn && !conservative) r.ops.addedMass(&added);
-    if (ledgerOn) PetscCall(r.ledger.check(s + 1, r.fstate, s + 1 == r.steps, conservative ? nullptr : &added));
     frame = info.nextFrame;
     const double t = (s + 1) * dt;
-    PetscCall(r.callMonitors(s + 1, t, frame, s + 1 == r.steps));
-    if (checkpointSteps && (s + 1) % checkpointSteps == 0) { // the files first: the checkpoint records their lengths
+    if (r.stopAtSteady) PetscCall(r.steadyAt(s + 1, t, frame, false, &stop));
+    if (ledgerOn && !conservative) r.ops.addedMass(&added);
+    if (ledgerOn) PetscCall(r.ledger.check(s + 1, r.fstate, s + 1 == r.steps || stop, conservative ? nullptr : &added));
+    PetscCall(r.callMonitors(s + 1, t, frame, s + 1 == r.steps || stop));
+    if (checkpointSteps && ((s + 1) % checkpointSteps == 0 || stop)) { // the files first: the checkpoint records their lengths
       PetscCall(r.flushMonitors());
       PetscCall(r.writeCheckpoint(s + 1));
       lastFlush = MPI_Wtime();
@@ -341,6 +379,13 @@ PetscErrorCode Run::Impl::march() {
     if (MPI_Wtime() - lastFlush > 10.0) { // results so far survive an interruption
       PetscCall(r.flushMonitors());
       lastFlush = MPI_Wtime();
+    }
+    if (stop) { // the detector's step is the run's last
+      if (!r.quiet)
+        PetscCall(PetscPrintf(r.comm, "Stopped at t = %g s (step %ld): the steady-state criterion is met "
+                                      "(-stop_at_steady)\n", t, s + 1));
+      r.steps = s + 1;
+      break;
     }
     PetscCall(r.progress(s + 1, t, false));
   }

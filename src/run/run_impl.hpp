@@ -27,6 +27,7 @@ struct Run::Impl {
 
   PetscErrorCode callMonitors(long step, double time, int frame, bool last);
   PetscErrorCode flushMonitors();
+  PetscErrorCode steadyAt(long step, double time, int frame, bool anyDue, bool *steady); // -stop_at_steady
   PetscErrorCode march();                               // solve()'s time loop
   PetscErrorCode reportFailure(PetscErrorCode status); // OUTPUT_DIR/FAILED; returns the error
   PetscErrorCode progress(long step, double time, bool last);
@@ -64,7 +65,7 @@ struct Run::Impl {
   double tEnd = -1.0, fieldsEvery = 0.0, progressInterval = 2.0, solidDensity = -1.0;
   double checkpointEvery = 0.0;
   long steps = 0;
-  PetscBool quiet = PETSC_FALSE, writeFields = PETSC_TRUE;
+  PetscBool quiet = PETSC_FALSE, writeFields = PETSC_TRUE, stopAtSteady = PETSC_FALSE;
   OwnedViewer viewer; // -run_view
   PetscViewerFormat viewFormat = PETSC_VIEWER_DEFAULT;
   DatabaseLoadOptions loadOptions;

@@ -11,7 +11,7 @@ namespace rcfd {
 
 PetscErrorCode GrowthOperator::setFromOptions(MPI_Comm c) {
   PetscBool set = PETSC_FALSE;
-  char text[32] = "transfer";
+  char text[32] = "transfer", top[32] = "closed";
   PetscFunctionBeginUser;
   PetscOptionsBegin(c, prefix.c_str(), "Growth in the spray zone (granulation)", "rcfd");
   PetscCall(readZone(PetscOptionsObject, c));
@@ -22,12 +22,20 @@ PetscErrorCode GrowthOperator::setFromOptions(MPI_Comm c) {
                         &fraction, kUnitInterval));
   PetscCall(PetscOptionsString("-mass", "What moved particles weigh in the larger class: transfer (mass kept) or "
                                "number (number kept, coating added)", "", text, text, sizeof text, &set));
+  PetscCall(PetscOptionsString("-top", "The largest class: closed (keeps what it receives) or open (its growth "
+                               "leaves the bed as oversize)", "", top, top, sizeof top, &set));
+  PetscCall(readKeepBulk(PetscOptionsObject));
   PetscOptionsEnd();
   const std::string m = text;
   PetscCheck(m == "transfer" || m == "number", c, PETSC_ERR_USER_INPUT,
              "-%smass %s is not known; use transfer (the paper: mass moves, the bulk is the database's) or number",
              prefix.c_str(), text);
   mass = m == "number" ? Mass::Number : Mass::Transfer;
+  const std::string t = top;
+  PetscCheck(t == "closed" || t == "open", c, PETSC_ERR_USER_INPUT,
+             "-%stop %s is not known; use closed (the largest class keeps what it receives) or open (its growth "
+             "leaves as oversize)", prefix.c_str(), top);
+  openTop = t == "open";
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
@@ -42,7 +50,7 @@ PetscErrorCode GrowthOperator::setUp(const RunContext &ctx) {
   next.assign(nf, -1);
   for (int k = 0; k + 1 < nf; ++k) next[order[k]] = order[k + 1];
   moved.assign(nf, 0.0);
-  limitedMass = missedMass = coating = 0.0;
+  limitedMass = missedMass = coating = oversizeMass = 0.0;
   emptySteps = 0;
   PetscFunctionReturn(PETSC_SUCCESS);
 }
@@ -63,35 +71,50 @@ PetscErrorCode GrowthOperator::apply(const StepInfo &step, FractionState &state)
     PetscFunctionReturn(PETSC_SUCCESS);
   }
   const double k = toMove / area;
+  const bool restore = openTop && keepBulk && mass == Mass::Transfer; // number mode departs from the bulk anyway
+  if (restore) { // mass leaves the spray cells: remember their bulk (collective)
+    PetscCall(VecRestoreArray(state.masses(), &m));
+    PetscCall(rememberBulk(state));
+    PetscCall(VecGetArray(state.masses(), &m));
+  }
+  const auto grows = [&](int i) { return next[i] >= 0 || openTop; }; // an open top's growth leaves
   std::vector<double> sums(nf + 1, 0.0), out(nf); // moved per class, then the limited mass
   for (PetscInt c : zone->localCells()) {
     PetscScalar *cell = m + c * nf;
     for (int i = 0; i < nf; ++i) { // from the cell's masses before this step's transfers
-      const double wanted = next[i] < 0 ? 0.0 : k * cell[i] / diameter[i];
+      const double wanted = grows(i) ? k * cell[i] / diameter[i] : 0.0;
       out[i] = std::min(wanted, static_cast<double>(cell[i]));
       sums[nf] += wanted - out[i];
     }
     for (int i = 0; i < nf; ++i) {
-      if (next[i] < 0) continue;
-      const double ratio = diameter[next[i]] / diameter[i];
+      if (!grows(i)) continue;
       cell[i] -= out[i];
-      cell[next[i]] += mass == Mass::Number ? out[i] * ratio * ratio * ratio : out[i];
       sums[i] += out[i];
+      if (next[i] < 0) continue; // oversize: leaves the bed
+      const double ratio = diameter[next[i]] / diameter[i];
+      cell[next[i]] += mass == Mass::Number ? out[i] * ratio * ratio * ratio : out[i];
     }
   }
   PetscCall(VecRestoreArray(state.masses(), &m));
   PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, sums.data(), nf + 1, MPI_DOUBLE, MPI_SUM, comm));
+  std::vector<double> change(nf, 0.0); // this step's, per class
   for (int i = 0; i < nf; ++i) {
-    if (next[i] < 0) continue;
-    const double ratio = diameter[next[i]] / diameter[i], gain = ratio * ratio * ratio;
+    if (!grows(i)) continue;
     moved[i] += sums[i];
-    added[i] -= sums[i];
-    if (mass == Mass::Number) added[next[i]] += sums[i] * gain;
+    change[i] -= sums[i];
+    if (next[i] < 0) {
+      oversizeMass += sums[i];
+      continue;
+    }
+    const double ratio = diameter[next[i]] / diameter[i], gain = ratio * ratio * ratio;
+    if (mass == Mass::Number) change[next[i]] += sums[i] * gain;
     else {
-      added[next[i]] += sums[i];
+      change[next[i]] += sums[i];
       coating += sums[i] * (gain - 1.0);
     }
   }
+  for (int i = 0; i < nf; ++i) added[i] += change[i];
+  if (restore) PetscCall(restoreBulk(state, change));
   limitedMass += sums[nf];
   PetscFunctionReturn(PETSC_SUCCESS);
 }
@@ -103,6 +126,14 @@ PetscErrorCode GrowthOperator::view(PetscViewer viewer) const {
                                    rate, fraction, mass == Mass::Number ? "number kept" : "mass kept",
                                    mass == Mass::Number ? "coating added: the bulk departs from the database"
                                                         : "the bulk is the database's"));
+  PetscCall(PetscViewerASCIIPrintf(viewer, "  top class %s\n",
+                                   !openTop ? "closed: the largest class keeps what it receives"
+                                   : keepBulk ? "open: the largest class's growth leaves the bed as oversize (the "
+                                                "growth_ columns of mass_account.csv sum to minus the oversize); "
+                                                "spray cells keep their bulk, the loss spread over the bed by fraction"
+                                              : "open: the largest class's growth leaves the bed as oversize (the "
+                                                "growth_ columns of mass_account.csv sum to minus the oversize); "
+                                                "the spray cells lose it"));
   PetscCall(viewZone(viewer, false));
   if (moved.empty()) PetscFunctionReturn(PETSC_SUCCESS);
   double total = 0.0;
@@ -110,30 +141,31 @@ PetscErrorCode GrowthOperator::view(PetscViewer viewer) const {
   PetscCall(PetscViewerASCIIPrintf(viewer,
                                    "  moved %.6g kg to larger classes; limited by a class's mass %.3g kg; missed in "
                                    "%ld steps with an empty spray zone %.3g kg; coating the moved particles imply "
-                                   "%.6g kg (%s)\n",
+                                   "%.6g kg (%s); oversize left the bed %.6g kg\n",
                                    total, limitedMass, emptySteps, missedMass, coating,
-                                   mass == Mass::Number ? "added" : "not added"));
+                                   mass == Mass::Number ? "added" : "not added", oversizeMass));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
-// State: {added..., moved..., limited, missed, coating, empty steps}.
+// State: {added..., moved..., limited, missed, coating, empty steps, oversize}.
 std::vector<double> GrowthOperator::saveState() const {
   std::vector<double> s = added;
   s.insert(s.end(), moved.begin(), moved.end());
-  s.insert(s.end(), {limitedMass, missedMass, coating, static_cast<double>(emptySteps)});
+  s.insert(s.end(), {limitedMass, missedMass, coating, static_cast<double>(emptySteps), oversizeMass});
   return s;
 }
 
 PetscErrorCode GrowthOperator::restoreState(const std::vector<double> &s) {
   PetscFunctionBeginUser;
-  PetscCheck(s.size() == static_cast<std::size_t>(2 * nf + 4), comm, PETSC_ERR_USER_INPUT,
-             "The checkpoint's growth state has %zu numbers, this run needs %d (other fractions?)", s.size(), 2 * nf + 4);
+  PetscCheck(s.size() == static_cast<std::size_t>(2 * nf + 5), comm, PETSC_ERR_USER_INPUT,
+             "The checkpoint's growth state has %zu numbers, this run needs %d (other fractions?)", s.size(), 2 * nf + 5);
   added.assign(s.begin(), s.begin() + nf);
   moved.assign(s.begin() + nf, s.begin() + 2 * nf);
   limitedMass = s[2 * nf];
   missedMass = s[2 * nf + 1];
   coating = s[2 * nf + 2];
   emptySteps = static_cast<long>(s[2 * nf + 3]);
+  oversizeMass = s[2 * nf + 4];
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 

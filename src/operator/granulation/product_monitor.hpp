@@ -5,10 +5,8 @@
 #include "rcfd/granulation.hpp"
 #include "rcfd/observables.hpp"
 
-#include "observable/answers.hpp"
-#include "observable/number_rows.hpp"
-
 #include <limits>
+#include <memory>
 
 namespace rcfd {
 
@@ -19,29 +17,44 @@ namespace rcfd {
 ///   change(t) = sum_i |P_i(t) - P_i(t - tau)|
 /// (twice the largest difference of a cumulative share; 0 for a steady
 /// product), defined from t = 2 tau on.  The product is steady from the
-/// first sample after which change <= tolerance holds at every sample to the
-/// end of the run; a run that ends above the tolerance has not reached it.
+/// first row of the last unbroken run of rows with change <= tolerance; a
+/// run whose last row is above the tolerance has not reached it.
+/// Rows are added one by one (add()); the series keeps only the rows that
+/// later rows still need (the last 2 tau and one before), so its memory is
+/// bounded by the residence time, not by the run's length, and every
+/// product and change is what the whole history would give.
 struct ProductSeries {
-  /// Rows of {t, discharged_1..nf (cumulative kg), holdup_1..nf (kg)}.
   int nf = 0;
   double rate = 0.0, tolerance = 0.02; // discharge rate [kg/s]
-  std::vector<double> rows;
   static constexpr double nan = std::numeric_limits<double>::quiet_NaN();
+  /// H0 [kg], the first row's holdup, and the start of the current run of
+  /// steady rows (NaN: the last row is not steady).
+  double holdup0 = nan, steadySince = nan;
+  /// The rows kept, {t, discharged_1..nf (cumulative kg), holdup_1..nf (kg)}.
+  std::vector<double> rows;
 
-  std::size_t size() const { return nf ? rows.size() / (1 + 2 * nf) : 0; }
-  const double *row(std::size_t r) const { return rows.data() + r * (1 + 2 * nf); }
+  std::size_t width() const { return 1 + 2 * nf; }
+  std::size_t size() const { return nf ? rows.size() / width() : 0; }
+  const double *row(std::size_t r) const { return rows.data() + r * width(); }
+  /// Appends a row (times increasing) and updates steadySince; drops the rows
+  /// no later row can need.  Returns the row's change (NaN before 2 tau).
+  double add(const std::vector<double> &row);
   /// tau [s] from the first row's holdup (infinite without discharge).
   double residenceTime() const;
-  /// P(t) of row r over the window (t - tau, t] (NaN where undefined).
+  /// P(t) of kept row r over the window (t - tau, t] (NaN where undefined).
   std::vector<double> product(std::size_t r) const;
-  /// change(t) of row r (NaN before 2 tau).
+  /// change(t) of kept row r (NaN before 2 tau).
   double change(std::size_t r) const;
   /// Time from which the product stays steady, NaN when the last row is not.
-  double steadyTime() const;
+  double steadyTime() const { return steadySince; }
+  /// {holdup0, steadySince, rows...}, and back.
+  std::vector<double> state() const;
+  bool restore(const double *begin, std::size_t n);
 
 private:
-  /// Discharged mass of each class up to time t: the last row at or before t (t - 1e-9 tau slack).
-  bool dischargedAt(double t, std::vector<double> *mass) const;
+  /// Index of the last kept row at or before time t (1e-9 tau slack), or -1.
+  long rowAt(double t) const;
+  double slack() const { return 1e-9 * residenceTime(); }
 };
 
 class ProductMonitor final : public Monitor {
@@ -50,15 +63,22 @@ public:
   PetscErrorCode setUp(const RunContext &run, const FractionState &, const std::string &dir) override;
   PetscErrorCode sample(const MonitorContext &ctx) override;
   PetscErrorCode flush() override;
-  std::vector<double> saveState() const override { return series.rows; }
+  /// {length of product.csv or -1 before it is written, the series' state}
+  std::vector<double> saveState() const override;
   PetscErrorCode restoreState(const std::vector<double> &state) override;
+  bool detectsSteadyState() const override { return true; }
+  /// Collective.  The criterion at ctx's time, on a copy of the series with
+  /// the row the monitor would add there; at the time of its last row, that row's.
+  PetscErrorCode steadyAt(const MonitorContext &ctx, bool *steady) const override;
 
 private:
+  PetscErrorCode currentRow(const MonitorContext &ctx, std::vector<double> *row) const;
   const DischargeOperator &discharge;
   const FractionSet *fractions = nullptr;
   MPI_Comm comm = MPI_COMM_NULL;
   std::string dir;
   ProductSeries series;
+  std::unique_ptr<CsvSeries> csv;
 };
 
 } // namespace rcfd
