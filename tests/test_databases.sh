@@ -6,7 +6,8 @@
 # (1e-12, ledger off) and no mass negative; markov switch times the same at 1
 # and 2 ranks and after a restart across a switch (byte for byte); the
 # validity warning once, at the step the schedule leaves the databases'
-# range; the state rule switching on the bottom layer's d32.
+# range; a blend restarted while active (byte for byte); the state rule
+# switching on the bottom layer's d32.
 # usage: test_databases.sh RCFD CSV_COMPARE DATA_DIR SOURCE_DIR
 set -eu
 export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
@@ -62,6 +63,15 @@ same "markov switches" "$(grep -c 'switch$' "$work/markov1/switches.csv")" 6
 if cmp -s "$work/markov1/switches.csv" "$work/markov2/switches.csv"; then ok; else fail "switches.csv differs at 2 ranks"; fi
 if "$compare" "$work/markov1/cog.csv" "$work/markov2/cog.csv" 1e-10 1e-14 >/dev/null; then ok; else
   fail "markov at 2 ranks: $("$compare" "$work/markov1/cog.csv" "$work/markov2/cog.csv" 1e-10 1e-14)"; fi
+# Blend: restarted from a checkpoint (0.4 s) while a blend is active, byte for byte.
+blend=(-db "$a,$b" -db_switch_type blend -db_switch_schedule 0:1.1,0.1:1.2,0.3:1.25 -quiet "${common[@]}")
+"$rcfd" run "${blend[@]}" -checkpoint_every 0.2 -output_dir "$work/blend"
+"$rcfd" run "${blend[@]}" -restart "$work/blend/checkpoint.h5" -output_dir "$work/blend_again"
+got=$(awk -F, '/switch$/ {printf "%s %s ", $1, $3}' "$work/blend/switches.csv")
+if [ "$got" = "0.1 0+1@0.5 0.3 0+1@0.25 " ]; then ok; else fail "blend switches: got '$got'"; fi
+for f in switches.csv cog.csv; do
+  if cmp -s "$work/blend/$f" "$work/blend_again/$f"; then ok; else fail "blend restart: $f differs"; fi
+done
 # A checkpoint of a run on several databases is refused by a run on one.
 expect_error "continues a run made with another database" \
   run -db "$a" -quiet "${common[@]}" -restart "$work/markov1/checkpoint.h5" -output_dir "$work/refused"

@@ -160,7 +160,11 @@ PetscErrorCode Run::setFromOptions() {
   PetscCheck(!r.outputDir.empty(), r.comm, PETSC_ERR_USER_INPUT,
              "-output_dir is empty; give the directory for the results (default rcfd-output)");
   PetscCall(Database::optionsFromCommandLine(&r.loadOptions));
-  if (!r.db && splitList(r.dbPath).size() > 1) { // several databases: a rule moves between them
+  if (splitList(r.dbPath).size() > 1) { // several databases: a rule moves between them
+    PetscCheck(!r.db, r.comm, PETSC_ERR_USER_INPUT,
+               "-db names %zu databases, but this run was handed one loaded database (an ensemble's or a "
+               "calibration's runs share theirs): run several databases one run at a time",
+               splitList(r.dbPath).size());
     r.switching = std::make_unique<DatabaseSwitcher>();
     PetscCall(r.switching->setFromOptions(r.comm, *r.rules));
   }
@@ -196,6 +200,7 @@ PetscErrorCode Run::setUp() {
     PetscCall(r.switching->open(r.comm, splitList(r.dbPath), r.loadOptions));
     PetscCall(r.switching->activate(r.switching->initial(), &r.db));
     r.firstDb = r.db;
+    r.switching->set().dropUnused(); // a blend's two databases
   }
   if (!r.db) {
     std::unique_ptr<Database> loaded;

@@ -11,7 +11,7 @@
 namespace rcfd {
 
 PetscErrorCode DatabaseSwitcher::setFromOptions(MPI_Comm c, const SwitchRuleRegistry &rules) {
-  PetscReal given[64];
+  PetscReal given[64] = {0.0};
   PetscInt n = 64;
   PetscBool set = PETSC_FALSE;
   PetscFunctionBeginUser;

@@ -64,6 +64,12 @@ std::vector<double> numberList(const std::string &text, const std::string &optio
   return out;
 }
 
+/// Whether -help was given: a rule then lists its options without asking for them.
+bool helpAsked() {
+  PetscBool help = PETSC_FALSE;
+  return PetscOptionsHasName(nullptr, nullptr, "-help", &help) == 0 && help;
+}
+
 /// Reads a string option of the rule; `*set` says whether it was given.
 PetscErrorCode stringOption(MPI_Comm comm, const std::string &prefix, const char *name, const char *help,
                             std::string *value, PetscBool *set) {
@@ -87,7 +93,8 @@ public:
     PetscCall(stringOption(comm, optionsPrefix(), "-schedule",
                            "Superficial velocity over time, t0:u0,t1:u1,... [s:m/s] from t0 = 0, held until the next",
                            &text, &set));
-    PetscCheck(set, comm, PETSC_ERR_USER_INPUT,
+    if (!set && helpAsked()) text = "0:1";
+    PetscCheck(set || helpAsked(), comm, PETSC_ERR_USER_INPUT,
                "-%sschedule is needed by the schedule rule, e.g. -%sschedule 0:1.1,30:1.2 (s:m/s)",
                optionsPrefix().c_str(), optionsPrefix().c_str());
     const std::string option = "-" + optionsPrefix() + "schedule";
@@ -190,7 +197,8 @@ public:
     PetscCall(stringOption(comm, optionsPrefix(), "-thresholds",
                            "Ascending values between the databases' bands, one fewer than databases (in -db order)",
                            &text, &set));
-    PetscCheck(set, comm, PETSC_ERR_USER_INPUT,
+    if (!set && helpAsked()) text = "1";
+    PetscCheck(set || helpAsked(), comm, PETSC_ERR_USER_INPUT,
                "-%sthresholds is needed by the state rule: the values of -%squantity between the databases, in -db order",
                optionsPrefix().c_str(), optionsPrefix().c_str());
     const std::string option = "-" + optionsPrefix() + "thresholds";
