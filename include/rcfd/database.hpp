@@ -72,6 +72,18 @@ struct DatabaseLoadOptions {
   double columnTolerance = 1e-9; // |column sum - 1| allowed before refusing a shift
   int firstFrame = 0, lastFrame = -1; // frame window to load (-1: to the end)
   bool loadShifts = true;
+  /// Load onto this layout instead of partitioning the mesh (a database set's
+  /// one partition, include/rcfd/database_set.hpp); it must be of the same mesh.
+  const Layout *layout = nullptr;
+};
+
+/// What a database file says before its frames are read (Database::readHeader).
+struct DatabaseHeader {
+  std::string identity;
+  Mesh mesh;
+  DatabaseMetadata metadata;
+  int numFrames = 0;     ///< in the window of DatabaseLoadOptions
+  std::vector<int> work; ///< per cell (natural order): what Database::load partitions by
 };
 
 /// A database held in memory, distributed over the ranks of its layout.
@@ -85,6 +97,16 @@ public:
   /// within tolerance are rescaled so that they sum to 1 to round-off.
   static PetscErrorCode load(MPI_Comm comm, const std::string &path,
                              const DatabaseLoadOptions &options, std::unique_ptr<Database> *db);
+  /// Collective.  The header of a database file and the work per cell of the
+  /// frames in the window, without loading the frames; refuses what load() refuses
+  /// of the header.
+  static PetscErrorCode readHeader(MPI_Comm comm, const std::string &path,
+                                   const DatabaseLoadOptions &options, DatabaseHeader *header);
+  /// A database made in memory on the mesh, layout and metadata of `like`,
+  /// with its own frames (e.g. two databases blended, rcfd/database_set.hpp):
+  /// alpha_s and the shifts, one per frame, on like's layout, taken over.
+  static std::unique_ptr<Database> fromFrames(const Database &like, const std::string &identity,
+                                              std::vector<OwnedVec> alpha, std::vector<OwnedMat> shifts);
   Database();
   ~Database();
   Database(const Database &) = delete;

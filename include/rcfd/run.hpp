@@ -16,6 +16,7 @@
 #include "rcfd/observables.hpp"
 #include "rcfd/operator.hpp"
 #include "rcfd/path.hpp"
+#include "rcfd/switching.hpp"
 
 #include <cstdint>
 #include <memory>
@@ -70,6 +71,9 @@ public:
   /// Use an already loaded database (e.g. shared by the members of an
   /// ensemble) instead of reading -db.
   void useDatabase(std::shared_ptr<Database> database);
+  /// The switching rules -db_switch_type chooses from when -db names several
+  /// databases (default: the built-in ones); it must outlive the run.  Before setFromOptions.
+  void useSwitchRules(const SwitchRuleRegistry &rules);
   /// Loads the database (unless one was given), sets up the operators, the
   /// path, the monitors and the initial state (or the state of -restart
   /// FILE); views the run given -run_view.  Collective.  A restart refuses a

@@ -435,6 +435,60 @@ struct Database::ShiftArrays {
 Database::Database() = default;
 Database::~Database() = default;
 
+namespace {
+
+// The header of a database file on every rank, and its number of frames; the
+// file stays open for the frames.
+PetscErrorCode openHeader(MPI_Comm comm, const std::string &path, h5::File *file, DatabaseHeader *h,
+                          long long *K) {
+  PetscFunctionBeginUser;
+  // The header is read on every rank from the same file, so any failure is
+  // the same everywhere; collectively() still guards against a rank that
+  // could not open the file.
+  PetscCall(collectively(comm, [&] {
+    *file = h5::File::openRead(path, comm);
+    checkFormat(*file);
+    h->metadata = readMetadata(*file);
+    h->identity = readIdentity(*file);
+    h->mesh = readMesh(*file);
+    file->requireGroup("/frames");
+    *K = file->readAttrInt("/frames", "num_frames");
+    if (*K < 1) throw h5::Error("database '" + path + "' has no frames");
+    for (long long k = 0; k < *K; ++k)
+      if (!file->exists(frameGroup(static_cast<int>(k))))
+        throw h5::Error("database '" + path + "' says it has " + std::to_string(*K) +
+                        " frames but group " + frameGroup(static_cast<int>(k)) + " is missing");
+  }));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+// The frame window [first, last] of the options, checked against the file's K frames.
+PetscErrorCode frameWindow(MPI_Comm comm, const std::string &path, const DatabaseLoadOptions &options,
+                           long long K, int *first, int *last) {
+  PetscFunctionBeginUser;
+  *first = options.firstFrame;
+  *last = options.lastFrame < 0 ? (int)K - 1 : options.lastFrame;
+  PetscCheck(*first >= 0 && *first <= *last && *last < K, comm, PETSC_ERR_ARG_OUTOFRANGE,
+             "-db_frames %d:%d is outside the %lld frames of database '%s'", *first, *last, K,
+             path.c_str());
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+} // namespace
+
+PetscErrorCode Database::readHeader(MPI_Comm comm, const std::string &path,
+                                    const DatabaseLoadOptions &options, DatabaseHeader *header) {
+  h5::File file;
+  long long K = 0;
+  int first = 0, last = 0;
+  PetscFunctionBeginUser;
+  PetscCall(openHeader(comm, path, &file, header, &K));
+  PetscCall(frameWindow(comm, path, options, K, &first, &last));
+  header->numFrames = last - first + 1;
+  PetscCall(framesFilled(comm, file, first, last, header->mesh.numCells(), &header->work));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
 PetscErrorCode Database::load(MPI_Comm comm, const std::string &path,
                               const DatabaseLoadOptions &options, std::unique_ptr<Database> *out) {
   PetscFunctionBeginUser;
@@ -442,30 +496,23 @@ PetscErrorCode Database::load(MPI_Comm comm, const std::string &path,
   db->path_ = path;
   h5::File file;
   long long K = 0;
-  // The header is read on every rank from the same file, so any failure is
-  // the same everywhere; collectively() still guards against a rank that
-  // could not open the file.
-  PetscCall(collectively(comm, [&] {
-    file = h5::File::openRead(path, comm);
-    checkFormat(file);
-    db->meta = readMetadata(file);
-    db->identity_ = readIdentity(file);
-    db->mesh_ = readMesh(file);
-    file.requireGroup("/frames");
-    K = file.readAttrInt("/frames", "num_frames");
-    if (K < 1) throw h5::Error("database '" + path + "' has no frames");
-    for (long long k = 0; k < K; ++k)
-      if (!file.exists(frameGroup(static_cast<int>(k))))
-        throw h5::Error("database '" + path + "' says it has " + std::to_string(K) +
-                        " frames but group " + frameGroup(static_cast<int>(k)) + " is missing");
-  }));
-  const int first = options.firstFrame, last = options.lastFrame < 0 ? (int)K - 1 : options.lastFrame;
-  PetscCheck(first >= 0 && first <= last && last < K, comm, PETSC_ERR_ARG_OUTOFRANGE,
-             "-db_frames %d:%d is outside the %lld frames of database '%s'", first, last, K,
-             path.c_str());
-  std::vector<int> filled;
-  PetscCall(framesFilled(comm, file, first, last, db->mesh_.numCells(), &filled));
-  PetscCall(Layout::create(comm, db->mesh_, &db->layout_, &filled));
+  int first = 0, last = 0;
+  DatabaseHeader header;
+  PetscCall(openHeader(comm, path, &file, &header, &K));
+  db->meta = header.metadata;
+  db->identity_ = header.identity;
+  db->mesh_ = std::move(header.mesh);
+  PetscCall(frameWindow(comm, path, options, K, &first, &last));
+  if (options.layout) { // a database set's one partition: no work to count
+    PetscCheck(options.layout->numCells() == db->mesh_.numCells(), comm, PETSC_ERR_ARG_INCOMP,
+               "Database '%s' has %d cells but the layout it is to be loaded onto has %d",
+               path.c_str(), db->mesh_.numCells(), (int)options.layout->numCells());
+    db->layout_ = *options.layout;
+  } else {
+    std::vector<int> filled;
+    PetscCall(framesFilled(comm, file, first, last, db->mesh_.numCells(), &filled));
+    PetscCall(Layout::create(comm, db->mesh_, &db->layout_, &filled));
+  }
   const Layout &L = db->layout_;
   for (PetscInt c : L.ownedNatural()) db->volumes.push_back(db->mesh_.cellVolume[c]);
 
@@ -520,6 +567,20 @@ PetscErrorCode Database::load(MPI_Comm comm, const std::string &path,
   }
   *out = std::move(db);
   PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+std::unique_ptr<Database> Database::fromFrames(const Database &like, const std::string &identity,
+                                              std::vector<OwnedVec> alpha, std::vector<OwnedMat> shifts) {
+  auto db = std::make_unique<Database>();
+  db->path_ = like.path_;
+  db->identity_ = identity;
+  db->mesh_ = like.mesh_;
+  db->layout_ = like.layout_;
+  db->meta = like.meta;
+  db->volumes = like.volumes;
+  db->alpha = std::move(alpha);
+  db->shifts = std::move(shifts);
+  return db;
 }
 
 PetscErrorCode Database::consistency(std::vector<double> *residual) const {

@@ -107,6 +107,11 @@ std::vector<std::pair<std::string, std::string>> Run::Impl::physicsRecord() cons
       {"solid_density", joinNumbers({solidDensity})},
       {"pipeline", pipeline},
       {"path", path->describe()}};
+  if (switching) { // the set and its rule, not the database active when the checkpoint was written
+    record.front().second = switching->set().identity() + ", frames " + std::to_string(loadOptions.firstFrame) +
+                            " to " + std::to_string(loadOptions.firstFrame + db->numFrames() - 1);
+    record.emplace_back("switching", switching->rule().describe() + " " + optionsUnder("db_switch_"));
+  }
   for (const auto &op : ops.operators())
     record.emplace_back("options_" + op->type(), optionsUnder(op->optionsPrefix()));
   return record;
@@ -146,6 +151,7 @@ PetscErrorCode Run::Impl::writeCheckpoint(long step) const {
   std::vector<std::pair<std::string, std::vector<double>>> operatorStates;
   for (const auto &op : ops.operators()) operatorStates.emplace_back(op->type(), op->saveState());
   const auto physics = physicsRecord();
+  const std::vector<double> switchingState = switching ? switching->saveState() : std::vector<double>{};
   const PetscErrorCode written = collectively(comm, [&] {
     if (rank != 0) return;
     {
@@ -168,6 +174,7 @@ PetscErrorCode Run::Impl::writeCheckpoint(long step) const {
       f.createGroup("/monitors");
       for (const auto &e : states)
         if (!e.second.empty()) f.write("/monitors/" + e.first, e.second);
+      if (switching) f.write("/switching", switchingState); // [0]: the active database
       f.createGroup("/operators");
       for (const auto &e : operatorStates)
         if (!e.second.empty()) f.write("/operators/" + e.first, e.second);
@@ -185,7 +192,7 @@ PetscErrorCode Run::Impl::readCheckpoint() {
   long long step = 0, pathBytes = 0;
   std::string previousDirectory;
   std::vector<int64_t> words;
-  std::vector<double> reference;
+  std::vector<double> reference, switchingState;
   std::vector<std::vector<double>> states(monitors.size()), operatorStates(ops.operators().size());
   PetscFunctionBeginUser;
   PetscCall(collectively(
@@ -235,6 +242,10 @@ PetscErrorCode Run::Impl::readCheckpoint() {
             throw h5::Error("-restart '" + restartFile + "' holds no state of the operator " + op.type() +
                             ": use the same -pipeline as the run that wrote the checkpoint");
         }
+        if (switching && !f.exists("/switching"))
+          throw h5::Error("-restart '" + restartFile + "' holds no switching state; it was not written by a run on "
+                          "several databases");
+        if (switching) switchingState = f.read<double>("/switching");
         if (step > steps)
           throw h5::Error("-restart '" + restartFile + "' is at step " + std::to_string(step) +
                           ", beyond this run's " + std::to_string(steps) + " steps (-t_end)");
@@ -256,6 +267,16 @@ PetscErrorCode Run::Impl::readCheckpoint() {
   PetscCall(pathFile->resume(static_cast<double>(pathBytes)));
   for (std::size_t m = 0; m < monitors.size(); ++m) PetscCall(monitors[m].monitor->restoreState(states[m]));
   for (std::size_t k = 0; k < ops.operators().size(); ++k) PetscCall(ops.operators()[k]->restoreState(operatorStates[k]));
+  if (switching) { // the database active at the checkpoint; the state is already on it
+    PetscCall(switching->restoreState(switchingState));
+    const SwitchDecision active = DatabaseSwitcher::savedChoice(switchingState);
+    PetscCheck(active.database >= 0 && active.database < switching->set().size() &&
+                   active.partner < switching->set().size(),
+               comm, PETSC_ERR_FILE_UNEXPECTED, "-restart '%s': the active database %d is not one of the %d of -db",
+               restartFile.c_str(), active.database, switching->set().size());
+    if (!active.sameAs(switching->active()))
+      PetscCall(switchTo(active, path->frame(), startStep * db->metadata().dtRec, false));
+  }
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 

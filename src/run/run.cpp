@@ -1,4 +1,5 @@
 #include "run/run_impl.hpp"
+#include "rcfd/database_set.hpp"
 #include "base/checked_options.hpp"
 #include "state/initial_state.hpp"
 #include "base/petsc_compat.hpp"
@@ -60,6 +61,7 @@ void Run::keepHistory(bool keep) { impl->keepHistory = keep; }
 void Run::setQuiet(bool quiet) { impl->quiet = quiet ? PETSC_TRUE : PETSC_FALSE; }
 void Run::setWriteFields(bool write) { impl->writeFields = write ? PETSC_TRUE : PETSC_FALSE; }
 void Run::useDatabase(std::shared_ptr<Database> database) { impl->db = std::move(database); }
+void Run::useSwitchRules(const SwitchRuleRegistry &rules) { impl->rules = &rules; }
 
 const Database &Run::database() const { return *impl->db; }
 std::shared_ptr<Database> Run::sharedDatabase() const { return impl->db; }
@@ -106,7 +108,8 @@ PetscErrorCode Run::setFromOptions() {
   PetscFunctionBeginUser;
   PetscOptionsBegin(r.comm, nullptr, "rcfd run", "rcfd");
   text[0] = '\0';
-  PetscCall(PetscOptionsString("-db", "Database file (HDF5), e.g. from rcfd synth", "", "", text,
+  PetscCall(PetscOptionsString("-db", "Database file (HDF5), e.g. from rcfd synth; several, comma-separated, "
+                               "on one mesh: switched by -db_switch_type (docs/databases.md)", "", "", text,
                                sizeof text, &set_));
   if (set_) r.dbPath = text;
   PetscCall(checkedReal(PetscOptionsObject, "-t_end",
@@ -159,6 +162,14 @@ PetscErrorCode Run::setFromOptions() {
   PetscCheck(!r.outputDir.empty(), r.comm, PETSC_ERR_USER_INPUT,
              "-output_dir is empty; give the directory for the results (default rcfd-output)");
   PetscCall(Database::optionsFromCommandLine(&r.loadOptions));
+  if (splitList(r.dbPath).size() > 1) { // several databases: a rule moves between them
+    PetscCheck(!r.db, r.comm, PETSC_ERR_USER_INPUT,
+               "-db names %zu databases, but this run was handed one loaded database (an ensemble's or a "
+               "calibration's runs share theirs): run several databases one run at a time",
+               splitList(r.dbPath).size());
+    r.switching = std::make_unique<DatabaseSwitcher>();
+    PetscCall(r.switching->setFromOptions(r.comm, *r.rules));
+  }
   PetscCall(FractionSet::fromOptions(r.comm, &r.set));
 
   const std::vector<std::string> names = splitList(r.pipelineSpec);
@@ -187,6 +198,12 @@ PetscErrorCode Run::setUp() {
   Impl &r = *impl;
   PetscFunctionBeginUser;
   PetscCheck(r.path, r.comm, PETSC_ERR_ORDER, "Run::setUp() needs Run::setFromOptions() first");
+  if (r.switching) { // one partition for all; the first database the rule chooses
+    PetscCall(r.switching->open(r.comm, splitList(r.dbPath), r.loadOptions));
+    PetscCall(r.switching->activate(r.switching->initial(), &r.db));
+    r.firstDb = r.db;
+    r.switching->set().dropUnused(); // a blend's two databases
+  }
   if (!r.db) {
     std::unique_ptr<Database> loaded;
     PetscCall(Database::load(r.comm, r.dbPath, r.loadOptions, &loaded));
@@ -231,6 +248,11 @@ PetscErrorCode Run::setUp() {
              "-stop_at_steady needs a steady-state criterion, and -pipeline %s has none (the discharge operator's "
              "product.csv is one)", r.pipelineSpec.c_str());
   r.cog->keepSamples(r.keepHistory);
+  if (r.switching) {
+    PetscCall(r.switching->setUp(*r.db, r.set, r.solidDensity, r.outputDir, r.quiet == PETSC_TRUE));
+    r.switchCarry = std::make_unique<CarryOperator>();
+    PetscCall(r.switchCarry->setKind(r.comm, "remap"));
+  }
   r.pathFile = std::make_unique<CsvSeries>(
       r.comm, r.outputDir + "/path.txt",
       "# frame of each step of this run; replay it with -path_type recorded -path_file FILE; " +
@@ -289,6 +311,7 @@ PetscErrorCode Run::Impl::steadyAt(long step, double time, int frame, bool anyDu
 PetscErrorCode Run::Impl::flushMonitors() {
   PetscFunctionBeginUser;
   PetscCall(pathFile->flush());
+  if (switching) PetscCall(switching->flush());
   for (auto &e : monitors) {
     const double start = MPI_Wtime();
     PetscCall(agreeOnStatus(comm, e.monitor->flush()));
@@ -370,6 +393,7 @@ PetscErrorCode Run::Impl::march() {
     if (r.stopAtSteady) PetscCall(r.steadyAt(s + 1, t, frame, false, &stop));
     if (ledgerOn && !conservative) r.ops.addedMass(&added);
     if (ledgerOn) PetscCall(r.ledger.check(s + 1, r.fstate, s + 1 == r.steps || stop, conservative ? nullptr : &added));
+    if (r.switching) PetscCall(r.followSwitches(s + 1, t, frame));
     PetscCall(r.callMonitors(s + 1, t, frame, s + 1 == r.steps || stop));
     if (checkpointSteps && ((s + 1) % checkpointSteps == 0 || stop)) { // the files first: the checkpoint records their lengths
       PetscCall(r.flushMonitors());
@@ -469,6 +493,12 @@ PetscErrorCode Run::solve() {
       total += e.seconds;
     }
     PetscCall(PetscPrintf(r.comm, "  monitors: %.3g s of the wall (%s)\n", total, costs.c_str()));
+    if (r.switching)
+      PetscCall(PetscPrintf(r.comm, "  databases: %ld switches, %d loads in %.3g s (%.3g s per load), %d held at the end%s\n",
+                            r.switching->numSwitches(), r.switching->set().numLoads(), r.switching->set().loadSeconds(),
+                            r.switching->set().loadSeconds() / std::max(1, r.switching->set().numLoads()),
+                            r.switching->set().numHeld(),
+                            std::isfinite(r.switching->extrapolatingSince()) ? "; rcfd extrapolated (switches.csv)" : ""));
   }
   PetscFunctionReturn(PETSC_SUCCESS);
 }
@@ -477,6 +507,7 @@ PetscErrorCode Run::view(PetscViewer viewer) const {
   const Impl &r = *impl;
   PetscFunctionBeginUser;
   PetscCall(r.db->view(viewer));
+  if (r.switching) PetscCall(r.switching->view(viewer));
   PetscCall(r.set.view(viewer));
   PetscCall(r.ops.view(viewer));
   PetscCall(PetscViewerASCIIPrintf(viewer, "Run: %.4g s simulated in %ld steps, initial state %s, output in %s\n",

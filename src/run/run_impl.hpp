@@ -7,6 +7,9 @@
 #include "observable/answers.hpp"
 #include "observable/cog_monitor.hpp"
 #include "observable/mass_account_monitor.hpp"
+#include "switching/database_switcher.hpp"
+
+#include "rcfd/carry.hpp"
 
 namespace rcfd {
 
@@ -38,13 +41,27 @@ struct Run::Impl {
   PetscErrorCode writeJumps(int finalFrame) const;
   /// What the physics was made with (src/run/checkpoint.cpp); a restart refuses a difference.
   std::vector<std::pair<std::string, std::string>> physicsRecord() const;
+  // Several databases (src/run/run_switching.cpp, docs/databases.md).
+  /// After the step ending at `time`: asks the rule and switches when it says so.
+  PetscErrorCode followSwitches(long step, double time, int nextFrame);
+  /// Makes the databases of `target` the active one: the operators are set up on it
+  /// again (keeping their saved state), and with `remap` the state is carried
+  /// onto its frame `nextFrame` by the composition remap of a stitching jump.
+  PetscErrorCode switchTo(const SwitchDecision &target, int nextFrame, double time, bool remap);
   RunContext context() const { return RunContext{*db, set, solidDensity}; }
 
   MPI_Comm comm;
   const OperatorRegistry &registry;
   PathRegistry builtinPaths; // used when the run was given no registry
   const PathRegistry &paths;
-  std::shared_ptr<Database> db;
+  std::shared_ptr<Database> db; // the active database
+  // Several databases: the rules (-db_switch_type), the switcher, the database
+  // the run started on (its monitors and path keep it), the carry across a switch.
+  SwitchRuleRegistry builtinRules = SwitchRuleRegistry::withBuiltins();
+  const SwitchRuleRegistry *rules = &builtinRules;
+  std::unique_ptr<DatabaseSwitcher> switching;
+  std::shared_ptr<Database> firstDb;
+  std::unique_ptr<CarryOperator> switchCarry;
   FractionSet set;
   FractionState fstate;
   Pipeline ops;

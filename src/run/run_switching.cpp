@@ -1,0 +1,47 @@
+// A run on several databases: the operators follow the active database
+// (docs/databases.md).  The rule and its signals are in src/switching.
+#include "run/run_impl.hpp"
+#include "base/petsc_compat.hpp"
+
+#include "rcfd/drift.hpp"
+
+namespace rcfd {
+
+PetscErrorCode Run::Impl::followSwitches(long step, double time, int nextFrame) {
+  bool change = false;
+  SwitchDecision target;
+  PetscFunctionBeginUser;
+  PetscCall(switching->decide(step, time, fstate, &change, &target));
+  if (change) PetscCall(switchTo(target, nextFrame, time, true));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+// The operators are set up anew on the database, as at the start: the shift
+// takes its matrices, drift its agitation field, the swaps their faces.  What
+// they keep across a restart (saveState) they keep across a switch too.
+PetscErrorCode Run::Impl::switchTo(const SwitchDecision &target, int nextFrame, double time, bool remap) {
+  PetscFunctionBeginUser;
+  const SwitchDecision from = switching->active();
+  const double start = MPI_Wtime();
+  PetscCall(switching->activate(target, &db));
+  const RunContext ctx = context();
+  for (const auto &op : ops.operators()) {
+    const std::vector<double> kept = op->saveState();
+    if (auto *drift = dynamic_cast<DriftOperator *>(op.get())) drift->useAgitation(nullptr); // of the new database
+    PetscCall(op->setUp(ctx));
+    PetscCall(op->restoreState(kept));
+  }
+  switching->set().dropUnused(); // the database switched from, unless the run started on it
+  if (remap) { // the composition remap of a stitching jump, onto the new database's frame
+    PetscCall(switchCarry->setUp(ctx));
+    StepInfo jump;
+    jump.jump = true;
+    jump.frame = nextFrame;
+    jump.nextFrame = nextFrame;
+    PetscCall(switchCarry->apply(jump, fstate));
+    PetscCall(switching->record(time, from, MPI_Wtime() - start));
+  }
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+} // namespace rcfd

@@ -1,0 +1,233 @@
+// The run's side of several databases: signals, decisions, switches.csv and
+// the validity warning (docs/databases.md).
+#include "switching/database_switcher.hpp"
+#include "base/collective.hpp"
+#include "base/petsc_compat.hpp"
+
+#include <cmath>
+#include <cstdio>
+#include <stdexcept>
+
+namespace rcfd {
+
+PetscErrorCode DatabaseSwitcher::setFromOptions(MPI_Comm c, const SwitchRuleRegistry &rules) {
+  PetscReal given[64] = {0.0};
+  PetscInt n = 64;
+  PetscBool set = PETSC_FALSE;
+  PetscFunctionBeginUser;
+  comm = c;
+  PetscOptionsBegin(comm, nullptr, "Several databases", "rcfd");
+  PetscCall(PetscOptionsRealArray("-db_conditions",
+                                  "Superficial velocity [m/s] each database of -db was recorded at, in its order "
+                                  "(default: the files' metadata)",
+                                  "", given, &n, &set));
+  PetscOptionsEnd();
+  conditionVelocities.clear();
+  if (set)
+    for (PetscInt i = 0; i < n; ++i) {
+      PetscCheck(given[i] > 0 && std::isfinite(given[i]), comm, PETSC_ERR_USER_INPUT,
+                 "-db_conditions: value %d is %g, expected a positive superficial velocity in m/s", (int)i + 1,
+                 (double)given[i]);
+      conditionVelocities.push_back(given[i]);
+    }
+  PetscCall(rules.createFromOptions(comm, &rule_));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode DatabaseSwitcher::open(MPI_Comm c, const std::vector<std::string> &paths,
+                                      const DatabaseLoadOptions &options) {
+  PetscFunctionBeginUser;
+  comm = c;
+  PetscCall(DatabaseSet::open(comm, paths, options, conditionVelocities, &set_));
+  std::vector<OperatingConditions> conditions;
+  for (int i = 0; i < set_->size(); ++i) conditions.push_back(set_->entry(i).conditions);
+  PetscCall(rule_->setUp(comm, conditions));
+  active_ = rule_->initial();
+  for (int i : {active_.database, active_.partner})
+    PetscCheck(i < set_->size(), comm, PETSC_ERR_USER_INPUT, "The %s switching rule starts on database %d of %d",
+               rule_->kind().c_str(), i, set_->size());
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode DatabaseSwitcher::setUp(const Database &first, const FractionSet &set, double solidDensity,
+                                       const std::string &directory, bool beQuiet) {
+  PetscFunctionBeginUser;
+  fractions = &set;
+  rho = solidDensity;
+  outputDir = directory;
+  quiet = beQuiet;
+  const Vec3 &g = first.metadata().gravity;
+  gravity = std::hypot(g[0], g[1], g[2]);
+  const OperatingConditions &c = set_->entry(active_.database).conditions;
+  if (std::isfinite(c.gasDensity)) gas.density = c.gasDensity;
+  if (std::isfinite(c.gasKinematicViscosity)) gas.kinematicViscosity = c.gasKinematicViscosity;
+  PetscCall(layers.setUp(first));
+  csv = std::make_unique<CsvSeries>(
+      comm, outputDir + "/switches.csv",
+      "# database switches (" + rule_->describe() + "); event extrapolating: the state left every database's "
+      "envelope\ntime_s,from,to,trigger,event");
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+// The signals, reduced over all ranks: one reduction of the masses per layer.
+PetscErrorCode DatabaseSwitcher::measure(long step, double time, const FractionState &state, SwitchSignals *s) const {
+  const int nf = fractions->size();
+  std::vector<double> perLayer, totals(nf, 0.0);
+  PetscFunctionBeginUser;
+  s->step = step;
+  s->time = time;
+  PetscCall(layers.fractionMasses(state.masses(), nf, &perLayer));
+  for (std::size_t k = 0; k < perLayer.size(); ++k) totals[k % nf] += perLayer[k];
+  double mass = 0.0, massOverD = 0.0;
+  for (int i = 0; i < nf; ++i) {
+    mass += totals[i];
+    massOverD += totals[i] / fractions->diameter(i);
+  }
+  s->inventoryD32 = mass > 0 ? mass / massOverD : std::numeric_limits<double>::quiet_NaN();
+  s->bottomD32 = layers::sauterDiameter(perLayer, 0, *fractions);
+  const double usup = std::isfinite(rule_->superficialVelocity(time)) ? rule_->superficialVelocity(time)
+                                                                       : set_->entry(active_.database).conditions.superficialVelocity;
+  if (std::isfinite(s->bottomD32) && std::isfinite(usup) && rho > gas.density)
+    s->umfOverUsup = minFluidizationVelocity(findUmfCorrelation("wen-yu"), s->bottomD32, rho, gas, gravity) / usup;
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+namespace {
+
+/// "1" or "0+1@0.25" (database 0 at weight 0.25 blended with 1).
+std::string choiceText(const SwitchDecision &d) {
+  if (d.partner < 0) return std::to_string(d.database);
+  char text[64];
+  std::snprintf(text, sizeof text, "%d+%d@%.6g", d.database, d.partner, d.weight);
+  return text;
+}
+
+} // namespace
+
+// Each database's envelope is the condition it was recorded at: its u_sup,
+// with a fluidized bottom (u_mf < u_sup).  The set covers u_sup between its
+// smallest and largest; a run outside, or with a de-fluidized bottom, which
+// no database recorded, is extrapolating.
+PetscErrorCode DatabaseSwitcher::warnIfOutside(const SwitchSignals &s, double usup) {
+  PetscFunctionBeginUser;
+  if (std::isfinite(warnedAt)) PetscFunctionReturn(PETSC_SUCCESS);
+  double low = HUGE_VAL, high = -HUGE_VAL;
+  for (int i = 0; i < set_->size(); ++i) {
+    const double u = set_->entry(i).conditions.superficialVelocity;
+    if (std::isfinite(u)) low = std::min(low, u), high = std::max(high, u);
+  }
+  char what[256] = "";
+  double value = NAN;
+  if (std::isfinite(usup) && low <= high && (usup < low * (1 - 1e-12) || usup > high * (1 + 1e-12))) {
+    value = usup;
+    std::snprintf(what, sizeof what, "u_sup = %g m/s is outside the databases' %g to %g m/s", usup, low, high);
+  } else if (s.umfOverUsup >= 1.0) {
+    value = s.umfOverUsup;
+    std::snprintf(what, sizeof what,
+                  "the bottom layer's d32 = %.4g mm gives u_mf/u_sup = %.4g >= 1 (de-fluidized), which no database "
+                  "recorded", s.bottomD32 * 1e3, s.umfOverUsup);
+  }
+  if (!*what) PetscFunctionReturn(PETSC_SUCCESS);
+  warnedAt = s.time;
+  if (!quiet) PetscCall(PetscPrintf(comm, "Warning: rcfd is extrapolating from t = %g s (step %ld): %s\n", s.time, s.step, what));
+  char row[160];
+  std::snprintf(row, sizeof row, "%.9g,%s,%s,%.10g,extrapolating", s.time, choiceText(active_).c_str(),
+                choiceText(active_).c_str(), value);
+  PetscCall(csv->add(row));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode DatabaseSwitcher::decide(long step, double time, const FractionState &state, bool *change,
+                                        SwitchDecision *target) {
+  SwitchSignals s;
+  PetscFunctionBeginUser;
+  s.step = step;
+  s.time = time;
+  PetscCall(measure(step, time, state, &s)); // also for the validity warning
+  const double usup = std::isfinite(rule_->superficialVelocity(time)) ? rule_->superficialVelocity(time)
+                                                                       : set_->entry(active_.database).conditions.superficialVelocity;
+  PetscCall(warnIfOutside(s, usup));
+  SwitchDecision d;
+  PetscCall(collectively(comm, [&] { d = rule_->decide(active_, s); }));
+  PetscCheck(d.database >= 0 && d.database < set_->size() && d.partner < set_->size() && d.weight >= 0 && d.weight <= 1,
+             comm, PETSC_ERR_PLIB, "The %s switching rule chose database %d (and %d at weight %g) of %d",
+             rule_->kind().c_str(), d.database, d.partner, d.weight, set_->size());
+  *change = !d.sameAs(active_);
+  *target = d;
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode DatabaseSwitcher::activate(const SwitchDecision &choice, std::shared_ptr<Database> *db) {
+  PetscFunctionBeginUser;
+  if (choice.partner < 0) PetscCall(set_->get(choice.database, db));
+  else { // the two are dropped once the blend is made, unless somebody else holds them
+    std::shared_ptr<Database> a, b;
+    std::unique_ptr<Database> blend;
+    PetscCall(set_->get(choice.database, &a));
+    PetscCall(set_->get(choice.partner, &b));
+    PetscCall(blendDatabases(*a, *b, choice.weight, &blend));
+    *db = std::move(blend);
+  }
+  active_ = choice;
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+
+PetscErrorCode DatabaseSwitcher::record(double time, const SwitchDecision &from, double seconds) {
+  char row[200];
+  PetscFunctionBeginUser;
+  ++switches;
+  std::snprintf(row, sizeof row, "%.9g,%s,%s,%.10g,switch", time, choiceText(from).c_str(), choiceText(active_).c_str(),
+                active_.trigger);
+  PetscCall(csv->add(row));
+  if (!quiet)
+    PetscCall(PetscPrintf(comm, "Switched from database %s to %s at t = %g s by the %s rule (trigger %g); loaded "
+                                "and set up in %.3g s\n",
+                          choiceText(from).c_str(), choiceText(active_).c_str(), time, rule_->kind().c_str(),
+                          active_.trigger, seconds));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+SwitchDecision DatabaseSwitcher::savedChoice(const std::vector<double> &state) {
+  if (state.size() < kSaved) return {};
+  return {static_cast<int>(state[0]), state[3], static_cast<int>(state[1]), state[2]};
+}
+
+std::vector<double> DatabaseSwitcher::saveState() const {
+  const std::vector<double> file = csv ? csv->state() : std::vector<double>{};
+  std::vector<double> out{static_cast<double>(active_.database), static_cast<double>(active_.partner),
+                          active_.weight, active_.trigger, static_cast<double>(switches), warnedAt,
+                          file.empty() ? -1.0 : file.front()};
+  const auto words = rule_->saveState();
+  out.insert(out.end(), words.begin(), words.end());
+  return out;
+}
+
+PetscErrorCode DatabaseSwitcher::restoreState(const std::vector<double> &state) {
+  PetscFunctionBeginUser;
+  PetscCall(collectively(comm, [&] {
+    if (state.size() < kSaved) throw std::invalid_argument("the checkpoint's switching state is malformed");
+    rule_->restoreState(std::vector<double>(state.begin() + kSaved, state.end()));
+  }, PETSC_ERR_USER_INPUT));
+  switches = static_cast<long>(state[4]);
+  warnedAt = state[5];
+  if (state[6] >= 0) PetscCall(csv->resume(state[6]));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode DatabaseSwitcher::view(PetscViewer viewer) const {
+  PetscFunctionBeginUser;
+  PetscCall(PetscViewerASCIIPrintf(viewer, "Databases: %d on one partition, switched by %s\n", set_->size(),
+                                   rule_->describe().c_str()));
+  PetscCall(PetscViewerASCIIPushTab(viewer));
+  for (int i = 0; i < set_->size(); ++i)
+    PetscCall(PetscViewerASCIIPrintf(viewer, "%d: %s, recorded at u_sup %g m/s%s\n", i, set_->entry(i).path.c_str(),
+                                     set_->entry(i).conditions.superficialVelocity,
+                                     i == active_.database || i == active_.partner ? " (active)" : ""));
+  PetscCall(PetscViewerASCIIPrintf(viewer, "%d loads of a database, %.3g s in all; %d held now\n", set_->numLoads(),
+                                   set_->loadSeconds(), set_->numHeld()));
+  PetscCall(PetscViewerASCIIPopTab(viewer));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+} // namespace rcfd

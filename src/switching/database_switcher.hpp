@@ -1,0 +1,81 @@
+// The run's side of several databases (docs/databases.md): the set, the rule,
+// the signals it decides on, switches.csv and the validity warning.  The
+// run (src/run/run_switching.cpp) makes its operators follow a switch.
+#pragma once
+
+#include "rcfd/database_set.hpp"
+#include "rcfd/fractions.hpp"
+#include "rcfd/observables.hpp"
+#include "rcfd/switching.hpp"
+
+#include "observable/layer_masses.hpp"
+#include "observable/min_fluidization.hpp"
+
+#include <limits>
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace rcfd {
+
+class DatabaseSwitcher {
+public:
+  /// Collective.  Reads -db_conditions and the rule (-db_switch_type and its options).
+  PetscErrorCode setFromOptions(MPI_Comm comm, const SwitchRuleRegistry &rules);
+  /// Collective.  Opens the set of `paths` (one partition) and sets the rule up.
+  PetscErrorCode open(MPI_Comm comm, const std::vector<std::string> &paths, const DatabaseLoadOptions &options);
+  /// Collective, once the run's first database is loaded: the signals' layers,
+  /// OUTPUT_DIR/switches.csv (written from the first switch or warning on).
+  PetscErrorCode setUp(const Database &first, const FractionSet &fractions, double solidDensity,
+                       const std::string &outputDir, bool quiet);
+
+  /// Collective.  After the step that ends at `time`: whether the next step
+  /// uses other databases (`target`), from the rule and the globally reduced
+  /// signals; writes the validity warning the first time the state leaves
+  /// every database's envelope.
+  PetscErrorCode decide(long step, double time, const FractionState &state, bool *change, SwitchDecision *target);
+  /// Collective.  The database of the choice (the set's, loaded unless held;
+  /// or two of them blended), recorded as the active choice.
+  PetscErrorCode activate(const SwitchDecision &choice, std::shared_ptr<Database> *db);
+  /// Appends the switch to switches.csv and prints it (rank 0, unless quiet).
+  PetscErrorCode record(double time, const SwitchDecision &from, double seconds);
+
+  DatabaseSet &set() { return *set_; }
+  const DatabaseSet &set() const { return *set_; }
+  const SwitchRule &rule() const { return *rule_; }
+  const SwitchDecision &active() const { return active_; }
+  SwitchDecision initial() const { return rule_->initial(); }
+  long numSwitches() const { return switches; }
+  /// Time of the validity warning [s], NaN while the run stays inside.
+  double extrapolatingSince() const { return warnedAt; }
+  PetscErrorCode flush() { return csv ? csv->flush() : 0; }
+  /// Checkpoint: the rule's state, the file's length, the warning, the count.
+  std::vector<double> saveState() const;
+  /// The active choice of a saved state ([0] database, [1] partner, [2] weight, [3] trigger).
+  static SwitchDecision savedChoice(const std::vector<double> &state);
+  /// Collective.  Refuses a malformed state.
+  PetscErrorCode restoreState(const std::vector<double> &state);
+  PetscErrorCode view(PetscViewer viewer) const;
+
+private:
+  PetscErrorCode measure(long step, double time, const FractionState &state, SwitchSignals *s) const;
+  PetscErrorCode warnIfOutside(const SwitchSignals &s, double usup);
+  static constexpr std::size_t kSaved = 7; // words before the rule's own
+  MPI_Comm comm = MPI_COMM_NULL;
+  std::vector<double> conditionVelocities; // -db_conditions
+  std::unique_ptr<DatabaseSet> set_;
+  std::unique_ptr<SwitchRule> rule_;
+  SwitchDecision active_;
+  long switches = 0;
+  double warnedAt = std::numeric_limits<double>::quiet_NaN();
+  // Signals.
+  HorizontalLayers layers;
+  const FractionSet *fractions = nullptr;
+  double rho = 0.0, gravity = 9.81;
+  GasProperties gas;
+  std::unique_ptr<CsvSeries> csv;
+  std::string outputDir;
+  bool quiet = false;
+};
+
+} // namespace rcfd

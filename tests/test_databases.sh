@@ -1,0 +1,85 @@
+#!/usr/bin/env bash
+# Runs on several databases (docs/databases.md), on small synthetic beds recorded
+# at two conditions: a mesh or dt_rec mismatch refused with its sentence; a
+# database blended with itself runs as the database alone (to round-off); the
+# schedule switches at its times and every switch keeps every fraction's mass
+# (1e-12, ledger off) and no mass negative; markov switch times the same at 1
+# and 2 ranks and after a restart across a switch (byte for byte); the
+# validity warning once, at the step the schedule leaves the databases'
+# range; a blend restarted while active (byte for byte); the state rule
+# switching on the bottom layer's d32.
+# usage: test_databases.sh RCFD CSV_COMPARE DATA_DIR SOURCE_DIR
+set -eu
+export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
+rcfd=$1 compare=$2
+work=$(mktemp -d)
+trap 'rm -rf "$work"' EXIT
+source "$4/tests/script_helpers.sh"
+bed=(-synth_cells 10,2,20 -synth_frames 40 -synth_warm_up 0.2 -quiet)
+"$rcfd" synth -o "$work/a.h5" "${bed[@]}" -synth_nucleation_rate 1500 -synth_seed 1 -superficial_velocity 1.1
+"$rcfd" synth -o "$work/b.h5" "${bed[@]}" -synth_nucleation_rate 4000 -synth_seed 2 -superficial_velocity 1.3
+"$rcfd" synth -o "$work/tall.h5" -synth_cells 10,2,30 -synth_frames 40 -synth_warm_up 0.2 -quiet
+"$rcfd" synth -o "$work/slow.h5" "${bed[@]}" -synth_dt 0.01
+a=$work/a.h5 b=$work/b.h5
+common=(-fields 0 -monitor_digits 17 -t_end 0.5)
+
+expect_error "Databases '$a' and '$work/tall.h5' are on different meshes (10 x 2 x 20 cells" \
+  run -db "$a,$work/tall.h5" -db_switch_schedule 0:1.1 -output_dir "$work/refused"
+expect_error "Databases '$a' and '$work/slow.h5' were recorded with different dt_rec (0.005 s and 0.01 s)" \
+  run -db "$a,$work/slow.h5" -db_switch_schedule 0:1.1 -output_dir "$work/refused"
+expect_error "-db_conditions has 3 superficial velocities for the 2 databases of -db" \
+  run -db "$a,$b" -db_conditions 1,2,3 -db_switch_schedule 0:1.1 -output_dir "$work/refused"
+
+# A database blended with itself (weight 1/2) is the database.
+"$rcfd" run -db "$a" "${common[@]}" -quiet -output_dir "$work/alone"
+"$rcfd" run -db "$a,$a" -db_conditions 1.0,1.2 -db_switch_type blend -db_switch_schedule 0:1.1 "${common[@]}" -quiet \
+  -output_dir "$work/self"
+if "$compare" "$work/alone/cog.csv" "$work/self/cog.csv" 1e-12 1e-15 >/dev/null; then ok; else
+  fail "a database blended with itself: $("$compare" "$work/alone/cog.csv" "$work/self/cog.csv" 1e-12 1e-15)"; fi
+
+# Schedule: 1.1 -> 1.3 -> (1.2: nearest of a tie is the first) -> 1.5 (outside: warned once, step 80).
+"$rcfd" run -db "$a,$b" -db_switch_schedule 0:1.1,0.1:1.3,0.2:1.2,0.25:1.3,0.4:1.5 -mass_check_every 0 "${common[@]}" \
+  -output_dir "$work/schedule" >"$work/schedule.txt"
+same "switch times and targets" "$(awk -F, '/switch$/ {print $1, $2, $3}' "$work/schedule/switches.csv")" \
+  "0.1 0 1 0.2 1 0 0.25 0 1"
+same "the warning's row" "$(awk -F, '/extrapolating$/ {print $1, $4}' "$work/schedule/switches.csv")" "0.4 1.5"
+same "the warning, once" "$(grep -c 'rcfd is extrapolating from t = 0.4 s (step 80): u_sup = 1.5 m/s' "$work/schedule.txt")" 1
+same "printed switches" "$(grep -c '^Switched from database' "$work/schedule.txt")" 3
+# Every fraction's mass through the run (switches at rows 21, 41, 51) and no negative cell mass.
+worst=$(awk -F, 'NR == 2 {a = $6; b = $7} NR > 2 { for (i = 6; i <= 7; ++i) { r = ($i - (i == 6 ? a : b)) / (i == 6 ? a : b);
+  if (r < 0) r = -r; if (r > w) w = r } if ($8 < 0) neg = 1 } END { print (neg ? 1 : w + 0) }' "$work/schedule/cog.csv")
+if awk -v w="$worst" 'BEGIN { exit !(w < 1e-12) }'; then ok; else fail "mass changed by $worst across switches (or went negative)"; fi
+
+# Markov: the same switches at 1 and 2 ranks, and after a restart from a checkpoint after a switch.
+markov=(-db "$a,$b" -db_switch_type markov -db_switch_interval 0.05 -db_switch_seed 3 -quiet "${common[@]}")
+for np in 1 2; do
+  mpiexec -n $np "$rcfd" run "${markov[@]}" -checkpoint_every 0.2 -output_dir "$work/markov$np"
+  mpiexec -n $np "$rcfd" run "${markov[@]}" -restart "$work/markov$np/checkpoint.h5" -output_dir "$work/again$np"
+  for f in switches.csv cog.csv path.txt; do
+    if cmp -s "$work/markov$np/$f" "$work/again$np/$f"; then ok; else fail "restart at $np ranks: $f differs"; fi
+  done
+done
+same "markov switches" "$(grep -c 'switch$' "$work/markov1/switches.csv")" 6
+if cmp -s "$work/markov1/switches.csv" "$work/markov2/switches.csv"; then ok; else fail "switches.csv differs at 2 ranks"; fi
+if "$compare" "$work/markov1/cog.csv" "$work/markov2/cog.csv" 1e-10 1e-14 >/dev/null; then ok; else
+  fail "markov at 2 ranks: $("$compare" "$work/markov1/cog.csv" "$work/markov2/cog.csv" 1e-10 1e-14)"; fi
+# Blend: restarted from a checkpoint (0.4 s) while a blend is active, byte for byte.
+blend=(-db "$a,$b" -db_switch_type blend -db_switch_schedule 0:1.1,0.1:1.2,0.3:1.25 -quiet "${common[@]}")
+"$rcfd" run "${blend[@]}" -checkpoint_every 0.2 -output_dir "$work/blend"
+"$rcfd" run "${blend[@]}" -restart "$work/blend/checkpoint.h5" -output_dir "$work/blend_again"
+got=$(awk -F, '/switch$/ {printf "%s %s ", $1, $3}' "$work/blend/switches.csv")
+if [ "$got" = "0.1 0+1@0.5 0.3 0+1@0.25 " ]; then ok; else fail "blend switches: got '$got'"; fi
+for f in switches.csv cog.csv; do
+  if cmp -s "$work/blend/$f" "$work/blend_again/$f"; then ok; else fail "blend restart: $f differs"; fi
+done
+# A checkpoint of a run on several databases is refused by a run on one.
+expect_error "continues a run made with another database" \
+  run -db "$a" -quiet "${common[@]}" -restart "$work/markov1/checkpoint.h5" -output_dir "$work/refused"
+
+# State: the bottom layer's d32 rises through 2.3305 mm (margin 1e-5): one switch, to database 1.
+"$rcfd" run -db "$a,$b" -db_switch_type state -db_switch_quantity bottom_d32 -db_switch_thresholds 0.0023305 \
+  -db_switch_hysteresis 1e-5 -quiet "${common[@]}" -output_dir "$work/state"
+same "state switch" "$(awk -F, '/switch$/ {print $2, $3, ($4 > 0.0023305 * (1 + 1e-5))}' "$work/state/switches.csv")" "0 1 1"
+
+echo "$passed passed, $failures failed"
+[ "$failures" -eq 0 ]
