@@ -62,10 +62,8 @@ PetscErrorCode ShiftOperator::view(PetscViewer viewer) const {
                                      perFrame.size(), nf));
     PetscFunctionReturn(PETSC_SUCCESS);
   }
-  PetscCall(PetscViewerASCIIPrintf(viewer, "shift: moving rows only, %d fractions at once; on this rank %zu entries in all frames, %.1f MB, %" PetscInt_FMT " ghost cells\n",
-                                   nf, moving->numEntries(), (moving->frameBytes() + moving->bufferBytes()) / 1e6, moving->numGhosts()));
-  PetscCall(PetscViewerASCIIPrintf(viewer, "  read in place from the database's compact frames: %.1f MB, and %.2f MB of buffers\n",
-                                   moving->frameBytes() / 1e6, moving->bufferBytes() / 1e6));
+  PetscCall(PetscViewerASCIIPrintf(viewer, "shift: moving rows only, %d fractions at once; on this rank %zu entries in all frames, compact frames %.1f MB (read in place) + %.2f MB of buffers, %" PetscInt_FMT " ghost cells\n",
+                                   nf, moving->numEntries(), moving->frameBytes() / 1e6, moving->bufferBytes() / 1e6, moving->numGhosts()));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
