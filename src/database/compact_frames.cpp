@@ -163,8 +163,9 @@ CompactFrame compactFrame(const LocalShiftRows &rows, PetscInt rowStart, PetscIn
       if (!(numerator >= 1.0 && numerator <= most && numerator == std::floor(numerator))) {
         char text[160];
         std::snprintf(text, sizeof text, "%.17g", v);
-        throw h5::Error(where + ": shift weight " + text + " is not a multiple of 2^-" + std::to_string(weightBits) +
-                        " in (0, 1], though /metadata weight_bits says the weights are quantised so");
+        throw h5::Error(where + ": shift weight " + text + " is not a positive multiple of 2^-" +
+                        std::to_string(weightBits) + " up to 1, but the database says its weights are quantised to "
+                        "multiples of 2^-" + std::to_string(weightBits) + " (/metadata weight_bits)");
       }
       f.quantum[at] = static_cast<uint16_t>(numerator - 1.0);
     }

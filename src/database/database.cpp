@@ -6,6 +6,7 @@
 #include "base/collective.hpp"
 #include "base/h5.hpp"
 #include "database/compact_frames.hpp"
+#include "database/stored_frame.hpp"
 
 #include <algorithm>
 #include <cstdint>
@@ -273,6 +274,17 @@ LocalFrame readLocalFrame(const h5::File &f, int k, const Layout &layout, bool w
 
 } // namespace
 
+FrameRecord readStoredFrame(const h5::File &f, int k, int cells) {
+  const std::string g = frameGroup(k);
+  FrameRecord r;
+  r.alphaS = f.read<double>(g + "/alpha_s");
+  r.shift.n = cells;
+  r.shift.rowPtr = f.read<int64_t>(g + "/shift_row_ptr");
+  r.shift.col = f.read<int32_t>(g + "/shift_col");
+  r.shift.val = f.read<double>(g + "/shift_val");
+  return r;
+}
+
 // ---------------------------------------------------------------- writer
 
 namespace {
@@ -475,9 +487,12 @@ PetscErrorCode Database::load(MPI_Comm comm, const std::string &path,
   PetscCheck(first >= 0 && first <= last && last < K, comm, PETSC_ERR_ARG_OUTOFRANGE,
              "-db_frames %d:%d is outside the %lld frames of database '%s'", first, last, K,
              path.c_str());
+  // On one rank the numbering is the natural one: no work to balance.
+  PetscMPIInt size;
+  PetscCallMPI(MPI_Comm_size(comm, &size));
   std::vector<int> filled;
-  PetscCall(framesFilled(comm, file, first, last, db->mesh_.numCells(), &filled));
-  PetscCall(Layout::create(comm, db->mesh_, &db->layout_, &filled));
+  if (size > 1) PetscCall(framesFilled(comm, file, first, last, db->mesh_.numCells(), &filled));
+  PetscCall(Layout::create(comm, db->mesh_, &db->layout_, size > 1 ? &filled : nullptr));
   const Layout &L = db->layout_;
   for (PetscInt c : L.ownedNatural()) db->volumes.push_back(db->mesh_.cellVolume[c]);
 
