@@ -40,12 +40,15 @@ void sumRows(size_t count, const GroupEntries &g, const Weights &w, const double
              PetscInt nlocal, int nfRuntime, double *out) {
   const int nf = NF > 0 ? NF : nfRuntime;
   double sum[NF > 0 ? NF : kMaxFractions];
+  const int16_t *offset = g.offset; // locals: read once, not through g in every entry
+  const int32_t *col = g.col, *ptr = g.ptr, *rows = g.rows;
   for (size_t r = 0; r < count; ++r) {
     for (int i = 0; i < nf; ++i) sum[i] = 0.0;
-    const size_t first = LEN > 0 ? g.first + r * LEN : static_cast<size_t>(g.ptr[r]);
-    const size_t last = LEN > 0 ? first + LEN : static_cast<size_t>(g.ptr[r + 1]);
+    const size_t first = LEN > 0 ? g.first + r * LEN : static_cast<size_t>(ptr[r]);
+    const size_t last = LEN > 0 ? first + LEN : static_cast<size_t>(ptr[r + 1]);
+    const int32_t row = WIDE ? 0 : rows[r];
     for (size_t e = first; e < last; ++e) {
-      const int32_t c = WIDE ? g.col[e - g.wideBase] : g.rows[r] + g.offset[e];
+      const int32_t c = WIDE ? col[e - g.wideBase] : row + offset[e];
       const double *src = c < nlocal ? x + static_cast<size_t>(c) * nf
                                      : ghost + static_cast<size_t>(c - nlocal) * nf;
       const double v = w[e];
