@@ -59,30 +59,22 @@ int main(int argc, char **argv) {
     PetscCall(shift.setUp(ctx));
     // Bytes one step must move at least.  maij: the whole matrix (values,
     // column indices, row pointers), the input and the output vectors.
-    // moving: the moving rows' entries, row numbers and pointers, and their
-    // masses read and written once.
-    double nnz = 0, movingRows = 0, movingEntries = 0;
+    // moving: the compact frame (moving rows' numbers, pointers, column
+    // offsets and weights, include/rcfd/frames.hpp), and their masses read
+    // and written once.
+    double sums[3] = {0.0, 0.0, 0.0}; // nonzeros, moving rows, compact bytes
     for (int k = 0; k < db->numFrames(); ++k) {
-      MatInfo info;
-      PetscCall(MatGetInfo(db->shift(k), MAT_GLOBAL_SUM, &info));
-      nnz += info.nz_used;
-      PetscInt ncols;
-      for (PetscInt row = db->layout().rowStart(); row < db->layout().rowEnd(); ++row) {
-        const PetscInt *c;
-        const PetscScalar *v;
-        PetscCall(MatGetRow(db->shift(k), row, &ncols, &c, &v));
-        if (!(ncols == 1 && c[0] == row && v[0] == 1.0)) ++movingRows, movingEntries += ncols;
-        PetscCall(MatRestoreRow(db->shift(k), row, &ncols, &c, &v));
-      }
+      const CompactFrame &f = db->frame(k);
+      sums[0] += static_cast<double>(f.numEntries() + db->layout().numLocal() - f.numRows());
+      sums[1] += static_cast<double>(f.numRows());
+      sums[2] += static_cast<double>(f.bytes());
     }
-    double sums[2] = {movingRows, movingEntries};
-    PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, sums, 2, MPI_DOUBLE, MPI_SUM, PETSC_COMM_WORLD));
-    nnz /= db->numFrames();
-    movingRows = sums[0] / db->numFrames();
-    movingEntries = sums[1] / db->numFrames();
+    PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, sums, 3, MPI_DOUBLE, MPI_SUM, PETSC_COMM_WORLD));
+    const double nnz = sums[0] / db->numFrames(), movingRows = sums[1] / db->numFrames(),
+                 frameBytes = sums[2] / db->numFrames();
     const double N = db->mesh().numCells();
     const double bytes = kernel == "maij" ? nnz * 12.0 + (N + 1) * 4.0 + 2.0 * N * nf * 8.0
-                                          : movingEntries * 12.0 + movingRows * 8.0 + 2.0 * movingRows * nf * 8.0;
+                                          : frameBytes + 2.0 * movingRows * nf * 8.0;
     StepInfo step;
     for (int warm = 0; warm < db->numFrames(); ++warm) {
       step.frame = warm;

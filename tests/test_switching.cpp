@@ -42,9 +42,11 @@ void writeBed(const std::string &path, int nz, double rate, std::uint64_t seed) 
 PetscErrorCode frameErrors(const Database &db, int k, double *column, double *consistency) {
   PetscFunctionBeginUser;
   OwnedVec ones, sums, m, next, moved;
-  PetscCall(MatCreateVecs(db.shift(k), ones.put(), sums.put()));
+  OwnedMat T;
+  PetscCall(db.shiftMatrix(k, &T));
+  PetscCall(MatCreateVecs(T, ones.put(), sums.put()));
   PetscCall(VecSet(ones, 1.0));
-  PetscCall(MatMultTranspose(db.shift(k), ones, sums));
+  PetscCall(MatMultTranspose(T, ones, sums));
   PetscCall(VecShift(sums, -1.0));
   PetscCall(VecNorm(sums, NORM_INFINITY, column));
   for (OwnedVec *v : {&m, &next, &moved}) PetscCall(VecDuplicate(ones, v->put()));
@@ -64,7 +66,7 @@ PetscErrorCode frameErrors(const Database &db, int k, double *column, double *co
   PetscCall(VecRestoreArrayWrite(m, &pm));
   PetscReal largest;
   PetscCall(VecNorm(m, NORM_INFINITY, &largest));
-  PetscCall(MatMult(db.shift(k), m, moved));
+  PetscCall(MatMult(T, m, moved));
   PetscCall(VecAXPY(moved, -1.0, next));
   PetscCall(VecNorm(moved, NORM_INFINITY, consistency));
   *consistency /= largest;
@@ -106,9 +108,10 @@ PetscErrorCode blends(const std::string &dir) {
     worstColumn = std::max(worstColumn, column);
     worstBlend = std::max(worstBlend, consistency);
     worstInputs = std::max({worstInputs, ca, cb});
-    OwnedMat difference; // a database blended with itself: its own shifts
-    PetscCall(MatDuplicate(self->shift(k), MAT_COPY_VALUES, difference.put()));
-    PetscCall(MatAXPY(difference, -1.0, da->shift(k), DIFFERENT_NONZERO_PATTERN));
+    OwnedMat difference, own; // a database blended with itself: its own shifts
+    PetscCall(self->shiftMatrix(k, &difference));
+    PetscCall(da->shiftMatrix(k, &own));
+    PetscCall(MatAXPY(difference, -1.0, own, DIFFERENT_NONZERO_PATTERN));
     PetscReal norm;
     PetscCall(MatNorm(difference, NORM_INFINITY, &norm));
     worstSelf = std::max(worstSelf, norm);

@@ -40,7 +40,15 @@ struct DatabaseMetadata {
   std::string source;           // how the database was made, for humans
   std::string units = "SI";
   OperatingConditions conditions; // format version 2; NaN: not recorded
+  /// > 0: every shift weight is a multiple of 2^-weightBits and every column
+  /// sums to exactly 1 (/metadata weight_bits, docs/database-format.md,
+  /// "Quantised weights"); the loader holds such weights in 2 bytes.  0: full
+  /// precision.  At most kMaxWeightBits.
+  int weightBits = 0;
 };
+
+/// Finest quantisation a database may record: numerators - 1 fit 16 bits.
+inline constexpr int kMaxWeightBits = 16;
 
 /// Writes a database file from one process, frame by frame.  The file is
 /// written under a temporary name and renamed by finish(), so a file with the
@@ -104,9 +112,11 @@ public:
                                    const DatabaseLoadOptions &options, DatabaseHeader *header);
   /// A database made in memory on the mesh, layout and metadata of `like`,
   /// with its own frames (e.g. two databases blended, rcfd/database_set.hpp):
-  /// alpha_s and the shifts, one per frame, on like's layout, taken over.
-  static std::unique_ptr<Database> fromFrames(const Database &like, const std::string &identity,
-                                              std::vector<OwnedVec> alpha, std::vector<OwnedMat> shifts);
+  /// alpha_s and the shifts, one per frame, on like's layout; collective.
+  /// The shifts are held as compact frames (full precision) like a loaded
+  /// database's, the matrices are not kept.
+  static PetscErrorCode fromFrames(const Database &like, const std::string &identity, std::vector<OwnedVec> alpha,
+                                   std::vector<OwnedMat> shifts, std::unique_ptr<Database> *out);
   Database();
   ~Database();
   Database(const Database &) = delete;
@@ -125,9 +135,19 @@ public:
   int numFrames() const { return static_cast<int>(alpha.size()); }
   /// Bulk solid volume fraction of frame k (PETSc ordering, not to be modified).
   Vec alphaS(int k) const { return alpha[k]; }
-  /// Shift matrix of frame k: moves solid mass from t_k to t_k + dt_rec.
-  Mat shift(int k) const { return shifts[k]; }
-  bool hasShifts() const { return !shifts.empty(); }
+  bool hasShifts() const { return !frames_.empty(); }
+  /// Collective.  The shift matrix of frame k, which moves solid mass from t_k
+  /// to t_k + dt_rec, built from the compact frame on each call (an MPIAIJ
+  /// matrix of all rows, identity rows included; for the MAIJ kernel, exports
+  /// and checks).  The run's kernel reads frame(k) instead.
+  PetscErrorCode shiftMatrix(int k, OwnedMat *T) const;
+  /// This rank's moving rows of frame k's shift (include/rcfd/frames.hpp).
+  const CompactFrame &frame(int k) const { return frames_[k]; }
+  /// PETSc rows of the other ranks' cells that any frame's moving rows read,
+  /// ascending: the column nlocal + g of a compact frame is ghostRows()[g].
+  const std::vector<PetscInt> &ghostRows() const { return ghostRows_; }
+  /// Bytes of this rank's compact frames (all frames).
+  size_t frameBytes() const;
   /// Local cell volumes in PETSc order.
   const std::vector<double> &localVolumes() const { return volumes; }
   /// Relative mass mismatch ||T_k V a_k - V a_{k+1}||_1 / ||V a_k||_1 of each
@@ -144,12 +164,10 @@ private:
   Mesh mesh_;
   Layout layout_;
   DatabaseMetadata meta;
-  // The shifts' CSR arrays, which PETSc uses in place (no copy): declared
-  // before the matrices so that they are destroyed after them.
-  struct ShiftArrays;
-  std::vector<std::unique_ptr<ShiftArrays>> shiftArrays;
   std::vector<OwnedVec> alpha;
-  std::vector<OwnedMat> shifts;
+  std::vector<CompactFrame> frames_; // the shifts, as this rank's moving rows
+  std::vector<PetscInt> ghostRows_;
+  void numberGhostRows(); // sorts ghostRows_ and renumbers the frames' ghost columns
   std::vector<double> volumes;
   double maxColumnError = 0.0;
 };

@@ -6,6 +6,8 @@
 #include "base/collective.hpp"
 #include "base/h5.hpp"
 #include "database/coarsen.hpp"
+#include "database/quantise.hpp"
+#include "database/stored_frame.hpp"
 #include "rcfd/database.hpp"
 
 #include <cstdio>
@@ -13,21 +15,6 @@
 
 namespace rcfd::cli {
 namespace {
-
-// Frame k as the file stores it: read directly, not through Database::load,
-// which rescales columns to sum to one (so that factor 1 copies the bits).
-FrameRecord frameOf(const h5::File &f, int k, int cells) {
-  char group[32];
-  std::snprintf(group, sizeof group, "/frames/%06d", k);
-  const std::string g = group;
-  FrameRecord r;
-  r.alphaS = f.read<double>(g + "/alpha_s");
-  r.shift.n = cells;
-  r.shift.rowPtr = f.read<int64_t>(g + "/shift_row_ptr");
-  r.shift.col = f.read<int32_t>(g + "/shift_col");
-  r.shift.val = f.read<double>(g + "/shift_val");
-  return r;
-}
 
 // An initial composition (/masses [cells x fractions], as rcfd build -init_out
 // writes it) summed into the coarse cells, with its attributes.
@@ -57,7 +44,7 @@ void coarsenInitialMasses(const std::string &in, const std::string &out, const C
 PetscErrorCode coarsenCommand(MPI_Comm comm, const char *positional) {
   char in[PETSC_MAX_PATH_LEN] = "", out[PETSC_MAX_PATH_LEN] = "", initIn[PETSC_MAX_PATH_LEN] = "",
        initOut[PETSC_MAX_PATH_LEN] = "";
-  PetscInt factor[3] = {1, 1, 1}, nfactor = 3, timeFactor = 1;
+  PetscInt factor[3] = {1, 1, 1}, nfactor = 3, timeFactor = 1, weightBits = 0;
   PetscBool setIn = PETSC_FALSE, setOut = PETSC_FALSE, setFactor = PETSC_FALSE, quiet = PETSC_FALSE;
   PetscMPIInt size;
   PetscFunctionBeginUser;
@@ -73,6 +60,8 @@ PetscErrorCode coarsenCommand(MPI_Comm comm, const char *positional) {
                                "", "", initIn, sizeof initIn, nullptr));
   PetscCall(PetscOptionsString("-init_out", "Where the coarsened initial composition goes", "", "", initOut,
                                sizeof initOut, nullptr));
+  PetscCall(PetscOptionsInt("-weights", "Quantise the shift weights to multiples of 2^-B with exact column sums (0: full precision)",
+                            "", weightBits, &weightBits, nullptr));
   PetscCall(PetscOptionsBool("-quiet", "No report", "", quiet, &quiet, nullptr));
   PetscOptionsEnd();
   if (helpRequested()) PetscFunctionReturn(PETSC_SUCCESS);
@@ -85,6 +74,9 @@ PetscErrorCode coarsenCommand(MPI_Comm comm, const char *positional) {
   PetscCheck(!setFactor || nfactor == 3, comm, PETSC_ERR_USER_INPUT, "-factor takes three counts fx,fy,fz");
   PetscCheck(timeFactor == 1 || timeFactor == 2, comm, PETSC_ERR_USER_INPUT,
              "-time_factor %d: expected 1 or 2 (compose twice for 4)", (int)timeFactor);
+  PetscCheck(weightBits >= 0 && weightBits <= kMaxWeightBits, comm, PETSC_ERR_USER_INPUT,
+             "-weights %d: expected the bits of the quantised weights, 1 to %d (0: full precision)", (int)weightBits,
+             kMaxWeightBits);
   PetscCheck(!initIn[0] == !initOut[0], comm, PETSC_ERR_USER_INPUT, "-init_file and -init_out go together");
   PetscCheck(file != out, comm, PETSC_ERR_USER_INPUT, "-o names the input database; give another file");
   // The loader checks the file's format and sizes and gives mesh and metadata;
@@ -105,8 +97,10 @@ PetscErrorCode coarsenCommand(MPI_Comm comm, const char *positional) {
   DatabaseMetadata meta = db->metadata();
   meta.dtRec *= static_cast<double>(timeFactor);
   meta.source = "rcfd coarsen " + file + " -factor " + std::to_string(factor[0]) + "," + std::to_string(factor[1]) +
-                "," + std::to_string(factor[2]) + " -time_factor " + std::to_string(timeFactor) + " (" +
+                "," + std::to_string(factor[2]) + " -time_factor " + std::to_string(timeFactor) +
+                (weightBits > 0 ? " -weights " + std::to_string(weightBits) : std::string()) + " (" +
                 db->metadata().source + ")";
+  meta.weightBits = static_cast<int>(weightBits); // the input's quantisation does not survive coarsening
   std::unique_ptr<DatabaseWriter> writer;
   PetscCall(collectively(comm, [&] { writer = std::make_unique<DatabaseWriter>(out, Mesh::box(coarse.box), meta); }));
   const std::vector<double> &volume = db->mesh().cellVolume;
@@ -114,9 +108,10 @@ PetscErrorCode coarsenCommand(MPI_Comm comm, const char *positional) {
   PetscCall(collectively(comm, [&] {
     const h5::File f = h5::File::openRead(file, MPI_COMM_NULL);
     for (int k = 0; k < K; ++k) {
-      FrameRecord a = frameOf(f, static_cast<int>(timeFactor) * k, cells);
-      if (timeFactor == 2) a = composeFrames(a, frameOf(f, 2 * k + 1, cells));
-      const FrameRecord c = coarsenFrame(a, volume, coarse);
+      FrameRecord a = readStoredFrame(f, static_cast<int>(timeFactor) * k, cells);
+      if (timeFactor == 2) a = composeFrames(a, readStoredFrame(f, 2 * k + 1, cells));
+      FrameRecord c = coarsenFrame(a, volume, coarse);
+      if (weightBits > 0) quantiseWeights(&c.shift, static_cast<int>(weightBits));
       nnz += c.shift.nnz();
       writer->append(c);
     }
@@ -125,9 +120,10 @@ PetscErrorCode coarsenCommand(MPI_Comm comm, const char *positional) {
   if (initIn[0])
     PetscCall(collectively(comm, [&] { coarsenInitialMasses(initIn, initOut, coarse, cells); }, PETSC_ERR_USER_INPUT));
   if (!quiet)
-    PetscCall(PetscPrintf(comm, "Wrote %s: %d x %d x %d cells, %d frames every %g s, %.3g shift nonzeros per column\n",
+    PetscCall(PetscPrintf(comm, "Wrote %s: %d x %d x %d cells, %d frames every %g s, %.3g shift nonzeros per column%s\n",
                           out, coarse.box.nx, coarse.box.ny, coarse.box.nz, K, meta.dtRec,
-                          static_cast<double>(nnz) / (static_cast<double>(K) * coarse.box.numCells())));
+                          static_cast<double>(nnz) / (static_cast<double>(K) * coarse.box.numCells()),
+                          weightBits > 0 ? (", weights quantised to 2^-" + std::to_string(weightBits)).c_str() : ""));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 

@@ -67,17 +67,19 @@ PetscErrorCode naturalShift(const Database &db, int k, CsrMatrix *T) {
   T->rowPtr.assign(1, 0);
   T->col.clear();
   T->val.clear();
+  OwnedMat shift;
+  PetscCall(db.shiftMatrix(k, &shift));
   for (int j = 0; j < N; ++j) {
     PetscInt ncols;
     const PetscInt *cols;
     const PetscScalar *vals;
     const PetscInt row = L.petscRow(j);
-    PetscCall(MatGetRow(db.shift(k), row, &ncols, &cols, &vals));
+    PetscCall(MatGetRow(shift, row, &ncols, &cols, &vals));
     for (PetscInt e = 0; e < ncols; ++e) {
       T->col.push_back(static_cast<int32_t>(L.naturalCell(cols[e])));
       T->val.push_back(vals[e]);
     }
-    PetscCall(MatRestoreRow(db.shift(k), row, &ncols, &cols, &vals));
+    PetscCall(MatRestoreRow(shift, row, &ncols, &cols, &vals));
     T->rowPtr.push_back(static_cast<int64_t>(T->col.size()));
   }
   PetscFunctionReturn(PETSC_SUCCESS);

@@ -31,7 +31,8 @@ PetscErrorCode AgitationField::setUp(const Database &db, AgitationMeasure measur
   OwnedVec column;
   PetscCall(VecCreateMPI(comm, n, layout.numCells(), column.put()));
   for (int k = 0; k < K; ++k) {
-    Mat T = db.shift(k);
+    OwnedMat T;
+    PetscCall(db.shiftMatrix(k, &T));
     if (measure == AgitationMeasure::LeavingShare) {
       PetscCall(MatGetDiagonal(T, column));
     } else {

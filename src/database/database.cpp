@@ -5,6 +5,8 @@
 #include "base/atomic_file.hpp"
 #include "base/collective.hpp"
 #include "base/h5.hpp"
+#include "database/compact_frames.hpp"
+#include "database/stored_frame.hpp"
 
 #include <algorithm>
 #include <cstdint>
@@ -163,6 +165,14 @@ DatabaseMetadata readMetadata(const h5::File &f) {
   if (f.hasAttribute("/metadata", "source")) m.source = f.readAttrString("/metadata", "source");
   if (f.hasAttribute("/metadata", "units")) m.units = f.readAttrString("/metadata", "units");
   readConditions(f, &m.conditions); // version 2; absent in version 1
+  if (f.hasAttribute("/metadata", "weight_bits")) {
+    const long long bits = f.readAttrInt("/metadata", "weight_bits");
+    if (bits < 1 || bits > kMaxWeightBits)
+      throw h5::Error("database '" + f.path() + "': /metadata weight_bits is " + std::to_string(bits) +
+                      ", expected the number of bits of its quantised weights, 1 to " +
+                      std::to_string(kMaxWeightBits));
+    m.weightBits = static_cast<int>(bits);
+  }
   if (!(m.dtRec > 0) || !std::isfinite(m.dtRec))
     throw h5::Error("database '" + f.path() + "': dt_rec must be a positive number of seconds");
   if (!(m.solidDensity > 0))
@@ -178,8 +188,7 @@ DatabaseMetadata readMetadata(const h5::File &f) {
 // local CSR with PETSc column numbers.  Throws on any inconsistency.
 struct LocalFrame {
   std::vector<double> alpha;
-  std::vector<PetscInt> rowPtr, col;
-  std::vector<PetscScalar> val;
+  LocalShiftRows shift;
 };
 
 LocalFrame readLocalFrame(const h5::File &f, int k, const Layout &layout, bool withShift) {
@@ -227,15 +236,16 @@ LocalFrame readLocalFrame(const h5::File &f, int k, const Layout &layout, bool w
   }
   const auto col = f.readRuns<int32_t>(g + "/shift_col", nzRuns);
   const auto val = f.readRuns<double>(g + "/shift_val", nzRuns);
-  fr.rowPtr.assign(1, 0);
-  fr.col.reserve(col.size());
-  fr.val.reserve(val.size());
+  LocalShiftRows &rows = fr.shift;
+  rows.rowPtr.assign(1, 0);
+  rows.col.reserve(col.size());
+  rows.val.reserve(val.size());
   size_t q = 0;
   p = 0;
   for (auto [b, e] : cellRuns) {
     for (hsize_t r = 0; r < e - b; ++r) {
       const int64_t len = ptr[p + r + 1] - ptr[p + r];
-      const size_t rowBegin = fr.col.size();
+      const size_t rowBegin = rows.col.size();
       for (int64_t t = 0; t < len; ++t, ++q) {
         if (col[q] < 0 || static_cast<hsize_t>(col[q]) >= n)
           throw h5::Error(where + ": shift entry in row " + std::to_string(b + r) + " names cell " +
@@ -245,17 +255,17 @@ LocalFrame readLocalFrame(const h5::File &f, int k, const Layout &layout, bool w
           throw h5::Error(where + ": shift entry (" + std::to_string(b + r) + ", " +
                           std::to_string(col[q]) + ") is " + std::to_string(val[q]) +
                           ", expected a non-negative share");
-        fr.col.push_back(layout.petscRow(col[q]));
-        fr.val.push_back(val[q]);
+        rows.col.push_back(layout.petscRow(col[q]));
+        rows.val.push_back(val[q]);
       }
       // PETSc wants sorted columns; renumbering may have reordered them.
       // Rows hold a handful of entries: insertion sort, in place.
-      for (size_t a = rowBegin + 1; a < fr.col.size(); ++a)
-        for (size_t b = a; b > rowBegin && fr.col[b - 1] > fr.col[b]; --b) {
-          std::swap(fr.col[b - 1], fr.col[b]);
-          std::swap(fr.val[b - 1], fr.val[b]);
+      for (size_t a = rowBegin + 1; a < rows.col.size(); ++a)
+        for (size_t b = a; b > rowBegin && rows.col[b - 1] > rows.col[b]; --b) {
+          std::swap(rows.col[b - 1], rows.col[b]);
+          std::swap(rows.val[b - 1], rows.val[b]);
         }
-      fr.rowPtr.push_back(static_cast<PetscInt>(fr.col.size()));
+      rows.rowPtr.push_back(static_cast<PetscInt>(rows.col.size()));
     }
     p += e - b + 1;
   }
@@ -264,13 +274,48 @@ LocalFrame readLocalFrame(const h5::File &f, int k, const Layout &layout, bool w
 
 } // namespace
 
+FrameRecord readStoredFrame(const h5::File &f, int k, int cells) {
+  const std::string g = frameGroup(k);
+  FrameRecord r;
+  r.alphaS = f.read<double>(g + "/alpha_s");
+  r.shift.n = cells;
+  r.shift.rowPtr = f.read<int64_t>(g + "/shift_row_ptr");
+  r.shift.col = f.read<int32_t>(g + "/shift_col");
+  r.shift.val = f.read<double>(g + "/shift_val");
+  return r;
+}
+
 // ---------------------------------------------------------------- writer
+
+namespace {
+
+// A database that records weight_bits promises what the loader then relies
+// on: weights that are multiples of 2^-bits in (0, 1], columns summing to 1
+// exactly.  Its writer refuses a frame that breaks the promise.
+void checkQuantised(const CsrMatrix &T, int bits, int k) {
+  const double scale = std::ldexp(1.0, bits);
+  std::vector<double> sum(T.n, 0.0);
+  for (size_t e = 0; e < T.val.size(); ++e) {
+    const double numerator = T.val[e] * scale;
+    if (!(numerator >= 1.0 && numerator <= scale && numerator == std::floor(numerator)))
+      throw std::invalid_argument("frame " + std::to_string(k) + ": shift weight " + std::to_string(T.val[e]) +
+                                  " is not a multiple of 2^-" + std::to_string(bits) + " in (0, 1]");
+    sum[T.col[e]] += T.val[e];
+  }
+  for (int c = 0; c < T.n; ++c)
+    if (sum[c] != 1.0)
+      throw std::invalid_argument("frame " + std::to_string(k) + ": shift column " + std::to_string(c) +
+                                  " of quantised weights sums to " + std::to_string(sum[c]) + ", not exactly 1");
+}
+
+} // namespace
 
 struct DatabaseWriter::Impl {
   explicit Impl(const std::string &path) : out(path) {}
   AtomicFile out; // declared first: the file is closed before an unfinished temporary is removed
   h5::File file;
   int cells = 0;
+  int weightBits = 0; // > 0: every frame must be quantised so (checked by append)
   ContentHash hash; // of every frame's arrays, stored as content_hash by finish()
 };
 
@@ -295,6 +340,13 @@ DatabaseWriter::DatabaseWriter(const std::string &path, const Mesh &mesh,
   f.writeAttr("/metadata", "source", meta.source);
   f.writeAttr("/metadata", "units", meta.units);
   writeConditions(f, meta.conditions);
+  if (meta.weightBits != 0) {
+    if (meta.weightBits < 1 || meta.weightBits > kMaxWeightBits)
+      throw std::invalid_argument("weight bits must be 1 to " + std::to_string(kMaxWeightBits) + ", got " +
+                                  std::to_string(meta.weightBits));
+    f.writeAttr("/metadata", "weight_bits", static_cast<long long>(meta.weightBits));
+  }
+  impl->weightBits = meta.weightBits;
   f.createGroup("/frames");
 }
 
@@ -306,6 +358,7 @@ void DatabaseWriter::append(const FrameRecord &frame) {
       frame.shift.rowPtr.size() != static_cast<size_t>(n) + 1)
     throw std::invalid_argument("frame " + std::to_string(frames) +
                                 " does not match the mesh's " + std::to_string(n) + " cells");
+  if (impl->weightBits > 0) checkQuantised(frame.shift, impl->weightBits, frames);
   const std::string g = frameGroup(frames);
   impl->file.createGroup(g);
   impl->file.write(g + "/alpha_s", frame.alphaS);
@@ -327,8 +380,8 @@ void DatabaseWriter::writeMatrix(const std::string &name, const std::vector<doub
 }
 
 void DatabaseWriter::setNote(const std::string &key, const std::string &text) {
-  for (const char *reserved : {"dt_rec", "solid_density", "gravity", "source", "units",
-                               "superficial_velocity", "gas_density", "gas_kinematic_viscosity"})
+  for (const char *reserved : {"dt_rec", "solid_density", "gravity", "source", "units", "superficial_velocity",
+                               "gas_density", "gas_kinematic_viscosity", "weight_bits"})
     if (key == reserved)
       throw std::invalid_argument("DatabaseWriter::setNote: '" + key +
                                   "' is a metadata attribute of the format");
@@ -402,35 +455,6 @@ PetscErrorCode framesFilled(MPI_Comm comm, const h5::File &file, int first, int 
 }
 
 } // namespace
-
-// This rank's rows of a shift split into PETSc's "diagonal" block (columns
-// of own cells, numbered from the first own row) and "off-diagonal" block
-// (global columns), the arrays MatCreateMPIAIJWithSplitArrays uses in place.
-// It avoids the row-by-row insertion of MatCreateMPIAIJWithArrays, which
-// took two thirds of loading a database.  PETSc renumbers oj when it
-// assembles.  The vectors are never empty, so that data() is never null.
-struct Database::ShiftArrays {
-  std::vector<PetscInt> di{0}, dj, oi{0}, oj;
-  std::vector<PetscScalar> da, oa;
-  ShiftArrays(const LocalFrame &fr, PetscInt rstart, PetscInt rend) {
-    const size_t rows = fr.rowPtr.size() - 1;
-    di.reserve(rows + 1);
-    oi.reserve(rows + 1);
-    dj.reserve(fr.col.size() + 1);
-    da.reserve(fr.col.size() + 1);
-    for (size_t r = 0; r < rows; ++r) {
-      for (PetscInt e = fr.rowPtr[r]; e < fr.rowPtr[r + 1]; ++e) {
-        const PetscInt c = fr.col[e];
-        if (c >= rstart && c < rend) dj.push_back(c - rstart), da.push_back(fr.val[e]);
-        else oj.push_back(c), oa.push_back(fr.val[e]);
-      }
-      di.push_back(static_cast<PetscInt>(dj.size()));
-      oi.push_back(static_cast<PetscInt>(oj.size()));
-    }
-    for (auto *v : {&dj, &oj}) if (v->empty()) v->push_back(0);
-    for (auto *v : {&da, &oa}) if (v->empty()) v->push_back(0.0);
-  }
-};
 
 Database::Database() = default;
 Database::~Database() = default;
@@ -508,15 +532,19 @@ PetscErrorCode Database::load(MPI_Comm comm, const std::string &path,
                "Database '%s' has %d cells but the layout it is to be loaded onto has %d",
                path.c_str(), db->mesh_.numCells(), (int)options.layout->numCells());
     db->layout_ = *options.layout;
-  } else {
+  } else { // on one rank the numbering is the natural one: no work to balance
+    PetscMPIInt size;
+    PetscCallMPI(MPI_Comm_size(comm, &size));
     std::vector<int> filled;
-    PetscCall(framesFilled(comm, file, first, last, db->mesh_.numCells(), &filled));
-    PetscCall(Layout::create(comm, db->mesh_, &db->layout_, &filled));
+    if (size > 1) PetscCall(framesFilled(comm, file, first, last, db->mesh_.numCells(), &filled));
+    PetscCall(Layout::create(comm, db->mesh_, &db->layout_, size > 1 ? &filled : nullptr));
   }
   const Layout &L = db->layout_;
   for (PetscInt c : L.ownedNatural()) db->volumes.push_back(db->mesh_.cellVolume[c]);
 
-  OwnedVec ones, colSum;
+  ColumnCheck check;
+  check.tolerance = options.columnTolerance;
+  check.weightBits = db->meta.weightBits;
   for (int k = first; k <= last; ++k) {
     LocalFrame fr;
     PetscCall(collectively(comm, [&] { fr = readLocalFrame(file, k, L, options.loadShifts); }));
@@ -528,59 +556,76 @@ PetscErrorCode Database::load(MPI_Comm comm, const std::string &path,
     PetscCall(VecRestoreArrayWrite(a, &pa));
     db->alpha.push_back(std::move(a));
     if (!options.loadShifts) continue;
-
-    auto arrays = std::make_unique<ShiftArrays>(fr, L.rowStart(), L.rowEnd());
-    OwnedMat T;
-    PetscCall(MatCreateMPIAIJWithSplitArrays(comm, L.numLocal(), L.numLocal(), L.numCells(),
-                                             L.numCells(), arrays->di.data(), arrays->dj.data(),
-                                             arrays->da.data(), arrays->oi.data(), arrays->oj.data(),
-                                             arrays->oa.data(), T.put()));
-    db->shiftArrays.push_back(std::move(arrays));
-    if (!ones) {
-      PetscCall(MatCreateVecs(T, ones.put(), colSum.put()));
-      PetscCall(VecSet(ones, 1.0));
-    }
-    PetscCall(MatMultTranspose(T, ones, colSum));
-    // Check every column, then rescale so that each sums to 1 to round-off.
-    PetscScalar *s;
-    PetscCall(VecGetArray(colSum, &s));
-    bool bad = false;
-    std::string why;
-    for (PetscInt r = 0; r < L.numLocal() && !bad; ++r) {
-      const double err = std::fabs(s[r] - 1.0);
-      db->maxColumnError = std::max(db->maxColumnError, err);
-      if (!(err <= options.columnTolerance)) {
-        bad = true;
-        char text[512];
-        std::snprintf(text, sizeof text,
-                      "database '%s', frame %d: shift column of cell %d sums to %.12g, expected 1 "
-                      "within %g (-db_column_tolerance)",
-                      path.c_str(), k, (int)L.ownedNatural()[r], s[r], options.columnTolerance);
-        why = text;
-      }
-      s[r] = 1.0 / s[r];
-    }
-    PetscCall(VecRestoreArray(colSum, &s));
-    PetscCall(agreeOnFailure(comm, bad, why));
-    PetscCall(MatDiagonalScale(T, nullptr, colSum));
-    db->shifts.push_back(std::move(T));
+    check.where = "database '" + path + "', frame " + std::to_string(k);
+    PetscCall(rescaleColumns(L, &fr.shift, &check));
+    PetscCall(collectively(comm, [&] {
+      db->frames_.push_back(compactFrame(fr.shift, L.rowStart(), L.numLocal(), check.weightBits, check.where,
+                                         &db->ghostRows_));
+    }));
   }
+  db->maxColumnError = check.largestError;
+  db->numberGhostRows();
   *out = std::move(db);
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
-std::unique_ptr<Database> Database::fromFrames(const Database &like, const std::string &identity,
-                                              std::vector<OwnedVec> alpha, std::vector<OwnedMat> shifts) {
+PetscErrorCode Database::fromFrames(const Database &like, const std::string &identity, std::vector<OwnedVec> alpha,
+                                  std::vector<OwnedMat> shifts, std::unique_ptr<Database> *out) {
+  PetscFunctionBeginUser;
   auto db = std::make_unique<Database>();
   db->path_ = like.path_;
   db->identity_ = identity;
   db->mesh_ = like.mesh_;
   db->layout_ = like.layout_;
   db->meta = like.meta;
+  db->meta.weightBits = 0; // the frames are made here, in full precision
   db->volumes = like.volumes;
   db->alpha = std::move(alpha);
-  db->shifts = std::move(shifts);
-  return db;
+  const Layout &L = db->layout_;
+  for (const OwnedMat &T : shifts) {
+    LocalShiftRows rows; // this rank's rows, columns sorted as MatGetRow gives them
+    rows.rowPtr.push_back(0);
+    for (PetscInt r = L.rowStart(); r < L.rowEnd(); ++r) {
+      PetscInt n;
+      const PetscInt *c;
+      const PetscScalar *v;
+      PetscCall(MatGetRow(T, r, &n, &c, &v));
+      rows.col.insert(rows.col.end(), c, c + n);
+      rows.val.insert(rows.val.end(), v, v + n);
+      PetscCall(MatRestoreRow(T, r, &n, &c, &v));
+      rows.rowPtr.push_back(static_cast<PetscInt>(rows.col.size()));
+    }
+    PetscCall(collectively(L.comm(), [&] {
+      db->frames_.push_back(compactFrame(rows, L.rowStart(), L.numLocal(), 0, identity, &db->ghostRows_));
+    }));
+  }
+  db->numberGhostRows();
+  *out = std::move(db);
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+void Database::numberGhostRows() {
+  // Other ranks' cells get their place in the list of all frames' ghosts.
+  std::sort(ghostRows_.begin(), ghostRows_.end());
+  ghostRows_.erase(std::unique(ghostRows_.begin(), ghostRows_.end()), ghostRows_.end());
+  ghostRows_.shrink_to_fit();
+  for (CompactFrame &f : frames_) numberGhosts(&f, layout_.numLocal(), ghostRows_);
+}
+
+PetscErrorCode Database::shiftMatrix(int k, OwnedMat *T) const {
+  PetscFunctionBeginUser;
+  PetscCheck(hasShifts(), layout_.comm(), PETSC_ERR_ARG_WRONGSTATE,
+             "Database '%s' was loaded without its shifts", path_.c_str());
+  PetscCheck(k >= 0 && k < numFrames(), layout_.comm(), PETSC_ERR_ARG_OUTOFRANGE,
+             "Frame %d of database '%s', which has %d", k, path_.c_str(), numFrames());
+  PetscCall(shiftMatrixOf(frames_[k], layout_, ghostRows_, meta.weightBits, T));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+size_t Database::frameBytes() const {
+  size_t bytes = ghostRows_.size() * sizeof(PetscInt);
+  for (const CompactFrame &f : frames_) bytes += f.bytes();
+  return bytes;
 }
 
 PetscErrorCode Database::consistency(std::vector<double> *residual) const {
@@ -600,7 +645,9 @@ PetscErrorCode Database::consistency(std::vector<double> *residual) const {
     PetscReal diff, total;
     PetscCall(VecPointwiseMult(ma, vol, alpha[k]));
     PetscCall(VecPointwiseMult(mb, vol, alpha[k + 1]));
-    PetscCall(MatMult(shifts[k], ma, moved));
+    OwnedMat T;
+    PetscCall(shiftMatrix(k, &T));
+    PetscCall(MatMult(T, ma, moved));
     PetscCall(VecNorm(ma, NORM_1, &total));
     PetscCall(VecAXPY(moved, -1.0, mb));
     PetscCall(VecNorm(moved, NORM_1, &diff));
@@ -651,19 +698,28 @@ PetscErrorCode Database::view(PetscViewer viewer) const {
     PetscCall(PetscViewerASCIIPrintf(viewer, "recorded at: u_sup %g m/s, gas density %g kg/m^3, gas kinematic viscosity %g m^2/s (nan: not recorded)\n",
                                      c.superficialVelocity, c.gasDensity, c.gasKinematicViscosity));
   if (hasShifts()) {
-    PetscInt nnz = 0;
-    for (const auto &T : shifts) {
-      MatInfo info;
-      PetscCall(MatGetInfo(T, MAT_GLOBAL_SUM, &info));
-      nnz += static_cast<PetscInt>(info.nz_used);
+    // nonzeros (a row not held is an identity row of one entry), moving entries, narrow ones, bytes
+    double counts[4] = {0.0, 0.0, 0.0, static_cast<double>(frameBytes())};
+    for (const CompactFrame &f : frames_) {
+      counts[0] += static_cast<double>(f.numEntries() + layout_.numLocal() - f.numRows());
+      counts[1] += static_cast<double>(f.numEntries());
+      counts[2] += static_cast<double>(f.offset.size());
     }
+    PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, counts, 4, MPI_DOUBLE, MPI_SUM, layout_.comm()));
+    const double nnz = counts[0], moving = counts[1];
     std::vector<double> res;
     PetscCall(consistency(&res));
     const double worst = res.empty() ? 0.0 : *std::max_element(res.begin(), res.end());
     double colErr = maxColumnError;
     PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, &colErr, 1, MPI_DOUBLE, MPI_MAX, layout_.comm()));
     PetscCall(PetscViewerASCIIPrintf(viewer, "shift nonzeros: %.3g per column on average\n",
-                                     (double)nnz / numFrames() / m.numCells()));
+                                     nnz / numFrames() / m.numCells()));
+    char weights[64] = "full-precision weights";
+    if (meta.weightBits > 0) std::snprintf(weights, sizeof weights, "weights quantised to 2^-%d", meta.weightBits);
+    PetscCall(PetscViewerASCIIPrintf(
+        viewer, "compact frames: %.1f MB on all ranks, %.3g moving entries per cell and frame, %.0f %% of them with 16-bit column offsets, %s\n",
+        counts[3] / 1e6, moving / numFrames() / m.numCells(), moving > 0 ? 100.0 * counts[2] / moving : 100.0,
+        weights));
     PetscCall(PetscViewerASCIIPrintf(viewer, "largest |column sum - 1| before rescaling: %.3g\n",
                                      colErr));
     PetscCall(PetscViewerASCIIPrintf(

@@ -145,9 +145,9 @@ PetscErrorCode blendDatabases(const Database &a, const Database &b, double w, st
     PetscCall(VecPointwiseMult(mass, blended, volume));
     PetscCall(VecScale(massA, w));
     PetscCall(VecScale(massB, 1.0 - w));
-    OwnedMat F, fromB;
-    PetscCall(MatDuplicate(a.shift(ka), MAT_COPY_VALUES, F.put()));
-    PetscCall(MatDuplicate(b.shift(kb), MAT_COPY_VALUES, fromB.put()));
+    OwnedMat F, fromB; // built on demand: copies the blend may change
+    PetscCall(a.shiftMatrix(ka, &F));
+    PetscCall(b.shiftMatrix(kb, &fromB));
     PetscCall(MatDiagonalScale(F, nullptr, massA));
     PetscCall(MatDiagonalScale(fromB, nullptr, massB));
     PetscCall(MatAXPY(F, 1.0, fromB, DIFFERENT_NONZERO_PATTERN)); // F = w T_a D_a + (1 - w) T_b D_b
@@ -173,7 +173,8 @@ PetscErrorCode blendDatabases(const Database &a, const Database &b, double w, st
   }
   char text[64];
   std::snprintf(text, sizeof text, "blend %.17g of ", w);
-  *blend = Database::fromFrames(a, text + a.identity() + " and " + b.identity(), std::move(alpha), std::move(shifts));
+  PetscCall(Database::fromFrames(a, text + a.identity() + " and " + b.identity(), std::move(alpha),
+                                 std::move(shifts), blend));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 

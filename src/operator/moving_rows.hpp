@@ -21,32 +21,29 @@
 
 namespace rcfd {
 
+// The propagation reads the database's compact frames (include/rcfd/frames.hpp,
+// CompactFrame) in place: it holds only the new masses of a frame's moving
+// rows and the ghost cells' masses.
 class MovingRows {
 public:
-  /// Collective.  Extracts the non-identity rows of every frame of db.
+  /// Collective.  Prepares the ghost scatter of db's frames for nf fractions;
+  /// db must outlive this object.
   PetscErrorCode setUp(const Database &db, int nf);
   /// Collective.  masses <- T_k masses for all nf fractions, in place.
   PetscErrorCode apply(int k, Vec masses);
-  /// Bytes held for all frames (this rank).
-  size_t bytes() const;
+  /// Bytes of the compact frames it reads (this rank), and its own buffers'.
+  size_t frameBytes() const;
+  size_t bufferBytes() const;
   /// All frames' moving entries on this rank.
   size_t numEntries() const;
-  PetscInt numGhosts() const { return static_cast<PetscInt>(ghostRows.size()); }
+  PetscInt numGhosts() const { return db ? static_cast<PetscInt>(db->ghostRows().size()) : 0; }
 
 private:
-  // Rows that move, in local numbering; their entries' columns index the
-  // local cells (< nlocal) or the ghost buffer (nlocal + g).
-  // Rows are grouped by their number of entries: 0, 1, 2, 3, 4, more.
-  static constexpr int kGroups = 6;
-  struct Frame {
-    std::vector<int32_t> rows, ptr, col;
-    std::vector<double> val;
-    std::array<int32_t, kGroups + 1> group{}; // first row of each group, then the end
-  };
-  template <int NF> void move(const Frame &f, double *x, const double *ghost, double *out) const;
-  std::vector<Frame> frames;
-  std::vector<PetscInt> ghostRows; // PETSc rows of the off-rank source cells, all frames
-  std::vector<double> buffer;      // new masses of the moving rows
+  template <int NF, class Weights>
+  void move(const CompactFrame &f, const Weights &w, double *x, const double *ghost, double *out) const;
+  template <int NF> void move(const CompactFrame &f, double *x, const double *ghost, double *out) const;
+  const Database *db = nullptr;
+  std::vector<double> buffer; // new masses of the moving rows
   OwnedVec ghosts;
   OwnedScatter toGhosts;
   PetscInt nlocal = 0;

@@ -1,0 +1,248 @@
+#include "database/compact_frames.hpp"
+#include "base/petsc_compat.hpp"
+
+#include "base/collective.hpp"
+#include "base/h5.hpp"
+
+#include <algorithm>
+#include <climits>
+#include <cmath>
+#include <cstdio>
+#include <memory>
+
+namespace rcfd {
+
+PetscErrorCode rescaleColumns(const Layout &L, LocalShiftRows *rows, ColumnCheck *check) {
+  const MPI_Comm comm = L.comm();
+  const PetscInt rstart = L.rowStart(), rend = L.rowEnd(), n = L.numLocal();
+  PetscMPIInt size;
+  PetscFunctionBeginUser;
+  PetscCallMPI(MPI_Comm_size(comm, &size));
+  // This frame's columns of other ranks' cells, ascending (PETSc's garray).
+  std::vector<PetscInt> ghosts;
+  for (PetscInt c : rows->col)
+    if (c < rstart || c >= rend) ghosts.push_back(c);
+  std::sort(ghosts.begin(), ghosts.end());
+  ghosts.erase(std::unique(ghosts.begin(), ghosts.end()), ghosts.end());
+  auto ghostOf = [&](PetscInt c) { return std::lower_bound(ghosts.begin(), ghosts.end(), c) - ghosts.begin(); };
+
+  OwnedVec sums, partial; // own columns' sums; this rank's share of the ghosts' columns
+  OwnedScatter toGhosts;
+  PetscCall(VecCreateMPI(comm, n, L.numCells(), sums.put()));
+  PetscCall(VecSet(sums, 0.0));
+  if (size > 1)
+    PetscCall(L.rowsScatter(1, static_cast<PetscInt>(ghosts.size()), ghosts.data(), partial.put(), toGhosts.put()));
+  PetscScalar *s, *p = nullptr;
+  PetscCall(VecGetArray(sums, &s));
+  if (partial) PetscCall(VecGetArray(partial, &p));
+  for (size_t e = 0; e < rows->col.size(); ++e) { // row by row, like MatMultTranspose
+    const PetscInt c = rows->col[e];
+    if (c >= rstart && c < rend) s[c - rstart] += rows->val[e];
+    else p[ghostOf(c)] += rows->val[e];
+  }
+  PetscCall(VecRestoreArray(sums, &s));
+  if (partial) PetscCall(VecRestoreArray(partial, &p));
+  if (toGhosts) {
+    PetscCall(VecScatterBegin(toGhosts, partial, sums, ADD_VALUES, SCATTER_REVERSE));
+    PetscCall(VecScatterEnd(toGhosts, partial, sums, ADD_VALUES, SCATTER_REVERSE));
+  }
+
+  // Check every column, then rescale so that each sums to 1 to round-off.
+  PetscCall(VecGetArray(sums, &s));
+  bool bad = false;
+  std::string why;
+  for (PetscInt r = 0; r < n && !bad; ++r) {
+    const double err = std::fabs(s[r] - 1.0);
+    check->largestError = std::max(check->largestError, err);
+    char text[512];
+    if (check->weightBits > 0 && s[r] != 1.0) {
+      bad = true;
+      std::snprintf(text, sizeof text,
+                    "%s: shift column of cell %d sums to %.17g, but the database says its weights are quantised "
+                    "to multiples of 2^-%d (/metadata weight_bits) with every column summing to exactly 1",
+                    check->where.c_str(), (int)L.ownedNatural()[r], s[r], check->weightBits);
+      why = text;
+    } else if (!(err <= check->tolerance)) {
+      bad = true;
+      std::snprintf(text, sizeof text,
+                    "%s: shift column of cell %d sums to %.12g, expected 1 within %g (-db_column_tolerance)",
+                    check->where.c_str(), (int)L.ownedNatural()[r], s[r], check->tolerance);
+      why = text;
+    }
+    s[r] = 1.0 / s[r];
+  }
+  PetscCall(VecRestoreArray(sums, &s));
+  PetscCall(agreeOnFailure(comm, bad, why));
+  if (toGhosts) {
+    PetscCall(VecScatterBegin(toGhosts, sums, partial, INSERT_VALUES, SCATTER_FORWARD));
+    PetscCall(VecScatterEnd(toGhosts, sums, partial, INSERT_VALUES, SCATTER_FORWARD));
+  }
+  const PetscScalar *inv, *ginv = nullptr;
+  PetscCall(VecGetArrayRead(sums, &inv));
+  if (partial) PetscCall(VecGetArrayRead(partial, &ginv));
+  for (size_t e = 0; e < rows->col.size(); ++e) { // as MatDiagonalScale(T, NULL, 1 / sums)
+    const PetscInt c = rows->col[e];
+    rows->val[e] *= c >= rstart && c < rend ? inv[c - rstart] : ginv[ghostOf(c)];
+  }
+  PetscCall(VecRestoreArrayRead(sums, &inv));
+  if (partial) PetscCall(VecRestoreArrayRead(partial, &ginv));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+CompactFrame compactFrame(const LocalShiftRows &rows, PetscInt rowStart, PetscInt nlocal, int weightBits,
+                          const std::string &where, std::vector<PetscInt> *ghosts) {
+  using F = CompactFrame;
+  auto own = [&](PetscInt c) { return c >= rowStart && c < rowStart + nlocal; };
+  // The group of each row (-1: identity row, left out) and each group's size.
+  std::vector<int8_t> groupOf(nlocal);
+  std::array<size_t, F::kGroups> rowsIn{}, entriesIn{};
+  for (PetscInt r = 0; r < nlocal; ++r) {
+    const PetscInt first = rows.rowPtr[r], last = rows.rowPtr[r + 1];
+    if (last - first == 1 && rows.col[first] == rowStart + r && rows.val[first] == 1.0) {
+      groupOf[r] = -1;
+      continue;
+    }
+    bool narrow = true;
+    for (PetscInt e = first; e < last && narrow; ++e) {
+      const PetscInt offset = rows.col[e] - rowStart - r;
+      narrow = own(rows.col[e]) && offset >= INT16_MIN && offset <= INT16_MAX;
+    }
+    const int g = narrow ? static_cast<int>(std::min<PetscInt>(last - first, F::kLong)) : F::kWide;
+    groupOf[r] = static_cast<int8_t>(g);
+    ++rowsIn[g];
+    entriesIn[g] += static_cast<size_t>(last - first);
+  }
+  F f;
+  size_t totalRows = 0, totalEntries = 0;
+  for (int g = 0; g < F::kGroups; ++g) {
+    f.group[g] = static_cast<int32_t>(totalRows);
+    f.firstEntry[g] = static_cast<int32_t>(totalEntries);
+    totalRows += rowsIn[g];
+    totalEntries += entriesIn[g];
+  }
+  if (totalEntries >= static_cast<size_t>(INT32_MAX))
+    throw h5::Error(where + " has " + std::to_string(totalEntries) +
+                    " moving entries on one rank, more than 32-bit offsets hold: use more ranks");
+  f.group[F::kGroups] = static_cast<int32_t>(totalRows);
+  f.firstEntry[F::kGroups] = static_cast<int32_t>(totalEntries);
+  const size_t narrowEntries = f.firstEntry[F::kWide];
+  f.rows.resize(totalRows);
+  f.ptr.resize(rowsIn[F::kLong] + rowsIn[F::kWide] + 1);
+  f.offset.resize(narrowEntries);
+  f.col.resize(totalEntries - narrowEntries);
+  (weightBits > 0 ? f.quantum.resize(totalEntries) : f.val.resize(totalEntries));
+
+  const double scale = std::ldexp(1.0, weightBits), most = scale;
+  std::array<size_t, F::kGroups> nextRow{}, nextEntry{};
+  for (int g = 0; g < F::kGroups; ++g) nextRow[g] = f.group[g], nextEntry[g] = f.firstEntry[g];
+  for (PetscInt r = 0; r < nlocal; ++r) {
+    const int g = groupOf[r];
+    if (g < 0) continue;
+    const size_t i = nextRow[g]++;
+    f.rows[i] = static_cast<int32_t>(r);
+    if (g >= F::kLong) f.ptr[i - f.group[F::kLong]] = static_cast<int32_t>(nextEntry[g]);
+    for (PetscInt e = rows.rowPtr[r]; e < rows.rowPtr[r + 1]; ++e) {
+      const size_t at = nextEntry[g]++;
+      const PetscInt c = rows.col[e];
+      if (g != F::kWide) {
+        f.offset[at] = static_cast<int16_t>(c - rowStart - r);
+      } else if (own(c)) {
+        f.col[at - narrowEntries] = static_cast<int32_t>(c - rowStart);
+      } else {
+        if (static_cast<long long>(nlocal) + c >= INT32_MAX)
+          throw h5::Error(where + ": too many cells for 32-bit column numbers on one rank");
+        f.col[at - narrowEntries] = static_cast<int32_t>(nlocal + c); // numberGhosts() renumbers it
+        ghosts->push_back(c);
+      }
+      const double v = rows.val[e];
+      if (weightBits == 0) {
+        f.val[at] = v;
+        continue;
+      }
+      const double numerator = v * scale; // exact: a power of two
+      if (!(numerator >= 1.0 && numerator <= most && numerator == std::floor(numerator))) {
+        char text[160];
+        std::snprintf(text, sizeof text, "%.17g", v);
+        throw h5::Error(where + ": shift weight " + text + " is not a positive multiple of 2^-" +
+                        std::to_string(weightBits) + " up to 1, but the database says its weights are quantised to "
+                        "multiples of 2^-" + std::to_string(weightBits) + " (/metadata weight_bits)");
+      }
+      f.quantum[at] = static_cast<uint16_t>(numerator - 1.0);
+    }
+  }
+  f.ptr.back() = static_cast<int32_t>(totalEntries);
+  return f;
+}
+
+void numberGhosts(CompactFrame *frame, PetscInt nlocal, const std::vector<PetscInt> &ghostRows) {
+  for (int32_t &c : frame->col)
+    if (c >= nlocal)
+      c = static_cast<int32_t>(nlocal + (std::lower_bound(ghostRows.begin(), ghostRows.end(), c - nlocal) -
+                                         ghostRows.begin()));
+}
+
+namespace {
+
+// A rank's rows split into PETSc's "diagonal" block (columns of own cells,
+// numbered from the first own row) and "off-diagonal" block (global
+// columns): the arrays MatCreateMPIAIJWithSplitArrays uses in place, so the
+// matrix owns them through a container (freed with it).  Faster than the
+// row-by-row insertion of MatCreateMPIAIJWithArrays.  The vectors are never
+// empty, so that data() is never null.
+struct SplitArrays {
+  std::vector<PetscInt> di{0}, dj, oi{0}, oj;
+  std::vector<PetscScalar> da, oa;
+  static PetscErrorCode destroy(void *self) {
+    delete static_cast<SplitArrays *>(self);
+    return PETSC_SUCCESS;
+  }
+};
+
+} // namespace
+
+PetscErrorCode shiftMatrixOf(const CompactFrame &f, const Layout &L, const std::vector<PetscInt> &ghostRows,
+                             int weightBits, OwnedMat *T) {
+  PetscFunctionBeginUser;
+  const PetscInt n = L.numLocal();
+  auto arrays = std::make_unique<SplitArrays>();
+  SplitArrays &a = *arrays;
+  std::vector<int32_t> movingRow(n, -1); // the row's place in the compact frame
+  for (size_t i = 0; i < f.rows.size(); ++i) movingRow[f.rows[i]] = static_cast<int32_t>(i);
+  const double scale = std::ldexp(1.0, -weightBits);
+  a.di.reserve(n + 1);
+  a.oi.reserve(n + 1);
+  a.dj.reserve(f.numEntries() + n);
+  a.da.reserve(f.numEntries() + n);
+  for (PetscInt r = 0; r < n; ++r) {
+    if (movingRow[r] < 0) {
+      a.dj.push_back(r);
+      a.da.push_back(1.0);
+    } else {
+      const size_t i = movingRow[r];
+      size_t first, last;
+      f.entries(i, &first, &last);
+      for (size_t e = first; e < last; ++e) {
+        const int32_t c = f.column(i, e);
+        const double v = weightBits > 0 ? (f.quantum[e] + 1.0) * scale : f.val[e];
+        if (c < n) a.dj.push_back(c), a.da.push_back(v);
+        else a.oj.push_back(ghostRows[c - n]), a.oa.push_back(v);
+      }
+    }
+    a.di.push_back(static_cast<PetscInt>(a.dj.size()));
+    a.oi.push_back(static_cast<PetscInt>(a.oj.size()));
+  }
+  for (auto *v : {&a.dj, &a.oj}) if (v->empty()) v->push_back(0);
+  for (auto *v : {&a.da, &a.oa}) if (v->empty()) v->push_back(0.0);
+  PetscCall(MatCreateMPIAIJWithSplitArrays(L.comm(), n, n, L.numCells(), L.numCells(), a.di.data(), a.dj.data(),
+                                           a.da.data(), a.oi.data(), a.oj.data(), a.oa.data(), T->put()));
+  PetscContainer owner;
+  PetscCall(PetscContainerCreate(PETSC_COMM_SELF, &owner));
+  PetscCall(PetscContainerSetPointer(owner, arrays.release()));
+  PetscCall(PetscContainerSetUserDestroy(owner, SplitArrays::destroy));
+  PetscCall(PetscObjectCompose(reinterpret_cast<PetscObject>(T->get()), "rcfd_split_arrays",
+                               reinterpret_cast<PetscObject>(owner)));
+  PetscCall(PetscContainerDestroy(&owner));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+} // namespace rcfd

@@ -1,0 +1,57 @@
+// From one rank's rows of a shift as the file stores them to the compact
+// frame the database holds (include/rcfd/frames.hpp, CompactFrame), and back
+// to a PETSc matrix when one is asked for.  Private to the library.
+//
+// The loader's arithmetic is that of the PETSc matrices it used to build, so
+// that full-precision runs give the same bits: column sums as
+// MatMultTranspose(T, 1) forms them (own rows' entries in row order, other
+// ranks' partial sums added through a reverse scatter) and the rescaling
+// T(j, i) *= 1 / sum_i as MatDiagonalScale(T, NULL, 1 / sums) does it.
+#pragma once
+
+#include "rcfd/frames.hpp"
+#include "rcfd/handle.hpp"
+#include "rcfd/layout.hpp"
+
+#include <string>
+#include <vector>
+
+namespace rcfd {
+
+/// This rank's rows of one shift, columns in PETSc numbering, sorted per row.
+struct LocalShiftRows {
+  std::vector<PetscInt> rowPtr, col;
+  std::vector<PetscScalar> val;
+};
+
+/// What the loader checks the columns against and records.
+struct ColumnCheck {
+  double tolerance = 1e-9; ///< largest |column sum - 1| accepted (full precision)
+  int weightBits = 0;      ///< > 0: weights quantised to 2^-weightBits, column sums exactly 1
+  std::string where;       ///< "database 'x.h5', frame k", for messages
+  double largestError = 0.0; ///< largest |column sum - 1| seen on this rank (updated)
+};
+
+/// Collective.  Sums the columns of `rows`, refuses (on every rank, with a
+/// sentence naming the cell) a column off by more than the tolerance, or,
+/// for quantised weights, one whose sum is not exactly 1, and divides every
+/// entry by its column's sum.
+PetscErrorCode rescaleColumns(const Layout &layout, LocalShiftRows *rows, ColumnCheck *check);
+
+/// The compact form of rescaled rows.  Entries of other ranks' cells go to
+/// wide rows with the column nlocal + (their PETSc row) until numberGhosts()
+/// renumbers them; their PETSc rows are appended to `ghosts`.  Quantised
+/// weights must be multiples of 2^-weightBits in (0, 1] (throws h5::Error
+/// naming `where` otherwise).
+CompactFrame compactFrame(const LocalShiftRows &rows, PetscInt rowStart, PetscInt nlocal, int weightBits,
+                          const std::string &where, std::vector<PetscInt> *ghosts);
+
+/// Columns nlocal + PETSc row become nlocal + place in `ghostRows` (sorted).
+void numberGhosts(CompactFrame *frame, PetscInt nlocal, const std::vector<PetscInt> &ghostRows);
+
+/// Collective.  The MPIAIJ matrix of a compact frame: identity rows restored,
+/// the same entries in the same order as the matrix the loader once built.
+PetscErrorCode shiftMatrixOf(const CompactFrame &frame, const Layout &layout, const std::vector<PetscInt> &ghostRows,
+                             int weightBits, OwnedMat *T);
+
+} // namespace rcfd
