@@ -5,7 +5,7 @@
 #   space coarsening  rcfd coarsen -factor 1,1,1 | 2,1,1 | 1,1,2 | 2,1,2   (the bed is 12 cells deep at rest)
 #   time stride       1 | 2 | 4  (-time_factor 2, once or twice: frames composed, dt_rec 5, 10, 20 ms)
 #   drift every       1 | 4 steps (-drift_every)
-#   frame precision   PRECISIONS (default "full"; see precision_options below)
+#   frame precision   PRECISIONS (default "full"; "full q16" adds 16-bit weights; precision_options below)
 # the drift law B scaled by the agitation, (a/a_bar)^2 (-drift_agitation leaving
 # -drift_agitation_exponent 2), is calibrated for that resolution on the database of 0.2-1.7 s
 # (rcfd calibrate, RMS objective, a coarse scan of k_d and a short golden section), then the whole
@@ -31,13 +31,13 @@ mkdir -p "$out" "$results"
 export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
 
 # ---- HOOK: reduced-precision frames (issue 14, "Compact frames"; another change adds them) ----------
-# precision_options P: the options that make `rcfd coarsen` write frames of precision P.  "full" is
-# today's frames.  When reduced-precision frames land, map each name to its option here, e.g.
-#   single) echo "-frame_precision single" ;;
-# and list the names in PRECISIONS; nothing else in this script changes.
+# precision_options P: the options that make `rcfd coarsen` write frames of precision P: "full"
+# (double weights) or "q16", "q12", "q8" (weights quantised to multiples of 2^-16 ... with exact column
+# sums, held in 2 bytes: docs/performance.md, "Compact frames").
 precision_options() {
   case $1 in
     full) echo "" ;;
+    q16 | q12 | q8) echo "-weights ${1#q}" ;;
     *) echo "bench/pareto.sh: frame precision '$1' is not known yet; add it to precision_options" >&2; return 1 ;;
   esac
 }
@@ -65,10 +65,14 @@ coarsened() {
   for part in fit replay; do
     local init=()
     [ $part = fit ] && init=(-init_file "$out/init.h5" -init_out "$dbs/$name-init.h5")
+    # The weights are quantised in the last coarsening: composed quantised frames are not quantised.
+    local now=$extra
+    [ "$stride" -eq 4 ] && now=""
     # shellcheck disable=SC2086
-    "$rcfd" coarsen "$out/$part.h5" -factor "$space" -time_factor $first "${init[@]}" $extra -o "$dbs/$name-$part.h5" -quiet
+    "$rcfd" coarsen "$out/$part.h5" -factor "$space" -time_factor $first "${init[@]}" $now -o "$dbs/$name-$part.h5" -quiet
     if [ "$stride" -eq 4 ]; then # twice two frames composed
-      "$rcfd" coarsen "$dbs/$name-$part.h5" -factor 1,1,1 -time_factor 2 -o "$dbs/$name-$part.tmp.h5" -quiet
+      # shellcheck disable=SC2086
+      "$rcfd" coarsen "$dbs/$name-$part.h5" -factor 1,1,1 -time_factor 2 $extra -o "$dbs/$name-$part.tmp.h5" -quiet
       mv "$dbs/$name-$part.tmp.h5" "$dbs/$name-$part.h5"
     fi
   done
