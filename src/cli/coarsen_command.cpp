@@ -1,6 +1,7 @@
 // rcfd coarsen: an exactly coarsened copy of a database (src/database/coarsen.hpp).
 #include "cli/commands.hpp"
 #include "base/petsc_compat.hpp"
+#include "base/checked_options.hpp"
 
 #include "base/atomic_file.hpp"
 #include "base/collective.hpp"
@@ -52,8 +53,9 @@ PetscErrorCode coarsenCommand(MPI_Comm comm, const char *positional) {
   PetscCall(PetscOptionsString("-db", "Database file (or give it as the first argument)", "", "", in, sizeof in,
                                &setIn));
   PetscCall(PetscOptionsString("-o", "Coarsened database file", "", "", out, sizeof out, &setOut));
-  PetscCall(PetscOptionsIntArray("-factor", "Fine cells per coarse cell along x,y,z (each divides the cell count)",
-                                 "", factor, &nfactor, &setFactor));
+  PetscCall(checkedIntArray(PetscOptionsObject, "-factor",
+                            "Fine cells per coarse cell along x,y,z (each divides the cell count)", factor,
+                            &nfactor, &setFactor));
   PetscCall(PetscOptionsInt("-time_factor", "Frames per coarse frame: 1, or 2 (each pair composed, dt_rec doubled)",
                             "", timeFactor, &timeFactor, nullptr));
   PetscCall(PetscOptionsString("-init_file", "Also coarsen this initial composition (HDF5 /masses, e.g. from rcfd build -init_out)",

@@ -406,8 +406,8 @@ PetscErrorCode Database::optionsFromCommandLine(DatabaseLoadOptions *o) {
   PetscCall(checkedReal(PetscOptionsObject, "-db_column_tolerance",
                         "Largest |column sum - 1| of a shift matrix accepted on load",
                         &o->columnTolerance, kPositive));
-  PetscCall(PetscOptionsIntArray("-db_frames", "First and last frame to load (last -1: to the end)",
-                                 "", window, &nwindow, nullptr));
+  PetscCall(checkedIntArray(PetscOptionsObject, "-db_frames",
+                            "First and last frame to load (last -1: to the end)", window, &nwindow, nullptr));
   // Read by Layout::create while loading; registered here so that -help lists
   // it and the check for unknown options, which runs before loading, knows it.
   PetscBool viewPartition = PETSC_FALSE;

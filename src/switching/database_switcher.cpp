@@ -3,6 +3,7 @@
 #include "switching/database_switcher.hpp"
 #include "base/collective.hpp"
 #include "base/petsc_compat.hpp"
+#include "base/checked_options.hpp"
 
 #include <cmath>
 #include <cstdio>
@@ -17,10 +18,10 @@ PetscErrorCode DatabaseSwitcher::setFromOptions(MPI_Comm c, const SwitchRuleRegi
   PetscFunctionBeginUser;
   comm = c;
   PetscOptionsBegin(comm, nullptr, "Several databases", "rcfd");
-  PetscCall(PetscOptionsRealArray("-db_conditions",
-                                  "Superficial velocity [m/s] each database of -db was recorded at, in its order "
-                                  "(default: the files' metadata)",
-                                  "", given, &n, &set));
+  PetscCall(checkedRealArray(PetscOptionsObject, "-db_conditions",
+                             "Superficial velocity [m/s] each database of -db was recorded at, in its order "
+                             "(default: the files' metadata)",
+                             given, &n, &set));
   PetscOptionsEnd();
   conditionVelocities.clear();
   if (set)

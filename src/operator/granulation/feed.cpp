@@ -16,8 +16,9 @@ PetscErrorCode FeedOperator::setFromOptions(MPI_Comm c) {
   PetscCall(readZone(PetscOptionsObject, c));
   PetscCall(readKeepBulk(PetscOptionsObject));
   PetscCall(checkedReal(PetscOptionsObject, "-rate", "Feed rate m_f [kg/s]", &rate, kNonNegative));
-  PetscCall(PetscOptionsRealArray("-mass_shares", "Mass shares of the feed per fraction (default: the inventory's)",
-                                  "", values, &n, &set));
+  PetscCall(checkedRealArray(PetscOptionsObject, "-mass_shares",
+                             "Mass shares of the feed per fraction (default: the inventory's)", values, &n,
+                             &set));
   PetscOptionsEnd();
   if (set) shares.assign(values, values + n);
   PetscFunctionReturn(PETSC_SUCCESS);

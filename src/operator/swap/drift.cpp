@@ -28,8 +28,9 @@ PetscErrorCode DriftOperator::setFromOptions(MPI_Comm comm) {
                               models, 4, models[which], &which, nullptr));
   PetscCall(checkedReal(PetscOptionsObject, "-kd",
                         "Drift constant k_d [1/(m s)] (paper: 5e2 for A, 5e3 for B)", &kd, kNonNegative));
-  PetscCall(PetscOptionsRealArray("-velocities", "Drift velocity of each fraction, up positive [m/s] (model constant)",
-                                  "", velocities, &nv, &setV));
+  PetscCall(checkedRealArray(PetscOptionsObject, "-velocities",
+                             "Drift velocity of each fraction, up positive [m/s] (model constant)", velocities,
+                             &nv, &setV));
   PetscCall(checkedReal(PetscOptionsObject, "-d32",
                         "Sauter diameter in the model [m] (default: the inventory's)",
                         &d32Override, {0.0, 1.0, false, true, "a positive diameter in m"}));
