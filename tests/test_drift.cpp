@@ -459,6 +459,40 @@ void agitationOfTheSendingCell() {
   RCFD_CHECK_CLOSE(m0[0] - m[0], expected, 1e-12 * m0[0]);
 }
 
+// A drift set up again on another database (a run that switches databases)
+// makes its agitation field for that database: it then drifts as one set up
+// on it from the start, bit for bit.  The other database: small.h5's frames
+// in reverse order (the same a_bar, other factors per frame).
+void agitationFollowsTheDatabase() {
+  std::unique_ptr<Database> db, reversed;
+  PetscCallAbort(PETSC_COMM_WORLD,
+                 Database::load(PETSC_COMM_WORLD, dataDir + "/small.h5", DatabaseLoadOptions{}, &db));
+  const int K = db->numFrames();
+  std::vector<OwnedVec> alpha(K);
+  std::vector<OwnedMat> shifts(K);
+  for (int k = 0; k < K; ++k) {
+    PetscCallAbort(PETSC_COMM_WORLD, VecDuplicate(db->alphaS(K - 1 - k), alpha[k].put()));
+    PetscCallAbort(PETSC_COMM_WORLD, VecCopy(db->alphaS(K - 1 - k), alpha[k]));
+    PetscCallAbort(PETSC_COMM_WORLD, db->shiftMatrix(K - 1 - k, &shifts[k]));
+  }
+  PetscCallAbort(PETSC_COMM_WORLD,
+                 Database::fromFrames(*db, "reversed", std::move(alpha), std::move(shifts), &reversed));
+  FractionSet set({1.459e-3, 4.075e-3}, {0.564, 0.436});
+  const std::string law = "-model B -kd 2e5 -agitation leaving -agitation_exponent 2";
+  auto switched = makeOperator<DriftOperator>(law), fresh = makeOperator<DriftOperator>(law);
+  PetscCallAbort(PETSC_COMM_WORLD, switched->setUp(RunContext{*db, set, 1440.0}));
+  PetscCallAbort(PETSC_COMM_WORLD, switched->setUp(RunContext{*reversed, set, 1440.0}));
+  PetscCallAbort(PETSC_COMM_WORLD, fresh->setUp(RunContext{*reversed, set, 1440.0}));
+  RCFD_CHECK(switched->agitationField()->databaseIdentity() == "reversed");
+  std::vector<double> m0;
+  for (int c = 0; c < reversed->mesh().numCells(); ++c) {
+    const double bulk = 1440.0 * 0.4 * reversed->mesh().cellVolume[c];
+    m0.push_back(0.3 * bulk);
+    m0.push_back(0.7 * bulk);
+  }
+  RCFD_CHECK(stepFrames(*reversed, *switched, m0, 2, 20) == stepFrames(*reversed, *fresh, m0, 2, 20));
+}
+
 void leftOutWhenNotNeeded() {
   auto db = identityDb(column(2, 4, 0.04), std::vector<double>(4, 0.5), {0, 0, -9.81});
   FractionSet one({2e-3}, {1.0}), two({1e-3, 2e-3}, {0.5, 0.5});
@@ -495,6 +529,7 @@ int main(int argc, char **argv) {
   agitationScaling();
   agitationOfTheFrame();
   agitationOfTheSendingCell();
+  agitationFollowsTheDatabase();
   const int total = rcfd::test::globalFailures();
   PetscCall(PetscFinalize());
   return total == 0 ? 0 : 1;

@@ -33,6 +33,8 @@ public:
   PetscErrorCode setValues(const Database &db, AgitationMeasure measure,
                            std::vector<std::vector<double>> perFrame);
   AgitationMeasure measure() const { return kind; }
+  /// Database::identity() of the database the field was made for.
+  const std::string &databaseIdentity() const { return madeFrom; }
   /// This rank's values of frame k.
   const std::vector<double> &frame(int k) const { return values[k]; }
   /// The solid-weighted mean over the occupied cells of all frames,
@@ -45,6 +47,7 @@ private:
   PetscErrorCode normalise(const Database &db); // mean and largest from values
 
   AgitationMeasure kind = AgitationMeasure::LeavingShare;
+  std::string madeFrom;
   std::vector<std::vector<double>> values;
   double mean = 0.0, largest = 0.0;
 };

@@ -23,6 +23,7 @@ PetscErrorCode AgitationField::setUp(const Database &db, AgitationMeasure measur
   PetscCheck(db.hasShifts(), comm, PETSC_ERR_ARG_WRONGSTATE,
              "Database '%s' was loaded without its shifts; the agitation field needs them", db.path().c_str());
   kind = measure;
+  madeFrom = db.identity();
   const int K = db.numFrames();
   const PetscInt n = layout.numLocal(), start = layout.rowStart();
   const Mesh &mesh = db.mesh();
@@ -82,6 +83,7 @@ PetscErrorCode AgitationField::setValues(const Database &db, AgitationMeasure me
                "An agitation field needs one value per local cell (%d), got %zu",
                (int)db.layout().numLocal(), f.size());
   kind = measure;
+  madeFrom = db.identity();
   values = std::move(perFrame);
   PetscCall(normalise(db));
   PetscFunctionReturn(PETSC_SUCCESS);

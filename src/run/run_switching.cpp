@@ -3,8 +3,6 @@
 #include "run/run_impl.hpp"
 #include "base/petsc_compat.hpp"
 
-#include "rcfd/drift.hpp"
-
 namespace rcfd {
 
 PetscErrorCode Run::Impl::followSwitches(long step, double time, int nextFrame) {
@@ -17,7 +15,7 @@ PetscErrorCode Run::Impl::followSwitches(long step, double time, int nextFrame) 
 }
 
 // The operators are set up anew on the database, as at the start: the shift
-// takes its matrices, drift its agitation field, the swaps their faces.  What
+// takes its frames, drift makes its agitation field for it, the swaps their faces.  What
 // they keep across a restart (saveState) they keep across a switch too.
 PetscErrorCode Run::Impl::switchTo(const SwitchDecision &target, int nextFrame, double time, bool remap) {
   PetscFunctionBeginUser;
@@ -27,7 +25,6 @@ PetscErrorCode Run::Impl::switchTo(const SwitchDecision &target, int nextFrame, 
   const RunContext ctx = context();
   for (const auto &op : ops.operators()) {
     const std::vector<double> kept = op->saveState();
-    if (auto *drift = dynamic_cast<DriftOperator *>(op.get())) drift->useAgitation(nullptr); // of the new database
     PetscCall(op->setUp(ctx));
     PetscCall(op->restoreState(kept));
   }

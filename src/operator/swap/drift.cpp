@@ -127,9 +127,12 @@ PetscErrorCode DriftOperator::setUpScaling(const RunContext &ctx) {
   largestScaleByFrame.clear();
   meanFactor = 1.0;
   if (!agitation && agitationName == "none") PetscFunctionReturn(PETSC_SUCCESS);
-  if (!agitation) {
+  // A field made for another database (the run switched databases) is made
+  // again, of the same measure, for this one.
+  if (!agitation || agitation->databaseIdentity() != ctx.db.identity()) {
+    const AgitationMeasure measure = agitation ? agitation->measure() : parseAgitationMeasure(agitationName);
     auto field = std::make_shared<AgitationField>();
-    PetscCall(field->setUp(ctx.db, parseAgitationMeasure(agitationName)));
+    PetscCall(field->setUp(ctx.db, measure));
     agitation = field;
   }
   const double mean = agitation->solidWeightedMean();
