@@ -74,8 +74,11 @@ bool helpAsked() {
 PetscErrorCode stringOption(MPI_Comm comm, const std::string &prefix, const char *name, const char *help,
                             std::string *value, PetscBool *set) {
   char text[1024];
+  // PETSc's -help prints a block only the first time its title is seen, so
+  // each option gets its own title.
+  const std::string title = std::string("Switching between databases: ") + (name + 1);
   PetscFunctionBeginUser;
-  PetscOptionsBegin(comm, prefix.c_str(), "Switching between databases", "rcfd");
+  PetscOptionsBegin(comm, prefix.c_str(), title.c_str(), "rcfd");
   PetscCall(PetscOptionsString(name, help, "", value->c_str(), text, sizeof text, set));
   PetscOptionsEnd();
   if (*set) *value = text;
