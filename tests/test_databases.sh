@@ -81,5 +81,22 @@ expect_error "continues a run made with another database" \
   -db_switch_hysteresis 1e-5 -quiet "${common[@]}" -output_dir "$work/state"
 same "state switch" "$(awk -F, '/switch$/ {print $2, $3, ($4 > 0.0023305 * (1 + 1e-5))}' "$work/state/switches.csv")" "0 1 1"
 
+# State on a monitor's signal: cog.csv's delta_z, sampled every 20 steps (0.1 s), passes 2.5e-4 m
+# between the samples at 0.1 and 0.2 s, so the run switches at the step after the 0.2 s sample (the
+# rule sees a monitor's latest sample).  A run stopped at 0.2 s and restarted from its checkpoint
+# (which keeps that sample) writes the same files byte for byte: without it, it would switch 0.1 s late.
+signal=(-db "$a,$b" -db_switch_type state -db_switch_quantity delta_z -db_switch_thresholds 2.5e-4
+  -db_switch_hysteresis 1e-5 -monitor_every 20 -quiet "${common[@]}")
+"$rcfd" run "${signal[@]}" -output_dir "$work/signal"
+same "switch on delta_z" "$(awk -F, '/switch$/ {print $1, $2, $3}' "$work/signal/switches.csv")" "0.205 0 1"
+"$rcfd" run "${signal[@]}" -t_end 0.2 -checkpoint_every 0.2 -output_dir "$work/signal2"
+"$rcfd" run "${signal[@]}" -restart "$work/signal2/checkpoint.h5" -output_dir "$work/signal2"
+for f in switches.csv cog.csv path.txt; do
+  if cmp -s "$work/signal/$f" "$work/signal2/$f"; then ok; else fail "restart before a switch on delta_z: $f differs"; fi
+done
+expect_error "The state switching rule decides on 'nonsense', which is neither a built-in signal (inventory_d32, \
+bottom_d32, umf_usup) nor one of this run's monitors' (delta_z, z_cog_bed)" run "${signal[@]}" \
+  -db_switch_quantity nonsense -output_dir "$work/refused"
+
 echo "$passed passed, $failures failed"
 [ "$failures" -eq 0 ]

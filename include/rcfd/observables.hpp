@@ -83,6 +83,15 @@ public:
   /// the answer must come from globally reduced values.  Defaults: no detector.
   virtual bool detectsSteadyState() const { return false; }
   virtual PetscErrorCode steadyAt(const MonitorContext &ctx, bool *steady) const;
+
+  /// Quantities a switching rule may decide on (-db_switch_quantity NAME,
+  /// docs/databases.md): the names this monitor offers, and one's value at
+  /// the monitor's latest sample, the same on every rank (NaN before the
+  /// first).  A monitor that offers signals keeps their latest values in its
+  /// saveState(), so that a restart decides as the run would have.  Defaults:
+  /// none.
+  virtual std::vector<std::string> signalNames() const { return {}; }
+  virtual double signal(const std::string &name) const;
 };
 
 /// A monitor given as a function.

@@ -42,9 +42,15 @@ struct SwitchSignals {
   double inventoryD32 = std::numeric_limits<double>::quiet_NaN(); ///< Sauter diameter of the bed [m]
   double bottomD32 = std::numeric_limits<double>::quiet_NaN();    ///< of the bottom cell layer [m]
   double umfOverUsup = std::numeric_limits<double>::quiet_NaN();  ///< u_mf(bottom d32) / u_sup
-  /// A signal by name: inventory_d32, bottom_d32, umf_usup; throws std::invalid_argument otherwise.
+  /// A monitor's signal by name (Monitor::signal: its latest sample), set by the run.
+  std::function<double(const std::string &)> fromMonitors;
+  /// A signal by name: inventory_d32, bottom_d32, umf_usup, else a monitor's;
+  /// throws std::invalid_argument for a name nobody offers.
   double named(const std::string &name) const;
   static const char *names() { return "inventory_d32, bottom_d32, umf_usup"; }
+  static bool isBuiltIn(const std::string &name) {
+    return name == "inventory_d32" || name == "bottom_d32" || name == "umf_usup";
+  }
 };
 
 /// A rule's choice for the next step: one database, or the blend of two
@@ -80,6 +86,9 @@ public:
   /// Whether decide() reads the quantities of SwitchSignals (they cost a
   /// reduction per step); time and step are always there.
   virtual bool needsSignals() const { return false; }
+  /// The signals decide() reads by name (checked against the built-in ones
+  /// and the run's monitors before the first step).
+  virtual std::vector<std::string> signalsUsed() const { return {}; }
   virtual std::string kind() const = 0;
   /// One line: the rule and its resolved parameters.
   virtual std::string describe() const = 0;

@@ -52,18 +52,39 @@ PetscErrorCode CogMonitor::sample(const MonitorContext &ctx) {
   BedSample s;
   PetscCall(cog.measure(ctx.time, ctx.state.masses(), ctx.run.db.alphaS(ctx.frame),
                         ctx.run.solidDensity, &s));
+  latestDeltaZ = s.deltaZ;
+  latestZCogBed = s.zCogBed;
   if (keep_) history.push_back(s);
   PetscCall(csv->add(formatCsvRow(s, static_cast<int>(csvDigits))));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
+std::vector<double> CogMonitor::saveState() const {
+  std::vector<double> state = csv->state();
+  state.push_back(latestDeltaZ);
+  state.push_back(latestZCogBed);
+  return state;
+}
+
 PetscErrorCode CogMonitor::restoreState(const std::vector<double> &state) {
   PetscFunctionBeginUser;
   if (state.empty()) PetscFunctionReturn(PETSC_SUCCESS); // not in the checkpoint's run: starts anew
-  PetscCheck(state.size() == 1, PETSC_COMM_SELF, PETSC_ERR_FILE_UNEXPECTED,
-             "The checkpoint's cog.csv state holds %zu numbers, expected 1 (the file's length)", state.size());
+  // Checkpoints before the signals hold the file's length only.
+  PetscCheck(state.size() == 1 || state.size() == 3, PETSC_COMM_SELF, PETSC_ERR_FILE_UNEXPECTED,
+             "The checkpoint's cog.csv state holds %zu numbers, expected 3 (the file's length, the latest "
+             "delta_z and z_cog_bed)", state.size());
   PetscCall(csv->resume(state[0]));
+  if (state.size() == 3) {
+    latestDeltaZ = state[1];
+    latestZCogBed = state[2];
+  }
   PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+double CogMonitor::signal(const std::string &name) const {
+  if (name == "delta_z") return latestDeltaZ;
+  if (name == "z_cog_bed") return latestZCogBed;
+  return Monitor::signal(name);
 }
 
 } // namespace rcfd

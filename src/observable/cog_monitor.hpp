@@ -5,6 +5,7 @@
 
 #include "rcfd/observables.hpp"
 
+#include <limits>
 #include <memory>
 
 namespace rcfd {
@@ -18,9 +19,13 @@ public:
                        const std::string &outputDirectory) override;
   PetscErrorCode sample(const MonitorContext &ctx) override;
   PetscErrorCode flush() override { return csv->flush(); }
-  /// State: the length of cog.csv (CsvSeries::mark).
-  std::vector<double> saveState() const override { return csv->state(); }
+  /// State: the length of cog.csv (CsvSeries::mark), then the latest
+  /// sample's delta_z and z_cog_bed (the signals).
+  std::vector<double> saveState() const override;
   PetscErrorCode restoreState(const std::vector<double> &state) override;
+  /// delta_z [m] and z_cog_bed [m] of the latest sample.
+  std::vector<std::string> signalNames() const override { return {"delta_z", "z_cog_bed"}; }
+  double signal(const std::string &name) const override;
 
   /// Keep every sample in memory as well (samples()); off by default, since
   /// the samples grow with the run's length.
@@ -33,6 +38,8 @@ private:
   CentreOfGravity cog;
   std::unique_ptr<CsvSeries> csv;
   std::vector<BedSample> history;
+  double latestDeltaZ = std::numeric_limits<double>::quiet_NaN(); // the signals
+  double latestZCogBed = std::numeric_limits<double>::quiet_NaN();
   bool keep_ = false;
   PetscInt monitorEvery = 1, csvDigits = 10;
 };

@@ -2,6 +2,8 @@
 #include "rcfd/observables.hpp"
 #include "base/petsc_compat.hpp"
 
+#include <limits>
+
 namespace rcfd {
 
 PetscErrorCode Monitor::setUp(const RunContext &, const FractionState &, const std::string &) {
@@ -9,6 +11,7 @@ PetscErrorCode Monitor::setUp(const RunContext &, const FractionState &, const s
 }
 PetscErrorCode Monitor::flush() { return PETSC_SUCCESS; }
 std::vector<double> Monitor::saveState() const { return {}; }
+double Monitor::signal(const std::string &) const { return std::numeric_limits<double>::quiet_NaN(); }
 PetscErrorCode Monitor::steadyAt(const MonitorContext &, bool *steady) const {
   *steady = false;
   return PETSC_SUCCESS;

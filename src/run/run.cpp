@@ -249,7 +249,9 @@ PetscErrorCode Run::setUp() {
              "product.csv is one)", r.pipelineSpec.c_str());
   r.cog->keepSamples(r.keepHistory);
   if (r.switching) {
-    PetscCall(r.switching->setUp(*r.db, r.set, r.solidDensity, r.outputDir, r.quiet == PETSC_TRUE));
+    std::vector<const Monitor *> monitors;
+    for (const auto &m : r.monitors) monitors.push_back(m.monitor.get());
+    PetscCall(r.switching->setUp(*r.db, r.set, r.solidDensity, r.outputDir, r.quiet == PETSC_TRUE, monitors));
     r.switchCarry = std::make_unique<CarryOperator>();
     PetscCall(r.switchCarry->setKind(r.comm, "remap"));
   }

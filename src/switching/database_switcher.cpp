@@ -51,8 +51,23 @@ PetscErrorCode DatabaseSwitcher::open(MPI_Comm c, const std::vector<std::string>
 }
 
 PetscErrorCode DatabaseSwitcher::setUp(const Database &first, const FractionSet &set, double solidDensity,
-                                       const std::string &directory, bool beQuiet) {
+                                       const std::string &directory, bool beQuiet,
+                                       const std::vector<const Monitor *> &monitors) {
   PetscFunctionBeginUser;
+  monitorSignals.clear();
+  for (const std::string &name : rule_->signalsUsed()) {
+    if (SwitchSignals::isBuiltIn(name)) continue;
+    std::string offered;
+    for (const Monitor *m : monitors)
+      for (const std::string &n : m->signalNames()) {
+        if (n == name && !monitorSignals.count(name)) monitorSignals[name] = m;
+        offered += (offered.empty() ? "" : ", ") + n;
+      }
+    PetscCheck(monitorSignals.count(name), comm, PETSC_ERR_USER_INPUT,
+               "The %s switching rule decides on '%s', which is neither a built-in signal (%s) nor one of this "
+               "run's monitors' (%s)", rule_->kind().c_str(), name.c_str(), SwitchSignals::names(),
+               offered.empty() ? "none" : offered.c_str());
+  }
   fractions = &set;
   rho = solidDensity;
   outputDir = directory;
@@ -77,6 +92,11 @@ PetscErrorCode DatabaseSwitcher::measure(long step, double time, const FractionS
   PetscFunctionBeginUser;
   s->step = step;
   s->time = time;
+  s->fromMonitors = [this](const std::string &name) {
+    const auto who = monitorSignals.find(name);
+    if (who == monitorSignals.end()) throw std::invalid_argument("no monitor of this run offers the signal '" + name + "'");
+    return who->second->signal(name);
+  };
   PetscCall(layers.fractionMasses(state.masses(), nf, &perLayer));
   for (std::size_t k = 0; k < perLayer.size(); ++k) totals[k % nf] += perLayer[k];
   double mass = 0.0, massOverD = 0.0;

@@ -12,6 +12,7 @@
 #include "observable/min_fluidization.hpp"
 
 #include <limits>
+#include <map>
 #include <memory>
 #include <string>
 #include <vector>
@@ -26,8 +27,9 @@ public:
   PetscErrorCode open(MPI_Comm comm, const std::vector<std::string> &paths, const DatabaseLoadOptions &options);
   /// Collective, once the run's first database is loaded: the signals' layers,
   /// OUTPUT_DIR/switches.csv (written from the first switch or warning on).
+  /// `monitors`: the run's, whose signals a rule may use (checked here).
   PetscErrorCode setUp(const Database &first, const FractionSet &fractions, double solidDensity,
-                       const std::string &outputDir, bool quiet);
+                       const std::string &outputDir, bool quiet, const std::vector<const Monitor *> &monitors);
 
   /// Collective.  After the step that ends at `time`: whether the next step
   /// uses other databases (`target`), from the rule and the globally reduced
@@ -73,6 +75,7 @@ private:
   const FractionSet *fractions = nullptr;
   double rho = 0.0, gravity = 9.81;
   GasProperties gas;
+  std::map<std::string, const Monitor *> monitorSignals; // the signals the rule uses, by who offers them
   std::unique_ptr<CsvSeries> csv;
   std::string outputDir;
   bool quiet = false;

@@ -18,6 +18,7 @@ double SwitchSignals::named(const std::string &name) const {
   if (name == "inventory_d32") return inventoryD32;
   if (name == "bottom_d32") return bottomD32;
   if (name == "umf_usup") return umfOverUsup;
+  if (fromMonitors) return fromMonitors(name);
   throw std::invalid_argument("unknown signal '" + name + "'; known signals: " + names());
 }
 
@@ -195,8 +196,8 @@ public:
     std::string text;
     PetscFunctionBeginUser;
     PetscCall(stringOption(comm, optionsPrefix(), "-quantity",
-                           "Signal that selects the database: inventory_d32, bottom_d32 or umf_usup", &quantity, &set));
-    PetscCall(collectively(comm, [&] { (void)SwitchSignals().named(quantity); }, PETSC_ERR_USER_INPUT));
+                           "Signal that selects the database: inventory_d32, bottom_d32, umf_usup or a monitor's "
+                           "(delta_z, z_cog_bed of cog.csv)", &quantity, &set));
     PetscCall(stringOption(comm, optionsPrefix(), "-thresholds",
                            "Ascending values between the databases' bands, one fewer than databases (in -db order)",
                            &text, &set));
@@ -231,6 +232,7 @@ public:
     PetscFunctionReturn(PETSC_SUCCESS);
   }
   bool needsSignals() const override { return true; }
+  std::vector<std::string> signalsUsed() const override { return {quantity}; }
   SwitchDecision initial() const override { return {start}; }
   SwitchDecision decide(const SwitchDecision &active, const SwitchSignals &s) override {
     const double value = s.named(quantity);
