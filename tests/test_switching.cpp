@@ -120,6 +120,41 @@ PetscErrorCode blends(const std::string &dir) {
   RCFD_CHECK(worstInputs < 1e-12);         // the synthetic beds are consistent ...
   RCFD_CHECK(worstBlend < 1e-12);          // ... and so is their blend
   RCFD_CHECK(worstSelf < 1e-14);
+  // Pairing by recurrence similarity: database a against its own frames started 7 frames later
+  // (b_j = a_(j+7)): the lag found pairs every frame with itself, and the blend is a again.
+  {
+    const int K = da->numFrames(), shift = 7;
+    std::vector<OwnedVec> alpha(K);
+    std::vector<OwnedMat> shifts(K);
+    for (int j = 0; j < K; ++j) {
+      PetscCall(VecDuplicate(da->alphaS((j + shift) % K), alpha[j].put()));
+      PetscCall(VecCopy(da->alphaS((j + shift) % K), alpha[j]));
+      PetscCall(da->shiftMatrix((j + shift) % K, &shifts[j]));
+    }
+    std::unique_ptr<Database> later, paired, byIndex;
+    PetscCall(Database::fromFrames(*da, "a, 7 frames later", std::move(alpha), std::move(shifts), &later));
+    int lag = -1;
+    PetscCall(pairingLag(*da, *later, &lag));
+    RCFD_CHECK(lag == K - shift);
+    PetscCall(blendDatabases(*da, *later, 0.4, &paired, lag));
+    PetscCall(blendDatabases(*da, *later, 0.4, &byIndex));
+    double worstPaired = 0.0, worstByIndex = 0.0;
+    for (int k = 0; k < K; ++k) {
+      OwnedMat own, p, q;
+      PetscCall(da->shiftMatrix(k, &own));
+      PetscCall(paired->shiftMatrix(k, &p));
+      PetscCall(byIndex->shiftMatrix(k, &q));
+      PetscReal np, nq;
+      PetscCall(MatAXPY(p, -1.0, own, DIFFERENT_NONZERO_PATTERN));
+      PetscCall(MatAXPY(q, -1.0, own, DIFFERENT_NONZERO_PATTERN));
+      PetscCall(MatNorm(p, NORM_INFINITY, &np));
+      PetscCall(MatNorm(q, NORM_INFINITY, &nq));
+      worstPaired = std::max(worstPaired, np);
+      worstByIndex = std::max(worstByIndex, nq);
+    }
+    RCFD_CHECK(worstPaired < 1e-14); // the same frames blended: a's own shifts
+    RCFD_CHECK(worstByIndex > 1e-3); // frames 7 apart blended: another database
+  }
   // Dropping: a database nobody else holds goes when another is loaded.
   da.reset();
   set->dropUnused();

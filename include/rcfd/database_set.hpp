@@ -68,13 +68,21 @@ private:
 };
 
 /// Collective.  The blend of databases a (weight w) and b (1 - w) on one
-/// layout, frame k of a paired with frame k of b (each index modulo its
+/// layout, frame k of a paired with frame k + lag of b (each index modulo its
 /// database's length), combined as mass fluxes, not as matrices:
 ///   F = w T_a D_a + (1 - w) T_b D_b,  D = diag(alpha V) of the frame,
 ///   alpha = w alpha_a + (1 - w) alpha_b,  T = F diag(alpha V)^-1,
 /// so T is column-stochastic and T alpha_k V = alpha_{k+1} V whenever a and b
 /// are consistent (docs/databases.md, "Blend").  A cell empty in both keeps an
 /// identity column.
-PetscErrorCode blendDatabases(const Database &a, const Database &b, double w, std::unique_ptr<Database> *blend);
+PetscErrorCode blendDatabases(const Database &a, const Database &b, double w, std::unique_ptr<Database> *blend,
+                              int lag = 0);
+
+/// Collective.  The lag L that pairs the frames of a and b by recurrence
+/// similarity: the one that minimises sum_k sum_cells V (alpha_a,k -
+/// alpha_b,(k+L) mod K_b)^2 (the smallest L of a tie).  One lag for all frames,
+/// so that paired frames follow each other in both databases and the blend
+/// stays consistent; a per-frame choice would not.  Costs K_a K_b cell passes.
+PetscErrorCode pairingLag(const Database &a, const Database &b, int *lag);
 
 } // namespace rcfd

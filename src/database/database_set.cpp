@@ -113,10 +113,35 @@ PetscErrorCode DatabaseSet::get(int i, std::shared_ptr<Database> *db) {
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
-PetscErrorCode blendDatabases(const Database &a, const Database &b, double w, std::unique_ptr<Database> *blend) {
+PetscErrorCode pairingLag(const Database &a, const Database &b, int *lag) {
+  const int Ka = a.numFrames(), Kb = b.numFrames();
+  std::vector<double> distance(Kb, 0.0);
+  const std::vector<double> &V = a.localVolumes();
+  PetscFunctionBeginUser;
+  std::vector<const PetscScalar *> pa(Ka), pb(Kb);
+  for (int k = 0; k < Ka; ++k) PetscCall(VecGetArrayRead(a.alphaS(k), &pa[k]));
+  for (int k = 0; k < Kb; ++k) PetscCall(VecGetArrayRead(b.alphaS(k), &pb[k]));
+  for (int L = 0; L < Kb; ++L)
+    for (int k = 0; k < Ka; ++k) {
+      const PetscScalar *x = pa[k], *y = pb[(k + L) % Kb];
+      double sum = 0.0;
+      for (std::size_t i = 0; i < V.size(); ++i) sum += V[i] * (x[i] - y[i]) * (x[i] - y[i]);
+      distance[L] += sum;
+    }
+  for (int k = 0; k < Ka; ++k) PetscCall(VecRestoreArrayRead(a.alphaS(k), &pa[k]));
+  for (int k = 0; k < Kb; ++k) PetscCall(VecRestoreArrayRead(b.alphaS(k), &pb[k]));
+  PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, distance.data(), Kb, MPI_DOUBLE, MPI_SUM, a.layout().comm()));
+  *lag = static_cast<int>(std::min_element(distance.begin(), distance.end()) - distance.begin());
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode blendDatabases(const Database &a, const Database &b, double w, std::unique_ptr<Database> *blend,
+                              int lag) {
   const MPI_Comm comm = a.layout().comm();
   PetscFunctionBeginUser;
   PetscCheck(w >= 0.0 && w <= 1.0, comm, PETSC_ERR_ARG_OUTOFRANGE, "A blend's weight must be in [0, 1], got %g", w);
+  PetscCheck(lag >= 0 && lag < b.numFrames(), comm, PETSC_ERR_ARG_OUTOFRANGE,
+             "A blend's frame lag must be in [0, %d), got %d", b.numFrames(), lag);
   PetscCheck(a.hasShifts() && b.hasShifts(), comm, PETSC_ERR_ARG_WRONGSTATE,
              "Blending needs both databases loaded with their shifts ('%s', '%s')", a.path().c_str(), b.path().c_str());
   PetscCheck(a.layout().numCells() == b.layout().numCells() && a.layout().rowStart() == b.layout().rowStart() &&
@@ -134,7 +159,7 @@ PetscErrorCode blendDatabases(const Database &a, const Database &b, double w, st
   std::vector<OwnedVec> alpha;
   std::vector<OwnedMat> shifts;
   for (int k = 0; k < K; ++k) {
-    const int ka = k % a.numFrames(), kb = k % b.numFrames();
+    const int ka = k % a.numFrames(), kb = (k + lag) % b.numFrames();
     OwnedVec blended;
     PetscCall(VecDuplicate(volume, blended.put()));
     PetscCall(VecCopy(a.alphaS(ka), blended)); // b's frame may be a's (a database blended with itself)
@@ -172,7 +197,7 @@ PetscErrorCode blendDatabases(const Database &a, const Database &b, double w, st
     shifts.push_back(std::move(F));
   }
   char text[64];
-  std::snprintf(text, sizeof text, "blend %.17g of ", w);
+  std::snprintf(text, sizeof text, "blend %.17g (lag %d) of ", w, lag);
   PetscCall(Database::fromFrames(a, text + a.identity() + " and " + b.identity(), std::move(alpha),
                                  std::move(shifts), blend));
   PetscFunctionReturn(PETSC_SUCCESS);

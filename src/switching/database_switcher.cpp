@@ -22,6 +22,13 @@ PetscErrorCode DatabaseSwitcher::setFromOptions(MPI_Comm c, const SwitchRuleRegi
                              "Superficial velocity [m/s] each database of -db was recorded at, in its order "
                              "(default: the files' metadata)",
                              given, &n, &set));
+  const char *const pairings[] = {"index", "recurrence"};
+  PetscInt pairing = pairByRecurrence ? 1 : 0;
+  PetscCall(PetscOptionsEList("-db_blend_pairing",
+                              "How a blend pairs the frames of its two databases: by index, or shifted by the lag "
+                              "that makes the paired alpha_s fields most alike",
+                              "", pairings, 2, pairings[pairing], &pairing, nullptr));
+  pairByRecurrence = pairing == 1;
   PetscOptionsEnd();
   conditionVelocities.clear();
   if (set)
@@ -186,7 +193,13 @@ PetscErrorCode DatabaseSwitcher::activate(const SwitchDecision &choice, std::sha
     std::unique_ptr<Database> blend;
     PetscCall(set_->get(choice.database, &a));
     PetscCall(set_->get(choice.partner, &b));
-    PetscCall(blendDatabases(*a, *b, choice.weight, &blend));
+    int lag = 0;
+    if (pairByRecurrence) {
+      const auto key = std::make_pair(choice.database, choice.partner);
+      if (!lags.count(key)) PetscCall(pairingLag(*a, *b, &lags[key]));
+      lag = lags[key];
+    }
+    PetscCall(blendDatabases(*a, *b, choice.weight, &blend, lag));
     *db = std::move(blend);
   }
   active_ = choice;

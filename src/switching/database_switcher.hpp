@@ -76,6 +76,8 @@ private:
   double rho = 0.0, gravity = 9.81;
   GasProperties gas;
   std::map<std::string, const Monitor *> monitorSignals; // the signals the rule uses, by who offers them
+  bool pairByRecurrence = false;            // -db_blend_pairing recurrence
+  std::map<std::pair<int, int>, int> lags;  // blend pairing lag of each pair of databases, once computed
   std::unique_ptr<CsvSeries> csv;
   std::string outputDir;
   bool quiet = false;
