@@ -23,8 +23,8 @@ DriftCalibration::~DriftCalibration() = default;
 
 PetscErrorCode DriftCalibration::setFromOptions() {
   char ref[PETSC_MAX_PATH_LEN] = "", objective[16] = "rms", from[16] = "cog";
-  char *names[4] = {};
-  PetscInt nmodels = 4, nrange = 2, nwindow = 2;
+  PetscInt nrange = 2, nwindow = 2;
+  std::vector<std::string> given;
   PetscReal range[2] = {kdLo, kdHi}, window[2] = {windowBegin, windowEnd};
   PetscBool setRef = PETSC_FALSE, setModels = PETSC_FALSE, setRange = PETSC_FALSE,
             setWindow = PETSC_FALSE, help = PETSC_FALSE;
@@ -40,8 +40,8 @@ PetscErrorCode DriftCalibration::setFromOptions() {
                              "With -calibrate_from measured: also fit n of a drift scaled by (a/a_bar)^n, a the "
                              "cell's leaving share, to the measured drift by agitation",
                              "", fitExponent, &fitExponent, nullptr));
-  PetscCall(PetscOptionsStringArray("-calibrate_models", "Drift models to fit: A, B or A,B", "",
-                                    names, &nmodels, &setModels));
+  PetscCall(checkedStringArray(PetscOptionsObject, "-calibrate_models", "Drift models to fit: A, B or A,B", 2,
+                               &given, &setModels));
   PetscCall(PetscOptionsString("-calibrate_objective",
                                "rms: RMS of Delta z(t) - reference / reference peak; seg: |Eq. 7 error| in the window",
                                "", objective, objective, sizeof objective, nullptr));
@@ -57,11 +57,6 @@ PetscErrorCode DriftCalibration::setFromOptions() {
   PetscCall(checkedRealArray(PetscOptionsObject, "-score_window", "Window t0,t1 [s] of the Eq. 7 means", window,
                              &nwindow, &setWindow));
   PetscOptionsEnd();
-  std::vector<std::string> given;
-  for (PetscInt i = 0; i < (setModels ? nmodels : 0); ++i) {
-    given.emplace_back(names[i]);
-    PetscCall(PetscFree(names[i]));
-  }
   PetscCall(PetscOptionsHasName(nullptr, nullptr, "-help", &help));
   if (help) PetscFunctionReturn(PETSC_SUCCESS);
   source = from;

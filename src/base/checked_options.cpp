@@ -80,6 +80,25 @@ PetscErrorCode checkedRealArray(PetscOptionItems *PetscOptionsObject, const char
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
+PetscErrorCode checkedStringArray(PetscOptionItems *PetscOptionsObject, const char *option, const char *text,
+                                  PetscInt capacity, std::vector<std::string> *values, PetscBool *set) {
+  std::vector<char *> read(capacity + 1, nullptr);
+  PetscInt count = capacity + 1;
+  PetscBool given = PETSC_FALSE;
+  PetscFunctionBeginUser;
+  PetscCall(PetscOptionsStringArray(option, text, "", read.data(), &count, &given));
+  if (set) *set = given;
+  if (!given) PetscFunctionReturn(PETSC_SUCCESS);
+  for (PetscInt i = 0; i < count; ++i) {
+    if (i < capacity) values->emplace_back(read[i]);
+    PetscCall(PetscFree(read[i]));
+  }
+  const char *prefix = PetscOptionsObject->prefix ? PetscOptionsObject->prefix : "";
+  PetscCheck(count <= capacity, PetscOptionsObject->comm, PETSC_ERR_USER_INPUT,
+             "-%s%s takes at most %" PetscInt_FMT " comma-separated values", prefix, option + 1, capacity);
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
 PetscErrorCode checkedIntArray(PetscOptionItems *PetscOptionsObject, const char *option, const char *text,
                                PetscInt *values, PetscInt *n, PetscBool *set) {
   PetscFunctionBeginUser;

@@ -9,6 +9,9 @@
 
 #include <petscsys.h>
 
+#include <string>
+#include <vector>
+
 namespace rcfd {
 
 /// The values a quantity may take.
@@ -39,5 +42,8 @@ PetscErrorCode checkedRealArray(PetscOptionItems *PetscOptionsObject, const char
                                 PetscReal *values, PetscInt *n, PetscBool *set);
 PetscErrorCode checkedIntArray(PetscOptionItems *PetscOptionsObject, const char *option, const char *text,
                                PetscInt *values, PetscInt *n, PetscBool *set);
+/// The same for strings: at most `capacity` of them, appended to `values`.
+PetscErrorCode checkedStringArray(PetscOptionItems *PetscOptionsObject, const char *option, const char *text,
+                                  PetscInt capacity, std::vector<std::string> *values, PetscBool *set);
 
 } // namespace rcfd

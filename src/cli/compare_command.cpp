@@ -26,9 +26,7 @@
 namespace rcfd::cli {
 namespace {
 
-// PETSc's array options stop silently at the array's size, so one more slot
-// than allowed is read and a full array is refused.
-constexpr int kMaxSeries = 1024;
+constexpr int kMaxSeries = 1024; // runs, labels and windows compared at once
 
 struct CompareOptions {
   std::string reference, output, scores, png, title;
@@ -41,23 +39,6 @@ struct CompareOptions {
 std::string sibling(const std::string &path, const std::string &suffix) {
   std::filesystem::path p(path);
   return (p.parent_path() / (p.stem().string() + suffix)).string();
-}
-
-PetscErrorCode readStrings(const char *name, const char *help, std::vector<std::string> *out, PetscBool *set,
-                           PetscOptionItems *PetscOptionsObject) {
-  std::vector<char *> values(kMaxSeries + 1, nullptr);
-  PetscInt n = kMaxSeries + 1;
-  PetscFunctionBeginUser;
-  PetscCall(PetscOptionsStringArray(name, help, "", values.data(), &n, set));
-  for (PetscInt i = kMaxSeries; i < (*set ? n : 0); ++i)
-    PetscCall(PetscFree(values[i]));
-  PetscCheck(!*set || n <= kMaxSeries, PetscOptionsObject->comm, PETSC_ERR_USER_INPUT,
-             "%s takes at most %d comma-separated entries", name, kMaxSeries);
-  for (PetscInt i = 0; i < (*set ? n : 0); ++i) {
-    out->emplace_back(values[i]);
-    PetscCall(PetscFree(values[i]));
-  }
-  PetscFunctionReturn(PETSC_SUCCESS);
 }
 
 PetscErrorCode readCompareOptions(MPI_Comm comm, CompareOptions *o) {
@@ -73,20 +54,17 @@ PetscErrorCode readCompareOptions(MPI_Comm comm, CompareOptions *o) {
   PetscOptionsBegin(comm, nullptr, "rcfd compare: runs against a reference, and database distances", "rcfd");
   PetscCall(PetscOptionsString("-reference", "Reference file: cog.csv, profiles.csv or halves.csv of rcfd "
                                "reference (or any file a run writes)", "", "", ref, sizeof ref, &setRef));
-  PetscCall(readStrings("-rcfd", "Files of one or more runs, comma-separated, of the reference's kind "
-                        "(cog.csv or ensemble.csv, bottom.csv, profiles.csv, halves.csv)", &o->runs, &setRuns,
-                        PetscOptionsObject));
-  PetscCall(readStrings("-labels", "A name for each run (default: its file)", &o->labels, &setLabels,
-                        PetscOptionsObject));
+  PetscCall(checkedStringArray(PetscOptionsObject, "-rcfd", "Files of one or more runs, comma-separated, of the reference's kind "
+                        "(cog.csv or ensemble.csv, bottom.csv, profiles.csv, halves.csv)", kMaxSeries, &o->runs, &setRuns));
+  PetscCall(checkedStringArray(PetscOptionsObject, "-labels", "A name for each run (default: its file)", kMaxSeries, &o->labels, &setLabels));
   PetscCall(PetscOptionsReal("-rcfd_time_offset",
                              "Added to the runs' times: the physical time of the database's frame 0 [s]",
                              "", o->offset, &o->offset, nullptr));
   PetscCall(checkedRealArray(PetscOptionsObject, "-score_window",
                              "Windows t0,t1[,t0,t1...] [s] of the window means (Eq. 7)", window.data(),
                              &nwindow, &setWindow));
-  PetscCall(readStrings("-db_distance", "Two bed dynamics A,B (a database .h5, a cog.csv or bed_dynamics.csv): "
-                        "Delta DB = |Delta z_CoG,A - Delta z_CoG,B| / Delta z_CoG,B", &o->distance, &setDistance,
-                        PetscOptionsObject));
+  PetscCall(checkedStringArray(PetscOptionsObject, "-db_distance", "Two bed dynamics A,B (a database .h5, a cog.csv or bed_dynamics.csv): "
+                        "Delta DB = |Delta z_CoG,A - Delta z_CoG,B| / Delta z_CoG,B", kMaxSeries, &o->distance, &setDistance));
   PetscCall(PetscOptionsString("-o", "Write the curves over time at the reference's times to this CSV", "", "",
                                out, sizeof out, &setOut));
   PetscCall(PetscOptionsString("-scores", "Write the scores to this CSV (default: the -o or -png name with "
