@@ -117,6 +117,8 @@ if run "compare 20 runs" "$rcfd" compare -reference "$work/ref.csv" -rcfd "${run
   same "20 runs scored" "$(($(grep -vc "^#" "$work/many-scores.csv") - 1))" 20 0
 fi
 expect_error "-mesh_cells takes at most 3 comma-separated values" build -dumps "$work/none.*" -mesh_cells 2,2,2,2
+expect_error "-calibrate_models takes at most 2 comma-separated values" calibrate -calibrate_models A,B,A \
+  -reference "$work/ref.csv"
 
 # ---- bad input: one sentence naming the file.
 expect_error "'$work/ref.csv', delta_z: the scoring window [5, 10] s holds no sample of the reference." compare \
