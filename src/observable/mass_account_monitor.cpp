@@ -1,6 +1,6 @@
 #include "observable/mass_account_monitor.hpp"
 #include "base/petsc_compat.hpp"
-#include "observable/number_rows.hpp"
+#include "base/number_rows.hpp"
 
 namespace rcfd {
 

@@ -1,6 +1,6 @@
 #include "operator/granulation/product_monitor.hpp"
 #include "base/petsc_compat.hpp"
-#include "observable/number_rows.hpp"
+#include "base/number_rows.hpp"
 
 #include <cmath>
 

@@ -1,4 +1,4 @@
-#include "observable/number_rows.hpp"
+#include "base/number_rows.hpp"
 
 #include <cstdio>
 
