@@ -1,6 +1,12 @@
 # Shared by the shell tests: counters, one-line error checks, and the three
 # hand-made dumps of two particles (see test_particle_cli.sh for their story).
-# Source after setting `rcfd` and `work`.
+# Source after setting `rcfd`: it lets Open MPI run as root and makes the
+# scratch directory `work`, removed on exit (unless the test made its own).
+export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
+if [ -z "${work:-}" ]; then
+  work=$(mktemp -d)
+  trap 'rm -rf "$work"' EXIT
+fi
 failures=0 passed=0
 
 fail() { echo "FAIL: $*"; failures=$((failures + 1)); }

@@ -10,10 +10,7 @@
 # - bad options are refused with one sentence.
 # usage: test_answers_run.sh RCFD CSV_COMPARE DATA_DIR SOURCE_DIR
 set -u
-export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
 rcfd=$1 compare=$2 data=$3
-work=$(mktemp -d)
-trap 'rm -rf "$work"' EXIT
 source "$(dirname "${BASH_SOURCE[0]}")/script_helpers.sh"
 db=$data/small.h5
 answers=(-profiles -profiles_window 0.2,0.6 -halves -halves_window 0.2,0.6 -bottom_layer -mixing_index

@@ -7,10 +7,7 @@
 # same velocities: 3e-3 / ((d_l - d32)^2 - sum s_j x_j) by hand.  Also: calibrate's files.
 # usage: test_calibrate_measured.sh RCFD CSV_COMPARE DATA_DIR SOURCE_DIR
 set -u
-export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
 rcfd=$1
-work=$(mktemp -d)
-trap 'rm -rf "$work"' EXIT
 source "$4/tests/script_helpers.sh"
 mkdir -p "$work/dump"
 # snapshot FILE STEP BULK FACTOR: small particles at z = 5 mm + BULK + FACTOR * 0.3 mm, the large one -.

@@ -4,8 +4,6 @@
 # usage: test_cli_errors.sh RCFD CSV_COMPARE DATA_DIR SOURCE_DIR
 set -u
 rcfd=$1 data=$3
-work=$(mktemp -d)
-trap 'rm -rf "$work"' EXIT
 source "$(dirname "${BASH_SOURCE[0]}")/script_helpers.sh"
 
 db=$data/default.h5

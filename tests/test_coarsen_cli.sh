@@ -6,8 +6,6 @@
 # usage: test_coarsen_cli.sh RCFD CSV_COMPARE DATA_DIR SOURCE_DIR
 set -u
 rcfd=$1 data=$3
-work=$(mktemp -d)
-trap 'rm -rf "$work"' EXIT
 source "$(dirname "${BASH_SOURCE[0]}")/script_helpers.sh"
 dbcompare=$(dirname "$2")/db_compare
 db=$data/small.h5

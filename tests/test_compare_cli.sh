@@ -8,8 +8,6 @@
 # usage: test_compare_cli.sh RCFD CSV_COMPARE DATA_DIR SOURCE_DIR
 set -u
 rcfd=$1 data=$3
-work=$(mktemp -d)
-trap 'rm -rf "$work"' EXIT
 source "$(dirname "${BASH_SOURCE[0]}")/script_helpers.sh"
 
 # col FILE ROW NAME: field NAME of data row ROW (1 = first after the header).

@@ -10,10 +10,7 @@
 # switching on the bottom layer's d32.
 # usage: test_databases.sh RCFD CSV_COMPARE DATA_DIR SOURCE_DIR
 set -eu
-export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
 rcfd=$1 compare=$2
-work=$(mktemp -d)
-trap 'rm -rf "$work"' EXIT
 source "$4/tests/script_helpers.sh"
 bed=(-synth_cells 10,2,20 -synth_frames 40 -synth_warm_up 0.2 -quiet)
 "$rcfd" synth -o "$work/a.h5" "${bed[@]}" -synth_nucleation_rate 1500 -synth_seed 1 -superficial_velocity 1.1

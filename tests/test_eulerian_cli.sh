@@ -13,8 +13,6 @@
 set -u
 rcfd=$1
 bin=$(dirname "$2")
-work=$(mktemp -d)
-trap 'rm -rf "$work"' EXIT
 source "$(dirname "${BASH_SOURCE[0]}")/script_helpers.sh"
 
 # below "label" value bound: value is a number and value < bound.

@@ -6,8 +6,6 @@
 # usage: test_figures.sh RCFD CSV_COMPARE DATA_DIR SOURCE_DIR
 set -u
 rcfd=$1
-work=$(mktemp -d)
-trap 'rm -rf "$work"' EXIT
 source "$(dirname "${BASH_SOURCE[0]}")/script_helpers.sh"
 skipped="figures skipped: python3 with matplotlib not found (every number is still in the CSV files)"
 python=${RCFD_PYTHON:-/usr/bin/python3}

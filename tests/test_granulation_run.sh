@@ -12,10 +12,7 @@
 # - a zone that is not defined, or holds no solid in any frame, is refused with one sentence.
 # usage: test_granulation_run.sh RCFD CSV_COMPARE DATA_DIR SOURCE_DIR
 set -u
-export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
 rcfd=$1 compare=$2 data=$3
-work=$(mktemp -d)
-trap 'rm -rf "$work"' EXIT
 source "$(dirname "${BASH_SOURCE[0]}")/script_helpers.sh"
 db=$data/small.h5
 chamber=(-db "$db" -quiet -fields 0 -plot 0 -fractions_diameters 1.459e-3,2.0e-3,2.8e-3,4.075e-3

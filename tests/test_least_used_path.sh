@@ -7,10 +7,7 @@
 # is far from.
 # usage: test_least_used_path.sh RCFD CSV_COMPARE DATA_DIR SOURCE_DIR
 set -eu
-export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
 rcfd=$1 data=$3
-work=$(mktemp -d)
-trap 'rm -rf "$work"' EXIT
 source "$4/tests/script_helpers.sh"
 K=$("$rcfd" info "$data/small.h5" | awk '$1 == "frames:" { print $2 }')
 common=(-db "$data/small.h5" -quiet -fields 0 -plot 0 -monitor_digits 17 -path_type random -path_seed 4

@@ -7,8 +7,6 @@
 # usage: test_option_fuzz.sh RCFD CSV_COMPARE DATA_DIR SOURCE_DIR   (env FUZZ_SEED, FUZZ_RUNS)
 set -u
 rcfd=$1 data=$3
-work=$(mktemp -d)
-trap 'rm -rf "$work"' EXIT
 source "$(dirname "${BASH_SOURCE[0]}")/script_helpers.sh"
 write_two_particle_dumps
 RANDOM=${FUZZ_SEED:-20261129}

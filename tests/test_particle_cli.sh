@@ -13,8 +13,6 @@
 set -u
 rcfd=$1
 h5print=$(dirname "$2")/h5_print
-work=$(mktemp -d)
-trap 'rm -rf "$work"' EXIT
 source "$(dirname "${BASH_SOURCE[0]}")/script_helpers.sh"
 write_two_particle_dumps
 

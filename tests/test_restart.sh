@@ -8,10 +8,7 @@
 # operator option -- is refused with one sentence naming what differs.
 # usage: test_restart.sh RCFD CSV_COMPARE DATA_DIR SOURCE_DIR
 set -eu
-export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
 rcfd=$1 data=$3
-work=$(mktemp -d)
-trap 'rm -rf "$work"' EXIT
 source "$4/tests/script_helpers.sh"
 series=(cog.csv mixing.csv bottom.csv path.txt)
 common=(-db "$data/default.h5" -db_frames 0,99 -quiet -fields 0 -plot 0 -monitor_digits 17 -path_type random

@@ -5,10 +5,7 @@
 # stops at 0.01 decades, 2.3 %, around a minimum of exactly zero).
 # usage: test_run_calibrate.sh RCFD CSV_COMPARE DATA_DIR SOURCE_DIR
 set -eu
-export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
 rcfd=$1 data=$3
-work=$(mktemp -d)
-trap 'rm -rf "$work"' EXIT
 source "$4/tests/script_helpers.sh"
 common=(-db "$data/small.h5" -fractions_diameters 1.459e-3,4.075e-3 -fractions_mass_shares 0.564,0.436
   -fields 0)

@@ -4,10 +4,7 @@
 # that computes the matrix takes.  Also for the deprecated -recurrence_norm.
 # usage: test_run_stored_recurrence.sh RCFD CSV_COMPARE DATA_DIR SOURCE_DIR
 set -eu
-export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
 rcfd=$1 data=$3
-work=$(mktemp -d)
-trap 'rm -rf "$work"' EXIT
 source "$4/tests/script_helpers.sh"
 common=(-path_type markov -path_seed 3 -path_recurrence_norm absDiff -fields 0 -plot 0 -t_end 0.6
   -progress_interval 1e9)

@@ -8,11 +8,8 @@
 #   naming the option.
 # usage: test_synth_conditions.sh RCFD CSV_COMPARE DATA_DIR SOURCE_DIR
 set -u
-export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
 rcfd=$1
 h5print=$(dirname "$2")/h5_print
-work=$(mktemp -d)
-trap 'rm -rf "$work"' EXIT
 source "$(dirname "${BASH_SOURCE[0]}")/script_helpers.sh"
 small=(-synth_cells 10,2,20 -synth_frames 10 -quiet)
 

@@ -9,11 +9,8 @@
 # run restarted into its own directory continues the field series.
 # usage: test_write_failures.sh RCFD CSV_COMPARE DATA_DIR SOURCE_DIR
 set -u
-export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
 rcfd=$1 data=$3
 h5print=$(dirname "$2")/h5_print
-work=$(mktemp -d)
-trap 'rm -rf "$work"' EXIT
 source "$(dirname "${BASH_SOURCE[0]}")/script_helpers.sh"
 
 # failed_cleanly LABEL RC OUTPUT FILE: rc 1 (not a signal, not a timeout),
