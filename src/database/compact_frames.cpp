@@ -98,7 +98,7 @@ CompactFrame compactFrame(const LocalShiftRows &rows, PetscInt rowStart, PetscIn
   std::array<size_t, F::kGroups> rowsIn{}, entriesIn{};
   for (PetscInt r = 0; r < nlocal; ++r) {
     const PetscInt first = rows.rowPtr[r], last = rows.rowPtr[r + 1];
-    if (last - first == 1 && rows.col[first] == rowStart + r && rows.val[first] == 1.0) {
+    if (isIdentityRow(rowStart + r, rows.col.data() + first, rows.val.data() + first, last - first)) {
       groupOf[r] = -1;
       continue;
     }
