@@ -252,8 +252,9 @@ void readLocalRowsFull(const h5::File &f, const std::string &g, const std::strin
 }
 
 // Version 3: the rank's moving rows, found by binary search in moving_row
-// (read whole), and identity rows for the rest of its cells: the same rows,
-// in the same order, as version 2 gives for the same frame.
+// (read whole); its other cells' rows are identity rows, implied and never
+// built (rescaleColumns counts them in their place, compactFrame leaves them
+// out), so the frame is the one version 2 gives, to the bit.
 void readLocalRowsMoving(const h5::File &f, const std::string &g, const std::string &where, const Layout &layout,
                          const std::vector<std::pair<hsize_t, hsize_t>> &cellRuns, int weightBits,
                          LocalShiftRows *rows) {
@@ -283,21 +284,19 @@ void readLocalRowsMoving(const h5::File &f, const std::string &g, const std::str
     }
     ++p; // the run's end pointer
   }
+  // Only the moving rows are stored; the others stay identity rows, implied.
+  rows->impliedIdentity = true;
   rows->rowPtr.assign(1, 0);
-  rows->col.reserve(col.size() + layout.numLocal() - row.size());
-  rows->val.reserve(val.size() + layout.numLocal() - row.size());
-  size_t m = 0, q = 0;
-  for (auto [b, e] : cellRuns)
-    for (hsize_t c = b; c < e; ++c) {
-      if (m < row.size() && static_cast<hsize_t>(row[m]) == c) {
-        appendRow(layout, where, c, col.data() + q, val.data() + q, count[m], rows);
-        q += static_cast<size_t>(count[m++]);
-      } else { // an identity row, which the writer left out
-        rows->col.push_back(layout.petscRow(static_cast<PetscInt>(c)));
-        rows->val.push_back(1.0);
-        rows->rowPtr.push_back(static_cast<PetscInt>(rows->col.size()));
-      }
-    }
+  rows->col.reserve(col.size());
+  rows->val.reserve(val.size());
+  rows->row.reserve(row.size());
+  size_t q = 0;
+  for (size_t m = 0; m < row.size(); ++m) {
+    const PetscInt local = layout.petscRow(row[m]) - layout.rowStart();
+    rows->row.push_back(local);
+    appendRow(layout, where, static_cast<hsize_t>(row[m]), col.data() + q, val.data() + q, count[m], rows);
+    q += static_cast<size_t>(count[m]);
+  }
 }
 
 // This rank's rows of one frame: alpha_s in PETSc order, and the shift as
