@@ -63,9 +63,9 @@ PetscErrorCode rescaleColumns(const Layout &L, LocalShiftRows *rows, ColumnCheck
   ghosts.erase(std::unique(ghosts.begin(), ghosts.end()), ghosts.end());
   auto ghostOf = [&](PetscInt c) { return std::lower_bound(ghosts.begin(), ghosts.end(), c) - ghosts.begin(); };
 
-  OwnedVec sums, partial; // own columns' sums; this rank's share of the ghosts' columns
+  OwnedVec &sums = check->sums, partial; // own columns' sums; this rank's share of the ghosts' columns
   OwnedScatter toGhosts;
-  PetscCall(VecCreateMPI(comm, n, L.numCells(), sums.put()));
+  if (!sums) PetscCall(VecCreateMPI(comm, n, L.numCells(), sums.put()));
   PetscCall(VecSet(sums, 0.0));
   if (size > 1)
     PetscCall(L.rowsScatter(1, static_cast<PetscInt>(ghosts.size()), ghosts.data(), partial.put(), toGhosts.put()));
@@ -99,26 +99,32 @@ PetscErrorCode rescaleColumns(const Layout &L, LocalShiftRows *rows, ColumnCheck
   PetscCall(VecGetArray(sums, &s));
   bool bad = false;
   std::string why;
+  double largest = check->largestError; // in a register: the loop runs over every cell of every frame
+  const bool quantised = check->weightBits > 0;
   for (PetscInt r = 0; r < n && !bad; ++r) {
     const double err = std::fabs(s[r] - 1.0);
-    check->largestError = std::max(check->largestError, err);
+    largest = std::max(largest, err);
+    if (quantised ? s[r] == 1.0 : err <= check->tolerance) {
+      s[r] = 1.0 / s[r];
+      continue;
+    }
     char text[512];
-    if (check->weightBits > 0 && s[r] != 1.0) {
+    if (quantised) {
       bad = true;
       std::snprintf(text, sizeof text,
                     "%s: shift column of cell %d sums to %.17g, but the database says its weights are quantised "
                     "to multiples of 2^-%d (/metadata weight_bits) with every column summing to exactly 1",
                     check->where.c_str(), (int)L.ownedNatural()[r], s[r], check->weightBits);
       why = text;
-    } else if (!(err <= check->tolerance)) {
+    } else {
       bad = true;
       std::snprintf(text, sizeof text,
                     "%s: shift column of cell %d sums to %.12g, expected 1 within %g (-db_column_tolerance)",
                     check->where.c_str(), (int)L.ownedNatural()[r], s[r], check->tolerance);
       why = text;
     }
-    s[r] = 1.0 / s[r];
   }
+  check->largestError = largest;
   PetscCall(VecRestoreArray(sums, &s));
   PetscCall(agreeOnFailure(comm, bad, why));
   if (toGhosts) {

@@ -38,6 +38,7 @@ struct ColumnCheck {
   int weightBits = 0;      ///< > 0: weights quantised to 2^-weightBits, column sums exactly 1
   std::string where;       ///< "database 'x.h5', frame k", for messages
   double largestError = 0.0; ///< largest |column sum - 1| seen on this rank (updated)
+  OwnedVec sums;             ///< the column sums, kept for the next frame (a new vector costs its pages again)
 };
 
 /// Collective.  Sums the columns of `rows`, refuses (on every rank, with a
