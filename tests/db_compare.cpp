@@ -14,6 +14,7 @@
 //   alpha    max_c |alpha_other(k, c) - alpha_exact(k, c)|
 // The last two lines: "mean" and "max" of each column over the frames.
 #include "base/h5.hpp"
+#include "database/stored_frame.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -31,12 +32,10 @@ struct Frame {
   std::vector<double> val;
 };
 
-Frame readFrame(const rcfd::h5::File &f, int k) {
-  char g[32];
-  std::snprintf(g, sizeof g, "/frames/%06d", k);
-  const std::string G = g;
-  return {f.read<double>(G + "/alpha_s"), f.read<int64_t>(G + "/shift_row_ptr"),
-          f.read<int32_t>(G + "/shift_col"), f.read<double>(G + "/shift_val")};
+Frame readFrame(const rcfd::h5::File &f, int k) { // full CSR in every format version
+  const int cells = static_cast<int>(f.extents("/mesh/cell_volumes").at(0));
+  rcfd::FrameRecord r = rcfd::readStoredFrame(f, k, cells);
+  return {std::move(r.alphaS), std::move(r.shift.rowPtr), std::move(r.shift.col), std::move(r.shift.val)};
 }
 
 /// Columns of a CSR-by-rows shift: for each source, (destination, share).

@@ -35,11 +35,11 @@ inline void setNatural(const Database &db, FractionState &st, const std::vector<
 /// alpha_s, and wait for it on all ranks.
 inline void writeIdentityDatabase(const std::string &path, const Mesh &mesh,
                                   const std::vector<double> &alpha, const DatabaseMetadata &meta,
-                                  int frames = 1) {
+                                  int frames = 1, long long formatVersion = kDatabaseFormatVersion) {
   int rank;
   MPI_Comm_rank(PETSC_COMM_WORLD, &rank);
   if (rank == 0) {
-    DatabaseWriter w(path, mesh, meta);
+    DatabaseWriter w(path, mesh, meta, formatVersion);
     FrameRecord f;
     f.alphaS = alpha;
     f.shift = shiftFromTransfers(mesh.numCells(), {}, {}, {});

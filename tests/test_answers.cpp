@@ -340,7 +340,7 @@ PetscErrorCode formatVersions(const std::string &dir) {
   meta.conditions.gasKinematicViscosity = 1.5e-5;
   const std::string stem = dir + "/answers_version_np" + std::to_string(size);
   test::writeIdentityDatabase(stem + "_2.h5", Mesh::box(s), {0.5, 0.5}, meta);
-  test::writeIdentityDatabase(stem + "_1.h5", Mesh::box(s), {0.5, 0.5}, meta);
+  test::writeIdentityDatabase(stem + "_1.h5", Mesh::box(s), {0.5, 0.5}, meta, 1, 2); // full CSR, as version 1
   test::writeIdentityDatabase(stem + "_bad.h5", Mesh::box(s), {0.5, 0.5}, meta);
   if (rank == 0) { // as rcfd 1 wrote it: version 1, no conditions
     h5::File one = h5::File::openReadWrite(stem + "_1.h5");

@@ -30,6 +30,8 @@ if [ -x "$dbcompare" ]; then
   "$dbcompare" "$db" "$work/same.h5" | awk '$1 == "max" { exit !($2 == 0 && $4 == 0 && $6 == 0) }' && ok ||
     fail "factor 1 changed the shifts: $("$dbcompare" "$db" "$work/same.h5" | tail -1)"
 fi
+# rcfd info names the file's format version (coarsen writes the current one, 3) and its size.
+"$rcfd" info "$work/same.h5" | grep -q "file: format version 3, [0-9.]* MB$" && ok || fail "rcfd info: no format version 3 line"
 # A run on the coarse database conserves every fraction.
 run "run on the coarse database" "$rcfd" run -db "$work/c.h5" -t_end 0.3 -quiet -plot false -fields false \
   -output_dir "$work/out" -fractions_diameters 1.459e-3,4.075e-3 -fractions_mass_shares 0.564,0.436

@@ -17,7 +17,7 @@
 #include "base/petsc_compat.hpp"
 #include "check.hpp"
 #include "database/quantise.hpp"
-#include "database/stored_frame.hpp"
+#include "database_copies.hpp"
 #include "operator/moving_rows.hpp"
 #include "scoped_options.hpp"
 #include "state_access.hpp"
@@ -99,29 +99,6 @@ PetscErrorCode sameBitsAsMatMult(const std::string &path) {
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
-// Rank 0 writes `out`: `in` with every frame's weights quantised to 2^-bits.
-PetscErrorCode writeQuantised(const std::string &in, const std::string &out, int bits) {
-  std::unique_ptr<Database> header;
-  DatabaseLoadOptions noShifts;
-  noShifts.loadShifts = false;
-  PetscFunctionBeginUser;
-  PetscCall(Database::load(PETSC_COMM_WORLD, in, noShifts, &header));
-  if (rank == 0) {
-    DatabaseMetadata meta = header->metadata();
-    meta.weightBits = bits;
-    DatabaseWriter w(out, header->mesh(), meta);
-    const h5::File f = h5::File::openRead(in, MPI_COMM_NULL);
-    for (int k = 0; k < header->numFrames(); ++k) {
-      FrameRecord r = readStoredFrame(f, k, header->mesh().numCells());
-      quantiseWeights(&r.shift, bits);
-      w.append(r);
-    }
-    w.finish();
-  }
-  PetscCallMPI(MPI_Barrier(PETSC_COMM_WORLD));
-  PetscFunctionReturn(PETSC_SUCCESS);
-}
-
 // All frames applied in turn to the masses of makeMasses, in natural order.
 PetscErrorCode replayAll(MPI_Comm comm, const std::string &path, std::vector<double> *natural,
                          std::vector<double> *totals, double *smallest) {
@@ -153,7 +130,7 @@ PetscErrorCode replayAll(MPI_Comm comm, const std::string &path, std::vector<dou
 PetscErrorCode quantisedConservesExactly(const std::string &small, const std::string &quantised) {
   std::unique_ptr<Database> db;
   PetscFunctionBeginUser;
-  PetscCall(writeQuantised(small, quantised, 16));
+  PetscCall(test::rewriteDatabase(small, quantised, 16));
   PetscCall(Database::load(PETSC_COMM_WORLD, quantised, DatabaseLoadOptions{}, &db));
   RCFD_CHECK(db->metadata().weightBits == 16);
   // Every column sums to exactly 1 (MatMultTranspose sums as the loader does).
@@ -231,12 +208,8 @@ void quantiseByHand() {
 }
 
 PetscErrorCode expectRefusal(const std::string &path, const std::string &expected) {
-  std::unique_ptr<Database> db;
   PetscFunctionBeginUser;
-  const PetscErrorCode ierr = Database::load(PETSC_COMM_WORLD, path, DatabaseLoadOptions{}, &db);
-  char *specific = nullptr;
-  PetscErrorMessage(ierr, nullptr, &specific);
-  const std::string text = ierr && specific ? specific : "";
+  const std::string text = test::loadRefusal(path);
   if (text.find(expected) == std::string::npos)
     rcfd::test::fail(__FILE__, __LINE__, path + ": expected an error containing '" + expected + "', got '" + text + "'");
   PetscFunctionReturn(PETSC_SUCCESS);
@@ -245,11 +218,12 @@ PetscErrorCode expectRefusal(const std::string &path, const std::string &expecte
 PetscErrorCode badQuantisationRefused(const std::string &dir, const std::string &small, const std::string &quantised) {
   PetscFunctionBeginUser;
   const std::string outOfRange = dir + "/bits_out_of_range.h5", notQuantised = dir + "/not_quantised.h5";
+  // Weights that break the promise can only be stored as doubles: version 2.
+  PetscCall(test::rewriteDatabase(small, notQuantised, 0, 2));
   if (rank == 0) {
     namespace fs = std::filesystem;
     fs::copy_file(quantised, outOfRange, fs::copy_options::overwrite_existing);
     h5::File::openReadWrite(outOfRange).writeAttr("/metadata", "weight_bits", 17LL);
-    fs::copy_file(small, notQuantised, fs::copy_options::overwrite_existing);
     h5::File::openReadWrite(notQuantised).writeAttr("/metadata", "weight_bits", 16LL);
     // The writer keeps the promise weight_bits makes.
     bool refused = false;

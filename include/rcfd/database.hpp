@@ -15,8 +15,9 @@
 
 namespace rcfd {
 
-/// Version written; version 1 files (without operating conditions) are still read.
-inline constexpr long long kDatabaseFormatVersion = 2;
+/// Version written (3: the shifts' moving rows only); versions 1 (without
+/// operating conditions) and 2 (full CSR shifts) are still read.
+inline constexpr long long kDatabaseFormatVersion = 3;
 
 /// The operating conditions of a fluidized bed: what a database was recorded
 /// at (format version 2, attributes on /metadata) or what a case runs at.
@@ -55,7 +56,10 @@ inline constexpr int kMaxWeightBits = 16;
 /// final name is always complete.  Throws std::runtime_error on bad input.
 class DatabaseWriter {
 public:
-  DatabaseWriter(const std::string &path, const Mesh &mesh, const DatabaseMetadata &meta);
+  /// `formatVersion` 2 writes the full CSR of older readers (tests keep the
+  /// version 2 reader covered with it); the current version is the default.
+  DatabaseWriter(const std::string &path, const Mesh &mesh, const DatabaseMetadata &meta,
+                 long long formatVersion = kDatabaseFormatVersion);
   ~DatabaseWriter();
   DatabaseWriter(const DatabaseWriter &) = delete;
   DatabaseWriter &operator=(const DatabaseWriter &) = delete;
@@ -88,6 +92,7 @@ struct DatabaseLoadOptions {
 /// What a database file says before its frames are read (Database::readHeader).
 struct DatabaseHeader {
   std::string identity;
+  long long formatVersion = 0; ///< of the file (docs/database-format.md, "Versions")
   Mesh mesh;
   DatabaseMetadata metadata;
   int numFrames = 0;     ///< in the window of DatabaseLoadOptions
@@ -129,6 +134,8 @@ public:
   /// "Identity"): "content <hash>" from the content_hash its writer stored, or
   /// for an older file "made <hash>" of when and how it was made.
   const std::string &identity() const { return identity_; }
+  /// Format version of the file it was loaded from (0: made in memory).
+  long long formatVersion() const { return formatVersion_; }
   const Mesh &mesh() const { return mesh_; }
   const Layout &layout() const { return layout_; }
   const DatabaseMetadata &metadata() const { return meta; }
@@ -161,6 +168,7 @@ public:
 
 private:
   std::string path_, identity_;
+  long long formatVersion_ = 0;
   Mesh mesh_;
   Layout layout_;
   DatabaseMetadata meta;

@@ -4,6 +4,7 @@
 #pragma once
 
 #include <array>
+#include <cstddef>
 #include <cstdint>
 #include <functional>
 #include <string>
@@ -43,6 +44,15 @@ CsrMatrix shiftFromTransfers(int n, std::vector<int32_t> dest, std::vector<int32
 } // namespace rcfd
 
 namespace rcfd {
+
+/// A row of a shift that a compact frame and a version 3 database file leave
+/// out: its only entry is (row, row) with weight exactly 1 (the cell keeps
+/// its content).  The one definition for the writer and the loader, so that
+/// the rows a file leaves out are the rows the loader would leave out.
+template <typename Row, typename Col>
+bool isIdentityRow(Row row, const Col *col, const double *val, std::size_t count) {
+  return count == 1 && static_cast<Row>(col[0]) == row && val[0] == 1.0;
+}
 
 /// One frame's shift on one rank as a loaded database holds it
 /// (docs/method.md, "Skipping what does not move"): only the rows of cells

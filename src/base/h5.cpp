@@ -17,6 +17,7 @@ template <typename T> hid_t nativeType();
 template <> hid_t nativeType<double>() { return H5T_NATIVE_DOUBLE; }
 template <> hid_t nativeType<int32_t>() { return H5T_NATIVE_INT32; }
 template <> hid_t nativeType<int64_t>() { return H5T_NATIVE_INT64; }
+template <> hid_t nativeType<uint16_t>() { return H5T_NATIVE_UINT16; }
 template <> hid_t nativeType<long long>() { return H5T_NATIVE_LLONG; }
 
 // HDF5 prints its own error stack by default; rcfd reports one sentence instead.
@@ -347,6 +348,7 @@ std::vector<T> File::readRuns(const std::string &dataset,
 template void File::write(const std::string &, const std::vector<double> &, hsize_t) const;
 template void File::write(const std::string &, const std::vector<int32_t> &, hsize_t) const;
 template void File::write(const std::string &, const std::vector<int64_t> &, hsize_t) const;
+template void File::write(const std::string &, const std::vector<uint16_t> &, hsize_t) const;
 template std::vector<double> File::read(const std::string &, size_t) const;
 template std::vector<int32_t> File::read(const std::string &, size_t) const;
 template std::vector<int64_t> File::read(const std::string &, size_t) const;
@@ -355,6 +357,9 @@ template std::vector<double> File::readRuns(const std::string &,
 template std::vector<int32_t>
 File::readRuns(const std::string &, const std::vector<std::pair<hsize_t, hsize_t>> &) const;
 template std::vector<int64_t>
+File::readRuns(const std::string &, const std::vector<std::pair<hsize_t, hsize_t>> &) const;
+template std::vector<uint16_t> File::read(const std::string &, size_t) const;
+template std::vector<uint16_t>
 File::readRuns(const std::string &, const std::vector<std::pair<hsize_t, hsize_t>> &) const;
 
 } // namespace rcfd::h5

@@ -4,6 +4,8 @@
 #include "analysis/bed_dynamics.hpp"
 #include "rcfd/database.hpp"
 
+#include <filesystem>
+
 namespace rcfd::cli {
 
 PetscErrorCode infoCommand(MPI_Comm comm, const char *positional) {
@@ -23,6 +25,14 @@ PetscErrorCode infoCommand(MPI_Comm comm, const char *positional) {
   std::unique_ptr<Database> db;
   PetscCall(Database::load(comm, file, options, &db));
   PetscCall(db->view(PETSC_VIEWER_STDOUT_(comm)));
+  std::error_code failed;
+  const auto bytes = std::filesystem::file_size(file, failed);
+  PetscCall(PetscPrintf(comm, "  file: format version %lld, %.1f MB%s\n", db->formatVersion(),
+                        failed ? 0.0 : static_cast<double>(bytes) / 1e6,
+                        db->formatVersion() < kDatabaseFormatVersion
+                            ? " (an older version: rcfd coarsen FILE -factor 1,1,1 -o NEW rewrites it, smaller and "
+                              "faster to load, docs/database-format.md)"
+                            : ""));
   std::vector<double> zCog;
   PetscCall(databaseBedCentres(*db, &zCog));
   double mean = 0.0;

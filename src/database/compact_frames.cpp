@@ -12,6 +12,43 @@
 
 namespace rcfd {
 
+namespace {
+
+// An implied identity row r whose column did not sum to exactly 1 holds
+// 1 / sum after rescaling, as a stored row would: it is stored from now on
+// (rare: a column that also holds round-off from other rows).
+void materialiseRescaledIdentities(const PetscScalar *inv, PetscInt rstart, PetscInt n, LocalShiftRows *rows) {
+  size_t i = 0;
+  std::vector<PetscInt> changed;
+  for (PetscInt r = 0; r < n; ++r) {
+    if (i < rows->row.size() && rows->row[i] == r) ++i;
+    else if (inv[r] != 1.0) changed.push_back(r);
+  }
+  if (changed.empty()) return;
+  LocalShiftRows all;
+  all.impliedIdentity = true;
+  all.rowPtr.assign(1, 0);
+  size_t c = 0;
+  i = 0;
+  while (i < rows->row.size() || c < changed.size()) {
+    if (c == changed.size() || (i < rows->row.size() && rows->row[i] < changed[c])) {
+      all.row.push_back(rows->row[i]);
+      all.col.insert(all.col.end(), rows->col.begin() + rows->rowPtr[i], rows->col.begin() + rows->rowPtr[i + 1]);
+      all.val.insert(all.val.end(), rows->val.begin() + rows->rowPtr[i], rows->val.begin() + rows->rowPtr[i + 1]);
+      ++i;
+    } else {
+      all.row.push_back(changed[c]);
+      all.col.push_back(rstart + changed[c]);
+      all.val.push_back(1.0 * inv[changed[c]]); // as MatDiagonalScale scales the stored 1
+      ++c;
+    }
+    all.rowPtr.push_back(static_cast<PetscInt>(all.col.size()));
+  }
+  *rows = std::move(all);
+}
+
+} // namespace
+
 PetscErrorCode rescaleColumns(const Layout &L, LocalShiftRows *rows, ColumnCheck *check) {
   const MPI_Comm comm = L.comm();
   const PetscInt rstart = L.rowStart(), rend = L.rowEnd(), n = L.numLocal();
@@ -26,19 +63,30 @@ PetscErrorCode rescaleColumns(const Layout &L, LocalShiftRows *rows, ColumnCheck
   ghosts.erase(std::unique(ghosts.begin(), ghosts.end()), ghosts.end());
   auto ghostOf = [&](PetscInt c) { return std::lower_bound(ghosts.begin(), ghosts.end(), c) - ghosts.begin(); };
 
-  OwnedVec sums, partial; // own columns' sums; this rank's share of the ghosts' columns
+  OwnedVec &sums = check->sums, partial; // own columns' sums; this rank's share of the ghosts' columns
   OwnedScatter toGhosts;
-  PetscCall(VecCreateMPI(comm, n, L.numCells(), sums.put()));
+  if (!sums) PetscCall(VecCreateMPI(comm, n, L.numCells(), sums.put()));
   PetscCall(VecSet(sums, 0.0));
   if (size > 1)
     PetscCall(L.rowsScatter(1, static_cast<PetscInt>(ghosts.size()), ghosts.data(), partial.put(), toGhosts.put()));
   PetscScalar *s, *p = nullptr;
   PetscCall(VecGetArray(sums, &s));
   if (partial) PetscCall(VecGetArray(partial, &p));
-  for (size_t e = 0; e < rows->col.size(); ++e) { // row by row, like MatMultTranspose
-    const PetscInt c = rows->col[e];
-    if (c >= rstart && c < rend) s[c - rstart] += rows->val[e];
-    else p[ghostOf(c)] += rows->val[e];
+  auto add = [&](PetscInt first, PetscInt last) {
+    for (PetscInt e = first; e < last; ++e) {
+      const PetscInt c = rows->col[e];
+      if (c >= rstart && c < rend) s[c - rstart] += rows->val[e];
+      else p[ghostOf(c)] += rows->val[e];
+    }
+  };
+  if (!rows->impliedIdentity) {
+    add(0, static_cast<PetscInt>(rows->col.size())); // row by row, like MatMultTranspose
+  } else { // the same additions in the same order, identity rows' 1 in its place
+    size_t i = 0;
+    for (PetscInt r = 0; r < n; ++r) {
+      if (i < rows->row.size() && rows->row[i] == r) add(rows->rowPtr[i], rows->rowPtr[i + 1]), ++i;
+      else s[r] += 1.0;
+    }
   }
   PetscCall(VecRestoreArray(sums, &s));
   if (partial) PetscCall(VecRestoreArray(partial, &p));
@@ -51,26 +99,32 @@ PetscErrorCode rescaleColumns(const Layout &L, LocalShiftRows *rows, ColumnCheck
   PetscCall(VecGetArray(sums, &s));
   bool bad = false;
   std::string why;
+  double largest = check->largestError; // in a register: the loop runs over every cell of every frame
+  const bool quantised = check->weightBits > 0;
   for (PetscInt r = 0; r < n && !bad; ++r) {
     const double err = std::fabs(s[r] - 1.0);
-    check->largestError = std::max(check->largestError, err);
+    largest = std::max(largest, err);
+    if (quantised ? s[r] == 1.0 : err <= check->tolerance) {
+      s[r] = 1.0 / s[r];
+      continue;
+    }
     char text[512];
-    if (check->weightBits > 0 && s[r] != 1.0) {
+    if (quantised) {
       bad = true;
       std::snprintf(text, sizeof text,
                     "%s: shift column of cell %d sums to %.17g, but the database says its weights are quantised "
                     "to multiples of 2^-%d (/metadata weight_bits) with every column summing to exactly 1",
                     check->where.c_str(), (int)L.ownedNatural()[r], s[r], check->weightBits);
       why = text;
-    } else if (!(err <= check->tolerance)) {
+    } else {
       bad = true;
       std::snprintf(text, sizeof text,
                     "%s: shift column of cell %d sums to %.12g, expected 1 within %g (-db_column_tolerance)",
                     check->where.c_str(), (int)L.ownedNatural()[r], s[r], check->tolerance);
       why = text;
     }
-    s[r] = 1.0 / s[r];
   }
+  check->largestError = largest;
   PetscCall(VecRestoreArray(sums, &s));
   PetscCall(agreeOnFailure(comm, bad, why));
   if (toGhosts) {
@@ -84,6 +138,7 @@ PetscErrorCode rescaleColumns(const Layout &L, LocalShiftRows *rows, ColumnCheck
     const PetscInt c = rows->col[e];
     rows->val[e] *= c >= rstart && c < rend ? inv[c - rstart] : ginv[ghostOf(c)];
   }
+  if (rows->impliedIdentity) materialiseRescaledIdentities(inv, rstart, n, rows);
   PetscCall(VecRestoreArrayRead(sums, &inv));
   if (partial) PetscCall(VecRestoreArrayRead(partial, &ginv));
   PetscFunctionReturn(PETSC_SUCCESS);
@@ -93,13 +148,14 @@ CompactFrame compactFrame(const LocalShiftRows &rows, PetscInt rowStart, PetscIn
                           const std::string &where, std::vector<PetscInt> *ghosts) {
   using F = CompactFrame;
   auto own = [&](PetscInt c) { return c >= rowStart && c < rowStart + nlocal; };
-  // The group of each row (-1: identity row, left out) and each group's size.
-  std::vector<int8_t> groupOf(nlocal);
+  // The group of each stored row (-1: identity row, left out) and each group's size.
+  const size_t stored = rows.numStored();
+  std::vector<int8_t> groupOf(stored);
   std::array<size_t, F::kGroups> rowsIn{}, entriesIn{};
-  for (PetscInt r = 0; r < nlocal; ++r) {
-    const PetscInt first = rows.rowPtr[r], last = rows.rowPtr[r + 1];
-    if (last - first == 1 && rows.col[first] == rowStart + r && rows.val[first] == 1.0) {
-      groupOf[r] = -1;
+  for (size_t i = 0; i < stored; ++i) {
+    const PetscInt r = rows.localRow(i), first = rows.rowPtr[i], last = rows.rowPtr[i + 1];
+    if (isIdentityRow(rowStart + r, rows.col.data() + first, rows.val.data() + first, last - first)) {
+      groupOf[i] = -1;
       continue;
     }
     bool narrow = true;
@@ -108,7 +164,7 @@ CompactFrame compactFrame(const LocalShiftRows &rows, PetscInt rowStart, PetscIn
       narrow = own(rows.col[e]) && offset >= INT16_MIN && offset <= INT16_MAX;
     }
     const int g = narrow ? static_cast<int>(std::min<PetscInt>(last - first, F::kLong)) : F::kWide;
-    groupOf[r] = static_cast<int8_t>(g);
+    groupOf[i] = static_cast<int8_t>(g);
     ++rowsIn[g];
     entriesIn[g] += static_cast<size_t>(last - first);
   }
@@ -135,13 +191,14 @@ CompactFrame compactFrame(const LocalShiftRows &rows, PetscInt rowStart, PetscIn
   const double scale = std::ldexp(1.0, weightBits), most = scale;
   std::array<size_t, F::kGroups> nextRow{}, nextEntry{};
   for (int g = 0; g < F::kGroups; ++g) nextRow[g] = f.group[g], nextEntry[g] = f.firstEntry[g];
-  for (PetscInt r = 0; r < nlocal; ++r) {
-    const int g = groupOf[r];
+  for (size_t s = 0; s < stored; ++s) {
+    const int g = groupOf[s];
     if (g < 0) continue;
+    const PetscInt r = rows.localRow(s);
     const size_t i = nextRow[g]++;
     f.rows[i] = static_cast<int32_t>(r);
     if (g >= F::kLong) f.ptr[i - f.group[F::kLong]] = static_cast<int32_t>(nextEntry[g]);
-    for (PetscInt e = rows.rowPtr[r]; e < rows.rowPtr[r + 1]; ++e) {
+    for (PetscInt e = rows.rowPtr[s]; e < rows.rowPtr[s + 1]; ++e) {
       const size_t at = nextEntry[g]++;
       const PetscInt c = rows.col[e];
       if (g != F::kWide) {

@@ -18,10 +18,18 @@
 
 namespace rcfd {
 
-/// This rank's rows of one shift, columns in PETSc numbering, sorted per row.
+/// This rank's rows of one shift, columns in PETSc numbering, sorted per row:
+/// every local row (`row` empty), or, with `impliedIdentity`, the rows
+/// listed in `row` (local, ascending), the others identity rows T(r, r) = 1
+/// that are not stored (a version 3 file's, which need no work to load).
 struct LocalShiftRows {
   std::vector<PetscInt> rowPtr, col;
   std::vector<PetscScalar> val;
+  bool impliedIdentity = false;
+  std::vector<PetscInt> row; ///< local row of each stored row, with impliedIdentity
+  /// Local row of the i-th stored row.
+  PetscInt localRow(size_t i) const { return impliedIdentity ? row[i] : static_cast<PetscInt>(i); }
+  size_t numStored() const { return rowPtr.size() - 1; }
 };
 
 /// What the loader checks the columns against and records.
@@ -30,12 +38,15 @@ struct ColumnCheck {
   int weightBits = 0;      ///< > 0: weights quantised to 2^-weightBits, column sums exactly 1
   std::string where;       ///< "database 'x.h5', frame k", for messages
   double largestError = 0.0; ///< largest |column sum - 1| seen on this rank (updated)
+  OwnedVec sums;             ///< the column sums, kept for the next frame (a new vector costs its pages again)
 };
 
 /// Collective.  Sums the columns of `rows`, refuses (on every rank, with a
 /// sentence naming the cell) a column off by more than the tolerance, or,
 /// for quantised weights, one whose sum is not exactly 1, and divides every
-/// entry by its column's sum.
+/// entry by its column's sum.  Implied identity rows count in the sums in
+/// their place, so the sums are those of all rows to the bit; one whose
+/// column does not sum to exactly 1 is stored, rescaled, like any other.
 PetscErrorCode rescaleColumns(const Layout &layout, LocalShiftRows *rows, ColumnCheck *check);
 
 /// The compact form of rescaled rows.  Entries of other ranks' cells go to

@@ -21,12 +21,6 @@ namespace {
 
 constexpr const char *kFormatName = "rcfd-database";
 
-std::string frameGroup(int k) {
-  char name[32];
-  std::snprintf(name, sizeof name, "/frames/%06d", k);
-  return name;
-}
-
 /// FNV-1a, 64 bits, over the bytes of what is added: cheap (one pass over
 /// data the writer has in memory anyway) and the same on every machine of
 /// the same byte order; it names contents, it does not protect them.
@@ -134,14 +128,16 @@ void writeConditions(const h5::File &f, const OperatingConditions &c) {
     if (std::isfinite(value[i])) f.writeAttr("/metadata", kConditionNames[i], value[i]);
 }
 
-void checkFormat(const h5::File &f) {
+// The file's format version, one this rcfd reads.
+long long checkFormat(const h5::File &f) {
   if (!f.hasAttribute("/", "format") || f.readAttrString("/", "format") != kFormatName)
     throw h5::Error("'" + f.path() + "' is not an rcfd database (its root has no attribute format = \"" +
                     kFormatName + "\")");
   const long long version = f.readAttrInt("/", "format_version");
-  if (version != 1 && version != kDatabaseFormatVersion)
+  if (version < 1 || version > kDatabaseFormatVersion)
     throw h5::Error("database '" + f.path() + "' has format version " + std::to_string(version) +
-                    ", this rcfd reads versions 1 and " + std::to_string(kDatabaseFormatVersion));
+                    ", this rcfd reads versions 1 to " + std::to_string(kDatabaseFormatVersion));
+  return version;
 }
 
 // The identity a run's checkpoint records (docs/database-format.md, "Identity").
@@ -184,35 +180,39 @@ DatabaseMetadata readMetadata(const h5::File &f) {
   return m;
 }
 
-// This rank's rows of one frame: alpha_s in PETSc order, and the shift as
-// local CSR with PETSc column numbers.  Throws on any inconsistency.
-struct LocalFrame {
-  std::vector<double> alpha;
-  LocalShiftRows shift;
-};
-
-LocalFrame readLocalFrame(const h5::File &f, int k, const Layout &layout, bool withShift) {
-  const std::string g = frameGroup(k);
-  const std::string where = "database '" + f.path() + "', frame " + std::to_string(k);
-  f.requireGroup(g);
+// Appends natural row `row` of a stored shift to `rows` in PETSc numbering,
+// columns sorted; refuses an entry outside the mesh or a weight that is not a
+// non-negative number.
+void appendRow(const Layout &layout, const std::string &where, hsize_t row, const int32_t *col, const double *val,
+               int64_t count, LocalShiftRows *rows) {
   const hsize_t n = layout.numCells();
-  std::vector<std::pair<hsize_t, hsize_t>> cellRuns, ptrRuns;
-  for (auto [b, e] : layout.ownedNaturalRuns()) {
-    cellRuns.emplace_back(b, e);
-    ptrRuns.emplace_back(b, e + 1);
+  const size_t rowBegin = rows->col.size();
+  for (int64_t t = 0; t < count; ++t) {
+    if (col[t] < 0 || static_cast<hsize_t>(col[t]) >= n)
+      throw h5::Error(where + ": shift entry in row " + std::to_string(row) + " names cell " +
+                      std::to_string(col[t]) + ", outside the mesh's " + std::to_string(n) + " cells");
+    if (!std::isfinite(val[t]) || val[t] < 0.0)
+      throw h5::Error(where + ": shift entry (" + std::to_string(row) + ", " + std::to_string(col[t]) + ") is " +
+                      std::to_string(val[t]) + ", expected a non-negative share");
+    rows->col.push_back(layout.petscRow(col[t]));
+    rows->val.push_back(val[t]);
   }
-  LocalFrame fr;
-  const auto alphaDims = f.extents(g + "/alpha_s");
-  if (alphaDims.size() != 1 || alphaDims[0] != n)
-    throw h5::Error(where + ": alpha_s has " + std::to_string(alphaDims.empty() ? 0 : alphaDims[0]) +
-                    " values but the mesh has " + std::to_string(n) + " cells");
-  fr.alpha = f.readRuns<double>(g + "/alpha_s", cellRuns);
-  for (size_t r = 0; r < fr.alpha.size(); ++r)
-    if (!std::isfinite(fr.alpha[r]) || fr.alpha[r] < 0.0 || fr.alpha[r] > 1.0)
-      throw h5::Error(where + ": alpha_s of cell " + std::to_string(layout.ownedNatural()[r]) +
-                      " is " + std::to_string(fr.alpha[r]) + ", expected a number in [0, 1]");
-  if (!withShift) return fr;
+  // PETSc wants sorted columns; renumbering may have reordered them.
+  // Rows hold a handful of entries: insertion sort, in place.
+  for (size_t a = rowBegin + 1; a < rows->col.size(); ++a)
+    for (size_t b = a; b > rowBegin && rows->col[b - 1] > rows->col[b]; --b) {
+      std::swap(rows->col[b - 1], rows->col[b]);
+      std::swap(rows->val[b - 1], rows->val[b]);
+    }
+  rows->rowPtr.push_back(static_cast<PetscInt>(rows->col.size()));
+}
 
+// Versions 1 and 2: the full CSR's rows of the rank's cells.
+void readLocalRowsFull(const h5::File &f, const std::string &g, const std::string &where, const Layout &layout,
+                       const std::vector<std::pair<hsize_t, hsize_t>> &cellRuns, LocalShiftRows *rows) {
+  const hsize_t n = layout.numCells();
+  std::vector<std::pair<hsize_t, hsize_t>> ptrRuns;
+  for (auto [b, e] : cellRuns) ptrRuns.emplace_back(b, e + 1);
   const auto ptrDims = f.extents(g + "/shift_row_ptr");
   if (ptrDims.size() != 1 || ptrDims[0] != n + 1)
     throw h5::Error(where + ": shift_row_ptr has " + std::to_string(ptrDims.empty() ? 0 : ptrDims[0]) +
@@ -236,54 +236,101 @@ LocalFrame readLocalFrame(const h5::File &f, int k, const Layout &layout, bool w
   }
   const auto col = f.readRuns<int32_t>(g + "/shift_col", nzRuns);
   const auto val = f.readRuns<double>(g + "/shift_val", nzRuns);
-  LocalShiftRows &rows = fr.shift;
-  rows.rowPtr.assign(1, 0);
-  rows.col.reserve(col.size());
-  rows.val.reserve(val.size());
+  rows->rowPtr.assign(1, 0);
+  rows->col.reserve(col.size());
+  rows->val.reserve(val.size());
   size_t q = 0;
   p = 0;
   for (auto [b, e] : cellRuns) {
     for (hsize_t r = 0; r < e - b; ++r) {
-      const int64_t len = ptr[p + r + 1] - ptr[p + r];
-      const size_t rowBegin = rows.col.size();
-      for (int64_t t = 0; t < len; ++t, ++q) {
-        if (col[q] < 0 || static_cast<hsize_t>(col[q]) >= n)
-          throw h5::Error(where + ": shift entry in row " + std::to_string(b + r) + " names cell " +
-                          std::to_string(col[q]) + ", outside the mesh's " + std::to_string(n) +
-                          " cells");
-        if (!std::isfinite(val[q]) || val[q] < 0.0)
-          throw h5::Error(where + ": shift entry (" + std::to_string(b + r) + ", " +
-                          std::to_string(col[q]) + ") is " + std::to_string(val[q]) +
-                          ", expected a non-negative share");
-        rows.col.push_back(layout.petscRow(col[q]));
-        rows.val.push_back(val[q]);
-      }
-      // PETSc wants sorted columns; renumbering may have reordered them.
-      // Rows hold a handful of entries: insertion sort, in place.
-      for (size_t a = rowBegin + 1; a < rows.col.size(); ++a)
-        for (size_t b = a; b > rowBegin && rows.col[b - 1] > rows.col[b]; --b) {
-          std::swap(rows.col[b - 1], rows.col[b]);
-          std::swap(rows.val[b - 1], rows.val[b]);
-        }
-      rows.rowPtr.push_back(static_cast<PetscInt>(rows.col.size()));
+      const int64_t count = ptr[p + r + 1] - ptr[p + r];
+      appendRow(layout, where, b + r, col.data() + q, val.data() + q, count, rows);
+      q += static_cast<size_t>(count);
     }
     p += e - b + 1;
   }
+}
+
+// Version 3: the rank's moving rows, found by binary search in moving_row
+// (read whole); its other cells' rows are identity rows, implied and never
+// built (rescaleColumns counts them in their place, compactFrame leaves them
+// out), so the frame is the one version 2 gives, to the bit.
+void readLocalRowsMoving(const h5::File &f, const std::string &g, const std::string &where, const Layout &layout,
+                         const std::vector<std::pair<hsize_t, hsize_t>> &cellRuns, int weightBits,
+                         LocalShiftRows *rows) {
+  const MovingRowIndex index = readMovingRowIndex(f, g, where, static_cast<int>(layout.numCells()), weightBits);
+  const auto &moving = index.movingRow;
+  // The positions [lo, hi) in moving_row of each run of own cells, merged where they touch.
+  std::vector<std::pair<hsize_t, hsize_t>> rowRuns;
+  for (auto [b, e] : cellRuns) {
+    const auto lo = static_cast<hsize_t>(std::lower_bound(moving.begin(), moving.end(), b) - moving.begin());
+    const auto hi = static_cast<hsize_t>(std::lower_bound(moving.begin(), moving.end(), e) - moving.begin());
+    if (lo == hi) continue;
+    if (!rowRuns.empty() && rowRuns.back().second == lo) rowRuns.back().second = hi;
+    else rowRuns.emplace_back(lo, hi);
+  }
+  std::vector<std::pair<hsize_t, hsize_t>> entryRuns;
+  const auto ptr = readMovingRowPtr(f, g, where, index, rowRuns, &entryRuns);
+  const auto col = f.readRuns<int32_t>(g + "/shift_col", entryRuns);
+  const auto val = readStoredWeights(f, g, entryRuns, weightBits);
+  // The moving rows read, ascending, and their entry counts.
+  std::vector<int32_t> row;
+  std::vector<int64_t> count;
+  size_t p = 0;
+  for (auto [lo, hi] : rowRuns) {
+    for (hsize_t i = lo; i < hi; ++i, ++p) {
+      row.push_back(moving[i]);
+      count.push_back(ptr[p + 1] - ptr[p]);
+    }
+    ++p; // the run's end pointer
+  }
+  // Only the moving rows are stored; the others stay identity rows, implied.
+  rows->impliedIdentity = true;
+  rows->rowPtr.assign(1, 0);
+  rows->col.reserve(col.size());
+  rows->val.reserve(val.size());
+  rows->row.reserve(row.size());
+  size_t q = 0;
+  for (size_t m = 0; m < row.size(); ++m) {
+    const PetscInt local = layout.petscRow(row[m]) - layout.rowStart();
+    rows->row.push_back(local);
+    appendRow(layout, where, static_cast<hsize_t>(row[m]), col.data() + q, val.data() + q, count[m], rows);
+    q += static_cast<size_t>(count[m]);
+  }
+}
+
+// This rank's rows of one frame: alpha_s in PETSc order, and the shift as
+// local CSR with PETSc column numbers.  Throws on any inconsistency.
+struct LocalFrame {
+  std::vector<double> alpha;
+  LocalShiftRows shift;
+};
+
+LocalFrame readLocalFrame(const h5::File &f, long long version, int weightBits, int k, const Layout &layout,
+                          bool withShift) {
+  const std::string g = frameGroup(k);
+  const std::string where = "database '" + f.path() + "', frame " + std::to_string(k);
+  f.requireGroup(g);
+  const hsize_t n = layout.numCells();
+  std::vector<std::pair<hsize_t, hsize_t>> cellRuns;
+  for (auto [b, e] : layout.ownedNaturalRuns()) cellRuns.emplace_back(b, e);
+  LocalFrame fr;
+  const auto alphaDims = f.extents(g + "/alpha_s");
+  if (alphaDims.size() != 1 || alphaDims[0] != n)
+    throw h5::Error(where + ": alpha_s has " + std::to_string(alphaDims.empty() ? 0 : alphaDims[0]) +
+                    " values but the mesh has " + std::to_string(n) + " cells");
+  fr.alpha = f.readRuns<double>(g + "/alpha_s", cellRuns);
+  for (size_t r = 0; r < fr.alpha.size(); ++r)
+    if (!std::isfinite(fr.alpha[r]) || fr.alpha[r] < 0.0 || fr.alpha[r] > 1.0)
+      throw h5::Error(where + ": alpha_s of cell " + std::to_string(layout.ownedNatural()[r]) +
+                      " is " + std::to_string(fr.alpha[r]) + ", expected a number in [0, 1]");
+  if (!withShift) return fr;
+  if (version >= 3) readLocalRowsMoving(f, g, where, layout, cellRuns, weightBits, &fr.shift);
+  else readLocalRowsFull(f, g, where, layout, cellRuns, &fr.shift);
   return fr;
 }
 
 } // namespace
-
-FrameRecord readStoredFrame(const h5::File &f, int k, int cells) {
-  const std::string g = frameGroup(k);
-  FrameRecord r;
-  r.alphaS = f.read<double>(g + "/alpha_s");
-  r.shift.n = cells;
-  r.shift.rowPtr = f.read<int64_t>(g + "/shift_row_ptr");
-  r.shift.col = f.read<int32_t>(g + "/shift_col");
-  r.shift.val = f.read<double>(g + "/shift_val");
-  return r;
-}
 
 // ---------------------------------------------------------------- writer
 
@@ -316,12 +363,17 @@ struct DatabaseWriter::Impl {
   h5::File file;
   int cells = 0;
   int weightBits = 0; // > 0: every frame must be quantised so (checked by append)
+  long long version = kDatabaseFormatVersion;
   ContentHash hash; // of every frame's arrays, stored as content_hash by finish()
 };
 
-DatabaseWriter::DatabaseWriter(const std::string &path, const Mesh &mesh,
-                               const DatabaseMetadata &meta)
+DatabaseWriter::DatabaseWriter(const std::string &path, const Mesh &mesh, const DatabaseMetadata &meta,
+                               long long formatVersion)
     : impl(std::make_unique<Impl>(path)) {
+  if (formatVersion != 2 && formatVersion != kDatabaseFormatVersion)
+    throw std::invalid_argument("a database is written in format version 2 or " +
+                                std::to_string(kDatabaseFormatVersion) + ", not " + std::to_string(formatVersion));
+  impl->version = formatVersion;
   if (!(meta.dtRec > 0)) throw std::invalid_argument("dt_rec must be positive");
   if (!(meta.solidDensity > 0)) throw std::invalid_argument("the solid density must be positive");
   impl->cells = mesh.numCells();
@@ -330,7 +382,7 @@ DatabaseWriter::DatabaseWriter(const std::string &path, const Mesh &mesh,
   impl->file = h5::File::create(impl->out);
   const h5::File &f = impl->file;
   f.writeAttr("/", "format", std::string(kFormatName));
-  f.writeAttr("/", "format_version", kDatabaseFormatVersion);
+  f.writeAttr("/", "format_version", formatVersion);
   f.writeAttr("/", "created", nowUtc());
   writeMesh(f, mesh);
   f.createGroup("/metadata");
@@ -359,12 +411,9 @@ void DatabaseWriter::append(const FrameRecord &frame) {
     throw std::invalid_argument("frame " + std::to_string(frames) +
                                 " does not match the mesh's " + std::to_string(n) + " cells");
   if (impl->weightBits > 0) checkQuantised(frame.shift, impl->weightBits, frames);
-  const std::string g = frameGroup(frames);
-  impl->file.createGroup(g);
-  impl->file.write(g + "/alpha_s", frame.alphaS);
-  impl->file.write(g + "/shift_row_ptr", frame.shift.rowPtr);
-  impl->file.write(g + "/shift_col", frame.shift.col);
-  impl->file.write(g + "/shift_val", frame.shift.val);
+  writeStoredFrame(impl->file, frameGroup(frames), frame, impl->version, impl->weightBits);
+  // The identity is of the full CSR in every version, so that the same
+  // frames have the same identity however they are stored.
   impl->hash.add(frame.alphaS);
   impl->hash.add(frame.shift.rowPtr);
   impl->hash.add(frame.shift.col);
@@ -471,7 +520,7 @@ PetscErrorCode openHeader(MPI_Comm comm, const std::string &path, h5::File *file
   // could not open the file.
   PetscCall(collectively(comm, [&] {
     *file = h5::File::openRead(path, comm);
-    checkFormat(*file);
+    h->formatVersion = checkFormat(*file);
     h->metadata = readMetadata(*file);
     h->identity = readIdentity(*file);
     h->mesh = readMesh(*file);
@@ -525,6 +574,7 @@ PetscErrorCode Database::load(MPI_Comm comm, const std::string &path,
   PetscCall(openHeader(comm, path, &file, &header, &K));
   db->meta = header.metadata;
   db->identity_ = header.identity;
+  db->formatVersion_ = header.formatVersion;
   db->mesh_ = std::move(header.mesh);
   PetscCall(frameWindow(comm, path, options, K, &first, &last));
   if (options.layout) { // a database set's one partition: no work to count
@@ -547,7 +597,7 @@ PetscErrorCode Database::load(MPI_Comm comm, const std::string &path,
   check.weightBits = db->meta.weightBits;
   for (int k = first; k <= last; ++k) {
     LocalFrame fr;
-    PetscCall(collectively(comm, [&] { fr = readLocalFrame(file, k, L, options.loadShifts); }));
+    PetscCall(collectively(comm, [&] { fr = readLocalFrame(file, header.formatVersion, db->meta.weightBits, k, L, options.loadShifts); }));
     OwnedVec a;
     PetscCall(VecCreateMPI(comm, L.numLocal(), L.numCells(), a.put()));
     PetscScalar *pa;
