@@ -52,12 +52,13 @@ def autocorrelation_time(x, c=5.0, most=4000):
     d = [v - m for v in x]
     var = math.fsum(v * v for v in d) / n
     tau = 1.0
-    for k in range(1, min(most, n // 4)):
+    limit = min(most, n // 4)
+    for k in range(1, limit):
         rho = math.fsum(d[i] * d[i + k] for i in range(n - k)) / (n * var)
         tau += 2.0 * rho
         if k >= c * tau:
-            return tau, k
-    return tau, None  # the window never closed: tau is a lower bound
+            return tau, str(k)
+    return tau, f"> {limit}"  # the window never closed: tau is uncertain
 
 
 def variance_of_mean_by_batches(x, batches):
@@ -109,14 +110,14 @@ def main():
     say()
     say("| series | quantity | mean | std | tau (ACF) | W | tau (batch means) |")
     say("|---|---|---|---|---|---|---|")
-    taus = {"bed height": [], "z_CoG": [], "|z_CoG - mean|": []}
+    taus = {"bed height": [], "z_CoG": [], "abs(z_CoG - mean)": []}
     for path, (h, z) in zip(args.series, data):
-        for name, x in (("bed height", h), ("z_CoG", z), ("|z_CoG - mean|", deviations(z))):
+        for name, x in (("bed height", h), ("z_CoG", z), ("abs(z_CoG - mean)", deviations(z))):
             tau, window = autocorrelation_time(x)
             batch = len(x) * variance_of_mean_by_batches(x, 16) / statistics.variance(x)
             taus[name].append((tau, len(x), mean(x), statistics.pvariance(x)))
             say(f"| {path.split('/')[-1]} | {name} | {mean(x) * 1e3:.3f} mm | {statistics.pstdev(x) * 1e3:.3f} mm |"
-                f" {tau:.1f} | {window if window else '> ' + str(4000)} | {batch:.1f} |")
+                f" {tau:.1f} | {window} | {batch:.1f} |")
     # Pooled tau, mean and variance (weights: frames), for the expected standard errors.
     pooled = {}
     for name, rows in taus.items():
@@ -141,7 +142,7 @@ def main():
         if len(rows["h"]) < 2:
             continue
         cells = []
-        for key, name in (("h", "bed height"), ("d", "|z_CoG - mean|")):
+        for key, name in (("h", "bed height"), ("d", "abs(z_CoG - mean)")):
             diffs = [r[0] for r in rows[key]]
             printed = [r[1] for r in rows[key]]
             tau, level, var = pooled[name]
@@ -159,7 +160,7 @@ def main():
         mx, my = mean([p[0] for p in points]), mean([p[1] for p in points])
         slope = math.fsum((p[0] - mx) * (p[1] - my) for p in points) / math.fsum((p[0] - mx) ** 2 for p in points)
         say(f"Delta z_CoG halves: rms ~ S^{slope:.2f} over spans with >= 4 segments (stationary: S^-0.50)")
-    tau, level, var = pooled["|z_CoG - mean|"]
+    tau, level, var = pooled["abs(z_CoG - mean)"]
     for target, label in ((0.02, "the rms difference is 2 %"), (0.01, "2 % is 2 standard errors (95 % of spans within 2 %)")):
         S = 4.0 * tau * var / (level * target) ** 2
         say(f"Span at which {label}: {S:.0f} frames = {S * args.dt:.0f} s")
