@@ -104,7 +104,7 @@ def main():
 
     data = [read_series(p) for p in args.series]
     frames = sum(len(h) for h, _ in data)
-    say(f"Series: {', '.join(args.series)} ({frames} frames, {frames * args.dt:.0f} s)")
+    say(f"Series: {', '.join(p.split('/')[-1] for p in args.series)} ({frames} frames, {frames * args.dt:.0f} s)")
     say()
     say("Integrated autocorrelation time tau [frames] (Sokal window W; batch means of 1/16 of a series):")
     say()

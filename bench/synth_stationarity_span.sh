@@ -12,8 +12,8 @@
 # Environment: RCFD (default build/rcfd), FRAMES (frames per seed, 24000 = 120 s), SEEDS ("1 2"),
 # SPANS (span lengths in frames, "150,300,600,1200,2400,4800,9600"), LABEL (name of the result,
 # default from the options), OUT (bench/results/synth_stationarity_span-LABEL.md), WORK (directory
-# for the series, default /tmp/rcfd-synth-span; kept, so a second call with the same options reuses
-# its series unless FRESH=1).
+# for the series LABEL-seedS.csv, default /tmp/rcfd-synth-span; kept, so a second call with the same
+# options reuses a series of at least FRAMES frames, all of it, unless FRESH=1).
 set -euo pipefail
 root=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 rcfd=${RCFD:-$root/build/rcfd}
@@ -25,8 +25,8 @@ mkdir -p "$work" "$(dirname "$out")"
 
 series=()
 for seed in ${SEEDS:-1 2}; do
-  file="$work/$label-seed$seed-$frames.csv"
-  if [ "${FRESH:-0}" = 1 ] || [ ! -s "$file" ]; then
+  file="$work/$label-seed$seed.csv"
+  if [ "${FRESH:-0}" = 1 ] || [ ! -s "$file" ] || [ "$(($(wc -l <"$file") - 1))" -lt "$frames" ]; then
     start=$(date +%s)
     "$rcfd" synth "$@" -synth_seed "$seed" -synth_frames "$frames" -synth_series "$file" -synth_series_only -quiet
     echo "rcfd synth $* -synth_seed $seed -synth_frames $frames: $(($(date +%s) - start)) s" >&2

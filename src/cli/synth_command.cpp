@@ -61,12 +61,12 @@ PetscErrorCode readSynthOptions(MPI_Comm comm, SyntheticBedOptions *o, std::stri
                         "Bubbles per second and m^2 of distributor", &o->nucleationRate, kNonNegative));
   PetscCall(checkedReal(PetscOptionsObject, "-synth_max_diameter",
                         "Largest bubble diameter [m]", &o->maxDiameter, kPositive));
-  const char *const nucleations[] = {"steady", "poisson", "stratified"}; // the enum's order
+  const char *const nucleations[] = {"steady", "poisson"};
   PetscInt nucleation = static_cast<PetscInt>(o->nucleation);
   PetscCall(PetscOptionsEList("-synth_nucleation",
                               "Bubbles nucleate steadily over the distributor (stationary bed) or as a Poisson process"
-                              " (the default); stratified: steadily, along a low-discrepancy sequence over the distributor",
-                              "", nucleations, 3, nucleations[nucleation], &nucleation, nullptr));
+                              " (the default)",
+                              "", nucleations, 2, nucleations[nucleation], &nucleation, nullptr));
   o->nucleation = static_cast<SyntheticBedOptions::Nucleation>(nucleation);
   PetscInt strips = o->nucleationStrips;
   PetscCall(checkedInt(PetscOptionsObject, "-synth_nucleation_strips",

@@ -206,9 +206,6 @@ private:
   bool nucleationStarted_ = false;
   std::vector<int> stripOrder_;
   int stripCursor_ = 0;
-  // Stratified nucleation: bubbles placed so far and the seed's shift of the sequence.
-  long placed_ = 0;
-  std::array<double, 2> placementOffset_{};
   // Parcels grouped by column: dense in slot order, then airborne.
   std::vector<int32_t> order_, colStart_, denseEnd_, top_;
   std::vector<Bubble> bubbles_;
@@ -327,21 +324,12 @@ void SyntheticBed::nucleate(double dt) {
   // (the first after a random share of the interval, so that seeds differ in
   // phase), into the strips of the distributor along x in a fresh random
   // order every round.
-  const bool stratified = opt_.nucleation == SyntheticBedOptions::Nucleation::stratified;
   if (!nucleationStarted_) {
     nucleationDue_ = rng_.uniform();
-    if (stratified) placementOffset_ = {rng_.uniform(), rng_.uniform()};
     nucleationStarted_ = true;
   }
   nucleationDue_ -= expected;
   for (; nucleationDue_ <= 0.0; nucleationDue_ += 1.0) {
-    if (stratified) { // the R2 sequence (Roberts 2018): every stretch of it covers the distributor evenly
-      constexpr double a1 = 0.7548776662466927, a2 = 0.5698402909980532; // 1/phi_2, 1/phi_2^2
-      const double n = static_cast<double>(placed_++);
-      const double u = placementOffset_[0] + n * a1, v = placementOffset_[1] + n * a2;
-      openBubble(u - std::floor(u), v - std::floor(v));
-      continue;
-    }
     if (stripCursor_ == 0) // Fisher-Yates shuffle of the strips
       for (int z = opt_.nucleationStrips - 1; z > 0; --z)
         std::swap(stripOrder_[z], stripOrder_[std::min(z, static_cast<int>(rng_.uniform() * (z + 1)))]);

@@ -37,10 +37,8 @@ struct SyntheticBedOptions {
   double nucleationRate = 2500.0; ///< new bubbles per second and m^2 of distributor
   /// steady: one bubble every 1 / (rate x area), into nucleationStrips strips of the
   /// distributor along x in shuffled rounds (a steadier bed, docs/synthetic.md);
-  /// poisson: a Poisson process at random places (earlier versions' bed, bit for bit);
-  /// stratified: steady in time, placed along a low-discrepancy sequence (R2) over the
-  /// distributor instead of strips (an experiment, docs/synthetic.md).
-  enum class Nucleation { steady, poisson, stratified } nucleation = Nucleation::poisson;
+  /// poisson: a Poisson process at random places (earlier versions' bed, bit for bit).
+  enum class Nucleation { steady, poisson } nucleation = Nucleation::poisson;
   int nucleationStrips = 8;       ///< strips of the distributor along x for steady nucleation,
                                   ///< about as wide as a bubble (2.5 cm here)
   double initialDiameter = 0.015; ///< D0: size a new bubble opens to at the distributor
