@@ -11,11 +11,9 @@
 namespace rcfd {
 
 /// Batches the span is cut into for the standard errors of the halves: 6 batches of
-/// 50 frames for the default 300.  Measured on the steady bed (docs/synthetic.md), 3, 4
-/// or 6 batches give the same errors; they are right (about 95 % of spans within 2 of
-/// them) from spans of some 12 integrated times (600 frames, tau about 50 frames) and a
-/// lower estimate below (300 frames: the differences' median is 1.45 times that of a
-/// Gaussian of the printed error).
+/// 50 frames for the default 300.  Measured on the steady bed (tau about 50 frames,
+/// docs/synthetic.md), 3 or 6 batches or overlapping batches give the same errors, a
+/// little low for Delta z_CoG: 3 of them, not 2, hold 93-100 % of the spans' differences.
 inline constexpr int kHalvesBatches = 6;
 
 /// Variance of the mean of x[0, n) by batch means: x cut into `batches` batches of
