@@ -5,7 +5,8 @@
 # - at the default bed's own point (1.1 m/s) the file's contents are the default bed's, bit for bit;
 #   at another point they differ;
 # - U <= U_mf, negative values and a disagreeing -superficial_velocity are refused with a sentence
-#   naming the option.
+#   naming the option;
+# - -synth_series writes the per-frame series, the same without the database (-synth_series_only).
 # usage: test_synth_conditions.sh RCFD CSV_COMPARE DATA_DIR SOURCE_DIR
 set -u
 rcfd=$1
@@ -41,6 +42,20 @@ expect_error "-synth_min_fluidization_velocity 0: expected a positive number" "$
 expect_error "-superficial_velocity 1.2 m/s and -synth_superficial_velocity 1.3 m/s disagree" \
   "${base[@]}" -synth_superficial_velocity 1.3 -superficial_velocity 1.2
 [ ! -e "$work/bad.h5" ] && ok || fail "a refused synth wrote $work/bad.h5"
+
+# The per-frame series: the same with and without the database (-synth_series_only skips the
+# shifts, not the bed's motion), one row per frame, no database written; the halves come with
+# their standard errors.
+series=(-synth_cells 10,2,20 -synth_frames 12)
+"$rcfd" synth -o "$work/with.h5" "${series[@]}" -synth_series "$work/with.csv" >"$work/synth.txt" 2>&1
+"$rcfd" synth -o "$work/none.h5" "${series[@]}" -synth_series "$work/only.csv" -synth_series_only -quiet
+cmp -s "$work/with.csv" "$work/only.csv" && ok || fail "the series differ with and without the database"
+[ "$(head -1 "$work/only.csv")" = "frame,t_s,bed_height_m,z_cog_m" ] && [ "$(wc -l <"$work/only.csv")" = 13 ] && ok ||
+  fail "series file: $(head -2 "$work/only.csv")"
+[ ! -e "$work/none.h5" ] && ok || fail "-synth_series_only wrote a database"
+grep -Eq "^Halves of the span: mean bed height .* m \([-+][0-9.]+ %, \+/- [0-9.e+-]+ % expected from the span\), Delta z_CoG .* mm \([-+][0-9.]+ %, \+/- [0-9.e+-]+ % expected from the span\)$" \
+  "$work/synth.txt" && ok || fail "halves line: $(grep Halves "$work/synth.txt")"
+expect_error "-synth_series_only needs -synth_series FILE" "${base[@]}" -synth_series_only
 
 echo "$passed passed, $failures failed"
 [ "$failures" = 0 ]

@@ -2,9 +2,12 @@
 // alpha_k+1), bounded alpha_s, conserved solid, an empty freeboard, rising
 // voids, determinism, and clear errors for bad options; the operating point
 // (two-phase scaling: more excess gas, more bubble volume) and stationarity
-// over the recorded span (halves, frame use of a random path).
+// over the recorded span (halves, frame use of a random path) and the standard
+// errors of the halves on series of known autocorrelation.
 #include "check.hpp"
 #include "analysis/bed_dynamics.hpp"
+#include "base/random.hpp"
+#include "builders/synthetic/span_statistics.hpp"
 #include "builders/synthetic/synthetic_bed.hpp"
 #include "builders/synthetic/two_phase_scaling.hpp"
 #include "path/frame_path.hpp"
@@ -256,6 +259,86 @@ void testStationarity() {
   }
 }
 
+// Without frames the bed moves the same: the series-only run gives the report's
+// series bit for bit.
+void testSeriesOnly() {
+  SyntheticBedOptions o = smallBed();
+  o.numFrames = 30;
+  rcfd::SyntheticBedReport withFrames;
+  generate(o, &withFrames);
+  const rcfd::SyntheticBedReport seriesOnly = rcfd::generateSyntheticBedSeries(o);
+  RCFD_CHECK(seriesOnly.surfaceHeight == withFrames.surfaceHeight);
+  RCFD_CHECK(seriesOnly.centreOfGravity == withFrames.centreOfGravity);
+  RCFD_CHECK(seriesOnly.wrapMismatchL1 == withFrames.wrapMismatchL1);
+}
+
+/// x_k = mean + a_k, a_k = phi a_k-1 + e_k with e_k uniform in [-1, 1) (variance 1/3),
+/// started in its stationary spread: var(a) = (1/3) / (1 - phi^2), integrated
+/// autocorrelation time tau = 1 + 2 sum phi^k = (1 + phi) / (1 - phi).
+std::vector<double> autoregressive(size_t n, double phi, double mean, std::uint64_t seed) {
+  rcfd::Xoshiro256 random(seed);
+  std::vector<double> x(n);
+  double a = 0.0;
+  for (int k = 0; k < 2000; ++k) a = phi * a + (2.0 * random.uniform() - 1.0);
+  for (double &v : x) {
+    a = phi * a + (2.0 * random.uniform() - 1.0);
+    v = mean + a;
+  }
+  return x;
+}
+
+// The standard errors rcfd synth prints next to the halves (batch means over the
+// span), on AR(1) series of known integrated time tau = (1 + 0.9) / 0.1 = 19 frames.
+void testHalvesStandardError() {
+  // tau itself from 10^6 frames in 250 batches of 4000 frames (>> tau, so unbiased to
+  // 2 phi / (m (1 - phi)^2) = 0.05 frames): the batch variance has 249 degrees of
+  // freedom, a relative standard deviation of sqrt(2 / 249) = 9 %; 30 % is over 3 of them.
+  const std::vector<double> x = autoregressive(1000000, 0.9, 0.0, 7);
+  RCFD_CHECK_CLOSE(rcfd::integratedTimeByBatches(x, 250), 19.0, 0.3); // relative to 19
+
+  // Spans of 300 frames, as rcfd synth's default (6 batches of 50 frames): over 4000
+  // independent spans the halves of the mean differ by an rms of sqrt(var(m2 - m1)) / mean
+  // = 6.3 % (AR(1) exactly: var of a 150-frame mean 17.8 var(a) / 150 less the halves'
+  // covariance), known to 1/sqrt(2 x 4000) = 1.1 %.  Batches of 50 frames see
+  // tau(50) = 19 - 2 phi / (50 (1 - phi)^2) = 15.4 of the 18.4 that a 300-frame mean
+  // has, so the printed error is expected sqrt(15.4 / 18.4 x 17.8 / 17.3) = 0.93 of the rms:
+  // the band [0.8, 1.1] holds that with room for the 1.1 % and the estimator's own
+  // scatter; ignoring the correlation (tau = 1) would give 0.24, batches not divided out
+  // sqrt(6) = 2.4.
+  const std::vector<double> y = autoregressive(4000 * 300, 0.9, 10.0, 11);
+  double observed = 0.0, printed = 0.0, observedDeviation = 0.0, printedDeviation = 0.0;
+  int within = 0;
+  for (size_t s = 0; s < 4000; ++s) {
+    const std::vector<double> span(y.begin() + s * 300, y.begin() + (s + 1) * 300);
+    const rcfd::HalvesDifference d = rcfd::halvesOfMean(span);
+    observed += d.relative * d.relative;
+    printed += d.standardError * d.standardError;
+    within += std::fabs(d.relative) <= 2.0 * d.standardError;
+    const rcfd::HalvesDifference dev = rcfd::halvesOfMeanDeviation(span);
+    observedDeviation += dev.relative * dev.relative;
+    printedDeviation += dev.standardError * dev.standardError;
+  }
+  RCFD_CHECK_CLOSE(std::sqrt(observed / 4000), 0.063, 0.005);
+  const double ratio = std::sqrt(printed / observed);
+  RCFD_CHECK(ratio > 0.8 && ratio < 1.1);
+  // |difference| <= 2 printed standard errors in at least the 90 % of spans that
+  // Student's t with 5 degrees of freedom gives (P(|t_5| <= 2) = 0.898); more in fact
+  // (97 %), because the batch means contain the halves' difference itself; ignoring
+  // the correlation would give about 40 %.
+  RCFD_CHECK(within >= 0.9 * 4000);
+  // Delta z_CoG of the halves (mean |z - mean| of each half): the same estimator on
+  // |z - mean of the span|, whose correlation is shorter (rho^2-like for a Gaussian-like a).
+  const double ratioDeviation = std::sqrt(printedDeviation / observedDeviation);
+  RCFD_CHECK(ratioDeviation > 0.8 && ratioDeviation < 1.2);
+
+  // The halves themselves: means and mean absolute deviations of [0, n/2) and [n/2, n).
+  const rcfd::HalvesDifference m = rcfd::halvesOfMean({1.0, 3.0, 2.0, 6.0});
+  RCFD_CHECK(m.first == 2.0 && m.second == 4.0 && m.relative == 1.0 && std::isnan(m.standardError));
+  const rcfd::HalvesDifference dev = rcfd::halvesOfMeanDeviation({1.0, 3.0, 2.0, 6.0});
+  RCFD_CHECK(dev.first == 1.0 && dev.second == 2.0 && dev.relative == 1.0);
+  RCFD_CHECK(std::isnan(rcfd::varianceOfMeanByBatches({1.0, 2.0, 3.0}, 2)));
+}
+
 template <class Change> bool rejects(Change change) {
   SyntheticBedOptions o = smallBed();
   change(o);
@@ -297,6 +380,8 @@ int main() {
   testTwoPhaseScaling();
   testExcessGas();
   testStationarity();
+  testSeriesOnly();
+  testHalvesStandardError();
   testDeterminism();
   testBadOptions();
   return RCFD_TEST_RESULT();

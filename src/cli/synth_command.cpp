@@ -2,12 +2,13 @@
 #include "base/checked_options.hpp"
 #include "base/petsc_compat.hpp"
 
+#include "builders/synthetic/span_statistics.hpp"
 #include "builders/synthetic/synthetic_bed.hpp"
 #include "builders/synthetic/two_phase_scaling.hpp"
-#include "analysis/bed_dynamics.hpp"
 #include "observable/min_fluidization.hpp"
 #include "rcfd/database.hpp"
 #include "base/collective.hpp"
+#include "base/atomic_file.hpp"
 
 #include <cmath>
 #include <cstdio>
@@ -25,9 +26,16 @@ struct SynthOperatingPoint {
   bool given() const { return velocitySet || minFluidizationSet; }
 };
 
+/// Where the per-frame series go (-synth_series), and whether the database is
+/// skipped (-synth_series_only: long spans for stationarity, docs/synthetic.md).
+struct SynthSeriesOutput {
+  std::string path; // empty: none
+  PetscBool only = PETSC_FALSE;
+};
+
 PetscErrorCode readSynthOptions(MPI_Comm comm, SyntheticBedOptions *o, std::string *path,
-                                SynthOperatingPoint *point, PetscBool *quiet) {
-  char text[PETSC_MAX_PATH_LEN] = "default-bed.h5";
+                                SynthOperatingPoint *point, SynthSeriesOutput *series, PetscBool *quiet) {
+  char text[PETSC_MAX_PATH_LEN] = "default-bed.h5", seriesPath[PETSC_MAX_PATH_LEN] = "";
   PetscInt cells[3] = {o->box.nx, o->box.ny, o->box.nz}, ncells = 3;
   PetscReal length[3] = {o->box.length[0], o->box.length[1], o->box.length[2]};
   PetscInt nlength = 3, frames = o->numFrames, seed = static_cast<PetscInt>(o->seed),
@@ -75,8 +83,17 @@ PetscErrorCode readSynthOptions(MPI_Comm comm, SyntheticBedOptions *o, std::stri
                         "Minimum fluidization velocity U_mf [m/s] (nan: Wen & Yu at d32 = 2.026 mm,"
                         " the bi-wide inventory, with -gas_density and -gas_kinematic_viscosity)",
                         &point->minFluidizationVelocity, kPositive, &point->minFluidizationSet));
+  PetscCall(PetscOptionsString("-synth_series",
+                               "CSV of every frame's time, mean bed height and z_CoG (columns frame, t_s,"
+                               " bed_height_m, z_cog_m)", "", seriesPath, seriesPath, sizeof seriesPath, nullptr));
+  PetscCall(PetscOptionsBool("-synth_series_only",
+                             "Run the bed for -synth_series and the report only: no database (long spans are"
+                             " cheap without the shifts)", "", series->only, &series->only, nullptr));
   PetscCall(PetscOptionsBool("-quiet", "No report", "", *quiet, quiet, nullptr));
   PetscOptionsEnd();
+  PetscCheck(!series->only || seriesPath[0], comm, PETSC_ERR_USER_INPUT,
+             "-synth_series_only needs -synth_series FILE: without a database the series is the only output");
+  series->path = seriesPath;
   PetscCheck((!setCells || ncells == 3) && (!setLength || nlength == 3), comm, PETSC_ERR_USER_INPUT,
              "-synth_cells and -synth_length take three values each (x, y, z)");
   PetscCheck(frames >= 1 && seed >= 0 && parcels >= 1, comm, PETSC_ERR_USER_INPUT,
@@ -144,25 +161,41 @@ PetscErrorCode applyOperatingPoint(MPI_Comm comm, SynthOperatingPoint point, Ope
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
-/// Mean of v[first, last).
-double meanOf(const std::vector<double> &v, size_t first, size_t last) {
-  double sum = 0.0;
-  for (size_t k = first; k < last; ++k) sum += v[k];
-  return sum / static_cast<double>(last - first);
+/// "0.2670 / 0.2659 m (-0.4 %, +/- 0.9 % expected from the span)": a quantity over the two halves
+/// and the standard error of their difference that a stationary bed's own correlation makes expected.
+std::string halvesText(const HalvesDifference &d, double scale, const char *format, const char *unit) {
+  char first[32], second[32], text[160];
+  std::snprintf(first, sizeof first, format, scale * d.first);
+  std::snprintf(second, sizeof second, format, scale * d.second);
+  if (std::isfinite(d.standardError))
+    std::snprintf(text, sizeof text, "%s / %s %s (%+.1f %%, +/- %.2g %% expected from the span)", first, second, unit,
+                  100.0 * d.relative, 100.0 * d.standardError);
+  else
+    std::snprintf(text, sizeof text, "%s / %s %s (%+.1f %%)", first, second, unit, 100.0 * d.relative);
+  return text;
 }
 
 /// Whether the span is statistically stationary, as its two halves see it
-/// (docs/synthetic.md): mean bed height and Delta z_CoG of each half.
+/// (docs/synthetic.md): mean bed height and Delta z_CoG of each half, each with the
+/// standard error of the difference from batch means over the span (span_statistics.hpp).
 void printHalves(MPI_Comm comm, const SyntheticBedReport &report) {
-  const size_t n = report.surfaceHeight.size(), half = n / 2;
-  if (half < 1) return;
-  const std::vector<double> &z = report.centreOfGravity;
-  const double h1 = meanOf(report.surfaceHeight, 0, half), h2 = meanOf(report.surfaceHeight, half, n);
-  const double d1 = bedDynamics({z.begin(), z.begin() + half}), d2 = bedDynamics({z.begin() + half, z.end()});
-  PetscCallVoid(PetscPrintf(comm,
-                            "Halves of the span: mean bed height %.4f / %.4f m (%+.1f %%), Delta z_CoG %.3f / %.3f mm"
-                            " (%+.1f %%)\n",
-                            h1, h2, 100.0 * (h2 / h1 - 1.0), 1e3 * d1, 1e3 * d2, 100.0 * (d2 / d1 - 1.0)));
+  if (report.surfaceHeight.size() < 2) return;
+  const std::string height = halvesText(halvesOfMean(report.surfaceHeight), 1.0, "%.4f", "m");
+  const std::string dynamics = halvesText(halvesOfMeanDeviation(report.centreOfGravity), 1e3, "%.3f", "mm");
+  PetscCallVoid(PetscPrintf(comm, "Halves of the span: mean bed height %s, Delta z_CoG %s\n", height.c_str(),
+                            dynamics.c_str()));
+}
+
+/// The per-frame series of the report as CSV (frame, t_s, bed_height_m, z_cog_m).
+void writeSeries(const std::string &path, double dtRec, const SyntheticBedReport &report) {
+  std::string text = "frame,t_s,bed_height_m,z_cog_m\n";
+  char line[128];
+  for (size_t k = 0; k < report.surfaceHeight.size(); ++k) {
+    std::snprintf(line, sizeof line, "%zu,%.6f,%.9g,%.9g\n", k, static_cast<double>(k) * dtRec,
+                  report.surfaceHeight[k], report.centreOfGravity[k]);
+    text += line;
+  }
+  writeTextAtomically(path, text);
 }
 
 } // namespace
@@ -170,12 +203,13 @@ void printHalves(MPI_Comm comm, const SyntheticBedReport &report) {
 PetscErrorCode synthCommand(MPI_Comm comm) {
   SyntheticBedOptions options;
   SynthOperatingPoint point;
+  SynthSeriesOutput series;
   std::string path, pointNote;
   PetscBool quiet = PETSC_FALSE;
   PetscMPIInt rank;
   PetscFunctionBeginUser;
   PetscCallMPI(MPI_Comm_rank(comm, &rank));
-  PetscCall(readSynthOptions(comm, &options, &path, &point, &quiet));
+  PetscCall(readSynthOptions(comm, &options, &path, &point, &series, &quiet));
   OperatingConditions conditions; // recorded in the file when given (format version 2)
   PetscCall(OperatingConditions::fromOptions(comm, &conditions));
   if (helpRequested()) PetscFunctionReturn(PETSC_SUCCESS);
@@ -187,6 +221,11 @@ PetscErrorCode synthCommand(MPI_Comm comm) {
   SyntheticBedReport report;
   PetscCall(collectively(comm, [&] {
     if (rank != 0) return;
+    if (series.only) {
+      report = generateSyntheticBedSeries(options);
+      writeSeries(series.path, options.dtRec, report);
+      return;
+    }
     DatabaseMetadata meta;
     meta.dtRec = options.dtRec;
     meta.gravity = {0.0, 0.0, -options.gravity};
@@ -206,9 +245,13 @@ PetscErrorCode synthCommand(MPI_Comm comm) {
         std::printf("  frame %d/%d\n", writer.numFrames(), options.numFrames), std::fflush(stdout);
     });
     writer.finish();
+    if (!series.path.empty()) writeSeries(series.path, options.dtRec, report);
   }));
   if (!quiet && !pointNote.empty()) PetscCall(PetscPrintf(comm, "Operating point: %s\n", pointNote.c_str()));
-  if (!quiet)
+  if (!quiet && series.only)
+    PetscCall(PetscPrintf(comm, "Wrote %s: the series of %d frames every %g s (no database); mean bed height %.3f m\n",
+                          series.path.c_str(), options.numFrames, options.dtRec, report.meanBedHeight));
+  else if (!quiet)
     PetscCall(PetscPrintf(comm,
                           "Wrote %s: %d frames of %d cells every %g s; %ld parcels, largest alpha_s %.3f,"
                           " mean bed height %.3f m, %ld bubbles erupted, wrap mismatch %.2f %%\n",

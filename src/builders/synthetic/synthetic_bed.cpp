@@ -1253,9 +1253,12 @@ void validateSyntheticBedOptions(const SyntheticBedOptions &o) {
   require(o.gravity > 0.0, "gravity must be positive.");
 }
 
-SyntheticBedReport generateSyntheticBed(const SyntheticBedOptions &options, const FrameSink &sink) {
-  validateSyntheticBedOptions(options);
-  if (!sink) throw std::invalid_argument("synthetic bed: the frame sink is empty.");
+namespace {
+
+/// The kinematic run behind both entry points: frames go to `sink` when it is
+/// given; without it only the report (the per-frame series) is made, and the
+/// shifts, the costly part, are not built.  The bed's motion is the same.
+SyntheticBedReport runSyntheticBed(const SyntheticBedOptions &options, const FrameSink *sink) {
   const BoxSpec &box = options.box;
   const int numCells = box.numCells();
   const Vec3 h = box.spacing();
@@ -1290,11 +1293,13 @@ SyntheticBedReport generateSyntheticBed(const SyntheticBedOptions &options, cons
     report.centreOfGravity.push_back(centreOfGravity(box, cells));
     for (int s = 0; s < substeps; ++s) bed.advance(dt);
     bed.cellsOf(next);
-    frame.shift = shiftBetween(numCells, cells, next);
     report.maxAlpha = std::max(report.maxAlpha,
                                *std::max_element(frame.alphaS.begin(), frame.alphaS.end()));
     report.maxCellJump = std::max(report.maxCellJump, jumps.largest(cells, next));
-    sink(frame);
+    if (sink) {
+      frame.shift = shiftBetween(numCells, cells, next);
+      (*sink)(frame);
+    }
     cells.swap(next);
     frame.alphaS = alphaOf(numCells, cells, bed.alphaPerParcel());
   }
@@ -1308,6 +1313,19 @@ SyntheticBedReport generateSyntheticBed(const SyntheticBedOptions &options, cons
   report.bubblesNucleated = bed.nucleated;
   report.bubblesErupted = bed.erupted;
   return report;
+}
+
+} // namespace
+
+SyntheticBedReport generateSyntheticBed(const SyntheticBedOptions &options, const FrameSink &sink) {
+  validateSyntheticBedOptions(options);
+  if (!sink) throw std::invalid_argument("synthetic bed: the frame sink is empty.");
+  return runSyntheticBed(options, &sink);
+}
+
+SyntheticBedReport generateSyntheticBedSeries(const SyntheticBedOptions &options) {
+  validateSyntheticBedOptions(options);
+  return runSyntheticBed(options, nullptr);
 }
 
 } // namespace rcfd

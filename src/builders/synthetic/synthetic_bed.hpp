@@ -84,4 +84,10 @@ void validateSyntheticBedOptions(const SyntheticBedOptions &options);
 /// bad options.
 SyntheticBedReport generateSyntheticBed(const SyntheticBedOptions &options, const FrameSink &sink);
 
+/// The same run without frames: only the report, whose per-frame series
+/// (surface height, centre of gravity) are those generateSyntheticBed gives for
+/// the same options.  For long spans (stationarity, docs/synthetic.md): it skips
+/// the shifts, most of a frame's cost.  Throws std::invalid_argument for bad options.
+SyntheticBedReport generateSyntheticBedSeries(const SyntheticBedOptions &options);
+
 } // namespace rcfd
