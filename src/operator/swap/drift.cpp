@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <cstdint>
 #include <cstring>
 
 namespace rcfd {
@@ -114,9 +115,45 @@ PetscErrorCode DriftOperator::setUpSwap(const RunContext &ctx) {
   for (int i = 0; i < nf; ++i) diameter[i] = ctx.fractions.diameter(i);
   d32 = d32Override > 0 ? d32Override : ctx.fractions.inventorySauterDiameter();
   velocityCache.resize(nf);
-  for (int i = 0; i < nf; ++i) velocityCache[i] = velocity(i, d32);
+  fixedUp.resize(nf);
+  fixedDown.resize(nf);
+  for (int i = 0; i < nf; ++i) {
+    velocityCache[i] = velocity(i, d32);
+    fixedUp[i] = std::max(velocityCache[i], 0.0);
+    fixedDown[i] = std::max(-velocityCache[i], 0.0);
+  }
+  setUpTables();
   PetscCall(setUpScaling(ctx));
   PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+// The faces as the sweep reads them, and the masses of each gathered cell at
+// alpha_min and alpha_max, multiplied in the order (alpha_min rho) V and
+// (rho V) alpha_max.  A cell on no face never swaps (an infinite floor).
+void DriftOperator::setUpTables() {
+  const FaceExchange &x = exchange();
+  const size_t gathered = static_cast<size_t>(x.numGathered());
+  driftFaces.clear();
+  driftFaces.reserve(x.faces().size());
+  dilute.assign(gathered, HUGE_VAL);
+  packed.assign(gathered, 0.0);
+  auto cell = [&](PetscInt c, double volume) {
+    dilute[c] = alphaMin * rho * volume;
+    packed[c] = rho * volume * alphaMax;
+  };
+  for (const SwapFace &f : x.faces()) {
+    driftFaces.push_back({f.lower, f.upper, f.areaOverVolumeLower, f.areaOverVolumeUpper});
+    cell(f.lower, f.volumeLower);
+    cell(f.upper, f.volumeUpper);
+  }
+  // In the order of their own cells, so that a sweep can skip the faces of
+  // cells that hold no solid (the mesh's order already is, for a box).
+  std::stable_sort(driftFaces.begin(), driftFaces.end(),
+                   [](const DriftFace &a, const DriftFace &b) { return a.firstCell() < b.firstCell(); });
+  cellSums.assign(gathered, CellSums{});
+  live.assign(gathered, 0);
+  cellUp.assign(localD32 ? gathered * nf : 0, 0.0);
+  cellDown.assign(cellUp.size(), 0.0);
 }
 
 // The factor (a/a_bar)^n of every cell a face of this rank touches, per
@@ -220,75 +257,140 @@ PetscErrorCode DriftOperator::apply(const StepInfo &step, FractionState &state) 
 // take"), so that with the sub-step rule no fraction can leave a cell
 // entirely: per cell the drift part is at most maxShare and the faces'
 // top-ups at most (1 - maxShare) together.
+//
+// What depends on one cell alone (its bulk mass and inverse, whether it
+// swaps, its agitation and hindrance factors, its speeds with the local d32,
+// and the sums of its masses times the upward and downward speeds) is found
+// first, once per cell (sumCells); a cell is the lower side of one face and
+// the upper side of another, so this halves that work, and each face is then
+// a few products of its cells' numbers and one division.
 PetscErrorCode DriftOperator::substep(double dt, const double *scale, FractionState &state) {
   PetscFunctionBeginUser;
   PetscCall(exchange().sweep(state.masses(), [&] {
     switch (nf) { // the common inventories get loops the compiler unrolls
-    case 2: sweep<2>(dt, scale); break;
-    case 3: sweep<3>(dt, scale); break;
-    case 4: sweep<4>(dt, scale); break;
-    case 5: sweep<5>(dt, scale); break;
-    default: sweep<0>(dt, scale); break;
+    case 2: sumCells<2>(dt, scale), sweep<2>(); break;
+    case 3: sumCells<3>(dt, scale), sweep<3>(); break;
+    case 4: sumCells<4>(dt, scale), sweep<4>(); break;
+    case 5: sumCells<5>(dt, scale), sweep<5>(); break;
+    default: sumCells<0>(dt, scale), sweep<0>(); break;
     }
   }));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
-template <int NF> void DriftOperator::sweep(double dt, const double *scale) {
+// Every gathered cell's numbers, and the range of this rank's own cells that
+// swap.  The cells are in the mesh's order, layer by layer for a box, so the
+// cells that swap come in long runs (the freeboard, half of a bed's cells,
+// is one) and the branch on them is cheap.
+template <int NF> void DriftOperator::sumCells(double dt, const double *scale) {
+  const int n = NF > 0 ? NF : nf;
+  const FaceExchange &x = exchange();
+  const PetscInt own = x.numOwn(), gathered = x.numGathered();
+  // Locals: the stores of the flags (bytes) would otherwise make the
+  // compiler reload every table's address after each of them.
+  unsigned char *swaps = live.data();
+  CellSums *sums = cellSums.data();
+  const double *floor = dilute.data(), *full = packed.data();
+  const double *upFixed = fixedUp.data(), *downFixed = fixedDown.data();
+  double *upLocal = cellUp.data(), *downLocal = cellDown.data();
+  const bool hinder = hindered, local = localD32;
+  PetscInt first = own, last = -1;
+  // The own cells above the last one holding any mass (the freeboard, most
+  // of the cells of an upper rank) swap nothing: found from the top in
+  // blocks, by the bits of their masses (a zero mass is all zero bits; a
+  // -0.0 only makes the block go through the loop below).
+  const PetscScalar *ownMasses = own > 0 ? x.massAt(0) : nullptr;
+  PetscInt top = own;
+  for (constexpr PetscInt block = 64; top > 0;) {
+    const PetscInt from = std::max<PetscInt>(0, top - block);
+    std::uint64_t bits = 0;
+    for (PetscInt k = from * n; k < top * n; ++k) {
+      std::uint64_t b;
+      std::memcpy(&b, ownMasses + k, sizeof b);
+      bits |= b;
+    }
+    if (bits != 0) break;
+    top = from;
+  }
+  std::fill(swaps + top, swaps + own, 0);
+  auto sum = [&](const PetscScalar *m, PetscInt from, PetscInt to) { // m: the masses of cell `from`
+    for (PetscInt c = from; c < to; ++c, m += n) {
+      double M = 0.0;
+      for (int i = 0; i < n; ++i) M += m[i];
+      // Solid at or above alpha_min (an empty cell has nothing to swap with).
+      const bool swapping = M > 0.0 && M >= floor[c];
+      swaps[c] = swapping;
+      if (!swapping) continue;
+      first = std::min(first, c), last = c;
+      double rate = dt;
+      if (scale) rate *= scale[c]; // u_d of each sending cell times its agitation factor
+      if (hinder) rate *= std::max(0.0, 1.0 - M / full[c]);
+      const double *up = upFixed, *down = downFixed;
+      if (local) {
+        double s = 0.0;
+        for (int i = 0; i < n; ++i) s += m[i] / diameter[i];
+        const double sauter = s > 0 ? M / s : d32;
+        up = upLocal + c * n, down = downLocal + c * n;
+        for (int i = 0; i < n; ++i) {
+          const double u = velocity(i, sauter);
+          upLocal[c * n + i] = std::max(u, 0.0);
+          downLocal[c * n + i] = std::max(-u, 0.0);
+        }
+      }
+      double U = 0.0, D = 0.0;
+      for (int i = 0; i < n; ++i) U += m[i] * up[i], D += m[i] * down[i];
+      sums[c] = {M, rate, U, D};
+    }
+  };
+  if (top > 0) sum(ownMasses, 0, top);
+  firstSwapping = first, lastSwapping = last;
+  if (gathered > own) sum(x.massAt(own), own, gathered);
+}
+
+template <int NF> void DriftOperator::sweep() {
   const int n = NF > 0 ? NF : nf;
   constexpr int cap = NF > 0 ? NF : kMaxFractions;
   FaceExchange &x = exchange();
   const double faceShare = 0.999 * (1.0 - maxShare) / std::max(1, x.maxFacesPerCell());
-  double uLowerLocal[cap], uUpperLocal[cap], pLower[cap], pUpper[cap];
-  // With the inventory's d32 every face uses the same velocities.
-  const double *uLower = localD32 ? uLowerLocal : velocityCache.data();
-  const double *uUpper = localD32 ? uUpperLocal : velocityCache.data();
-  auto sauter = [&](const PetscScalar *mc, double total) {
-    double s = 0.0;
-    for (int i = 0; i < n; ++i) s += mc[i] / diameter[i];
-    return s > 0 ? total / s : d32;
-  };
-  for (const SwapFace &f : x.faces()) {
-    const PetscScalar *mL = x.massAt(f.lower), *mU = x.massAt(f.upper);
-    double ML = 0.0, MU = 0.0;
-    for (int i = 0; i < n; ++i) ML += mL[i], MU += mU[i];
-    if (!(ML > 0.0 && MU > 0.0)) continue; // an empty side has nothing to swap with
-    // alpha_s >= alpha_min on both sides, without dividing (most faces stop here or above).
-    if (!(ML >= alphaMin * rho * f.volumeLower && MU >= alphaMin * rho * f.volumeUpper)) continue;
-    double cL = f.areaOverVolumeLower * dt, cU = f.areaOverVolumeUpper * dt;
-    if (scale) { // u_d of each sending cell times its agitation factor
-      cL *= scale[f.lower];
-      cU *= scale[f.upper];
-    }
-    if (hindered) {
-      cL *= std::max(0.0, 1.0 - ML / (rho * f.volumeLower * alphaMax));
-      cU *= std::max(0.0, 1.0 - MU / (rho * f.volumeUpper * alphaMax));
-    }
-    if (localD32) {
-      const double sL = sauter(mL, ML), sU = sauter(mU, MU);
-      for (int i = 0; i < n; ++i) uLowerLocal[i] = velocity(i, sL), uUpperLocal[i] = velocity(i, sU);
-    }
-    double up = 0.0, down = 0.0;
-    for (int i = 0; i < n; ++i) {
-      pLower[i] = uLower[i] > 0 ? mL[i] * uLower[i] * cL : 0.0;
-      pUpper[i] = uUpper[i] < 0 ? -mU[i] * uUpper[i] * cU : 0.0;
-      up += pLower[i];
-      down += pUpper[i];
-    }
+  const unsigned char *swaps = live.data();
+  const CellSums *sums = cellSums.data();
+  // With the inventory's d32 every cell has the same speeds.
+  const bool local = localD32;
+  const double *upFixed = fixedUp.data(), *downFixed = fixedDown.data();
+  const double *upLocal = cellUp.data(), *downLocal = cellDown.data();
+  // A face swaps only if both its cells do, so its own cell (the smaller
+  // index: ghosts come after the own cells) lies in the range that swaps.
+  const auto begin = std::lower_bound(driftFaces.begin(), driftFaces.end(), firstSwapping,
+                                      [](const DriftFace &f, PetscInt c) { return f.firstCell() < c; });
+  const auto end = std::upper_bound(begin, driftFaces.end(), lastSwapping,
+                                    [](PetscInt c, const DriftFace &f) { return c < f.firstCell(); });
+  // Both cells of a face that swaps are cells that swap, so the own cells
+  // changed lie in the range that swaps.
+  if (firstSwapping <= lastSwapping) x.markChanged(firstSwapping, lastSwapping + 1);
+  for (auto f = begin; f != end; ++f) {
+    const PetscInt L = f->lower, U = f->upper;
+    if (!(swaps[L] & swaps[U])) continue;
+    const CellSums &a = sums[L], &b = sums[U];
+    const double cL = f->areaOverVolumeLower * a.rate, cU = f->areaOverVolumeUpper * b.rate;
+    const double up = cL * a.up, down = cU * b.down;
     const double X = std::max(up, down);
-    if (X <= 0.0) continue;
-    const double perX = faceShare / X;
-    const double lambda = std::min({1.0, perX * ML, perX * MU});
-    // The side that sent less tops up with its own mixture (one of the two is zero).
-    const double topLower = up < X ? (X - up) / ML : 0.0, topUpper = down < X ? (X - down) / MU : 0.0;
-    PetscScalar *dL = x.changeAt(f.lower), *dU = x.changeAt(f.upper);
-    for (int i = 0; i < n; ++i) {
-      const double toUpper = lambda * (pLower[i] + topLower * mL[i]);
-      const double toLower = lambda * (pUpper[i] + topUpper * mU[i]);
-      const double net = toUpper - toLower;
-      dL[i] -= net;
-      dU[i] += net;
-    }
+    if (!(X > 0.0)) continue;
+    const double lambda = std::min(1.0, faceShare / X * std::min(a.mass, b.mass));
+    // The side that sent less tops up with its own mixture: X - sent over its
+    // bulk mass (on the other side X - sent is 0).
+    const bool lowerTops = up < down;
+    const double top = lambda * ((X - std::min(up, down)) / (lowerTops ? a.mass : b.mass));
+    const double topLower = lowerTops ? top : 0.0, topUpper = lowerTops ? 0.0 : top;
+    const double kL = lambda * cL, kU = lambda * cU;
+    const double *uL = local ? upLocal + L * n : upFixed;
+    const double *uU = local ? downLocal + U * n : downFixed;
+    const PetscScalar *mL = x.massAt(L), *mU = x.massAt(U);
+    double net[cap];
+    for (int i = 0; i < n; ++i) net[i] = mL[i] * (kL * uL[i] + topLower) - mU[i] * (kU * uU[i] + topUpper);
+    PetscScalar *dL = x.changeInMarked(L);
+    for (int i = 0; i < n; ++i) dL[i] -= net[i];
+    PetscScalar *dU = x.changeInMarked(U);
+    for (int i = 0; i < n; ++i) dU[i] += net[i];
   }
 }
 
