@@ -146,10 +146,12 @@ void DriftOperator::setUpTables() {
     cell(f.lower, f.volumeLower);
     cell(f.upper, f.volumeUpper);
   }
-  // In the order of their own cells, so that a sweep can skip the faces of
-  // cells that hold no solid (the mesh's order already is, for a box).
-  std::stable_sort(driftFaces.begin(), driftFaces.end(),
-                   [](const DriftFace &a, const DriftFace &b) { return a.firstCell() < b.firstCell(); });
+  // In the order of their last own cell, so that a sweep can leave out the
+  // faces of the freeboard at the top of the own cells.
+  const PetscInt own = x.numOwn();
+  std::stable_sort(driftFaces.begin(), driftFaces.end(), [own](const DriftFace &a, const DriftFace &b) {
+    return lastOwnCell(a, own) < lastOwnCell(b, own);
+  });
   cellSums.assign(gathered, CellSums{});
   live.assign(gathered, 0);
   cellUp.assign(localD32 ? gathered * nf : 0, 0.0);
@@ -257,35 +259,37 @@ PetscErrorCode DriftOperator::apply(const StepInfo &step, FractionState &state) 
 // take"), so that with the sub-step rule no fraction can leave a cell
 // entirely: per cell the drift part is at most maxShare and the faces'
 // top-ups at most (1 - maxShare) together.
-//
-// What depends on one cell alone (its bulk mass and inverse, whether it
-// swaps, its agitation and hindrance factors, its speeds with the local d32,
-// and the sums of its masses times the upward and downward speeds) is found
-// first, once per cell (sumCells); a cell is the lower side of one face and
-// the upper side of another, so this halves that work, and each face is then
-// a few products of its cells' numbers and one division.
 PetscErrorCode DriftOperator::substep(double dt, const double *scale, FractionState &state) {
   PetscFunctionBeginUser;
   PetscCall(exchange().sweep(state.masses(), [&] {
     switch (nf) { // the common inventories get loops the compiler unrolls
-    case 2: sumCells<2>(dt, scale), sweep<2>(); break;
-    case 3: sumCells<3>(dt, scale), sweep<3>(); break;
-    case 4: sumCells<4>(dt, scale), sweep<4>(); break;
-    case 5: sumCells<5>(dt, scale), sweep<5>(); break;
-    default: sumCells<0>(dt, scale), sweep<0>(); break;
+    case 2: sweep<2>(dt, scale); break;
+    case 3: sweep<3>(dt, scale); break;
+    case 4: sweep<4>(dt, scale); break;
+    case 5: sweep<5>(dt, scale); break;
+    default: sweep<0>(dt, scale); break;
     }
   }));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
-// Every gathered cell's numbers, and the range of this rank's own cells that
-// swap.  The cells are in the mesh's order, layer by layer for a box, so the
-// cells that swap come in long runs (the freeboard, half of a bed's cells,
-// is one) and the branch on them is cheap.
-template <int NF> void DriftOperator::sumCells(double dt, const double *scale) {
+// What depends on one cell alone (its bulk mass and inverse, whether it
+// swaps, its agitation and hindrance factors, its speeds with the local d32,
+// and the sums of its masses times the upward and downward speeds) is found
+// first, once per cell; a cell is the lower side of one face and the upper
+// side of another, so this halves that work, and a face is then a few
+// products of its cells' numbers, without a division unless its limiter
+// acts.  The own cells above the last one holding any mass (the freeboard,
+// most of the cells of an upper rank) are found first, from the top in
+// blocks, by the bits of their masses (a zero mass is all zero bits; a -0.0
+// only makes its block go through the cell loop), and skipped with their
+// faces.
+template <int NF> void DriftOperator::sweep(double dt, const double *scale) {
   const int n = NF > 0 ? NF : nf;
-  const FaceExchange &x = exchange();
+  constexpr int cap = NF > 0 ? NF : kMaxFractions;
+  FaceExchange &x = exchange();
   const PetscInt own = x.numOwn(), gathered = x.numGathered();
+  const double faceShare = 0.999 * (1.0 - maxShare) / std::max(1, x.maxFacesPerCell());
   // Locals: the stores of the flags (bytes) would otherwise make the
   // compiler reload every table's address after each of them.
   unsigned char *swaps = live.data();
@@ -294,12 +298,9 @@ template <int NF> void DriftOperator::sumCells(double dt, const double *scale) {
   const double *upFixed = fixedUp.data(), *downFixed = fixedDown.data();
   double *upLocal = cellUp.data(), *downLocal = cellDown.data();
   const bool hinder = hindered, local = localD32;
-  PetscInt first = own, last = -1;
-  // The own cells above the last one holding any mass (the freeboard, most
-  // of the cells of an upper rank) swap nothing: found from the top in
-  // blocks, by the bits of their masses (a zero mass is all zero bits; a
-  // -0.0 only makes the block go through the loop below).
-  const PetscScalar *ownMasses = own > 0 ? x.massAt(0) : nullptr;
+  const PetscScalar *ownMasses = x.massAt(0), *ghostMasses = x.massAt(own);
+  PetscScalar *ownChanges = x.changeInMarked(0), *ghostChanges = x.changeInMarked(own);
+
   PetscInt top = own;
   for (constexpr PetscInt block = 64; top > 0;) {
     const PetscInt from = std::max<PetscInt>(0, top - block);
@@ -313,7 +314,9 @@ template <int NF> void DriftOperator::sumCells(double dt, const double *scale) {
     top = from;
   }
   std::fill(swaps + top, swaps + own, 0);
-  auto sum = [&](const PetscScalar *m, PetscInt from, PetscInt to) { // m: the masses of cell `from`
+
+  PetscInt first = own, last = -1; // the own cells that swap
+  auto sumCells = [&](const PetscScalar *m, PetscInt from, PetscInt to) { // m: the masses of cell `from`
     for (PetscInt c = from; c < to; ++c, m += n) {
       double M = 0.0;
       for (int i = 0; i < n; ++i) M += m[i];
@@ -321,7 +324,7 @@ template <int NF> void DriftOperator::sumCells(double dt, const double *scale) {
       const bool swapping = M > 0.0 && M >= floor[c];
       swaps[c] = swapping;
       if (!swapping) continue;
-      first = std::min(first, c), last = c;
+      if (c < own) first = std::min(first, c), last = c;
       double rate = dt;
       if (scale) rate *= scale[c]; // u_d of each sending cell times its agitation factor
       if (hinder) rate *= std::max(0.0, 1.0 - M / full[c]);
@@ -339,59 +342,46 @@ template <int NF> void DriftOperator::sumCells(double dt, const double *scale) {
       }
       double U = 0.0, D = 0.0;
       for (int i = 0; i < n; ++i) U += m[i] * up[i], D += m[i] * down[i];
-      sums[c] = {M, rate, U, D};
+      sums[c] = {M, 1.0 / M, rate, U, D};
     }
   };
-  if (top > 0) sum(ownMasses, 0, top);
-  firstSwapping = first, lastSwapping = last;
-  if (gathered > own) sum(x.massAt(own), own, gathered);
-}
-
-template <int NF> void DriftOperator::sweep() {
-  const int n = NF > 0 ? NF : nf;
-  constexpr int cap = NF > 0 ? NF : kMaxFractions;
-  FaceExchange &x = exchange();
-  const double faceShare = 0.999 * (1.0 - maxShare) / std::max(1, x.maxFacesPerCell());
-  const unsigned char *swaps = live.data();
-  const CellSums *sums = cellSums.data();
-  // With the inventory's d32 every cell has the same speeds.
-  const bool local = localD32;
-  const double *upFixed = fixedUp.data(), *downFixed = fixedDown.data();
-  const double *upLocal = cellUp.data(), *downLocal = cellDown.data();
-  // A face swaps only if both its cells do, so its own cell (the smaller
-  // index: ghosts come after the own cells) lies in the range that swaps.
-  const auto begin = std::lower_bound(driftFaces.begin(), driftFaces.end(), firstSwapping,
-                                      [](const DriftFace &f, PetscInt c) { return f.firstCell() < c; });
-  const auto end = std::upper_bound(begin, driftFaces.end(), lastSwapping,
-                                    [](PetscInt c, const DriftFace &f) { return c < f.firstCell(); });
-  // Both cells of a face that swaps are cells that swap, so the own cells
-  // changed lie in the range that swaps.
-  if (firstSwapping <= lastSwapping) x.markChanged(firstSwapping, lastSwapping + 1);
-  for (auto f = begin; f != end; ++f) {
-    const PetscInt L = f->lower, U = f->upper;
-    if (!(swaps[L] & swaps[U])) continue;
-    const CellSums &a = sums[L], &b = sums[U];
-    const double cL = f->areaOverVolumeLower * a.rate, cU = f->areaOverVolumeUpper * b.rate;
-    const double up = cL * a.up, down = cU * b.down;
-    const double X = std::max(up, down);
-    if (!(X > 0.0)) continue;
-    const double lambda = std::min(1.0, faceShare / X * std::min(a.mass, b.mass));
-    // The side that sent less tops up with its own mixture: X - sent over its
-    // bulk mass (on the other side X - sent is 0).
-    const bool lowerTops = up < down;
-    const double top = lambda * ((X - std::min(up, down)) / (lowerTops ? a.mass : b.mass));
-    const double topLower = lowerTops ? top : 0.0, topUpper = lowerTops ? 0.0 : top;
-    const double kL = lambda * cL, kU = lambda * cU;
-    const double *uL = local ? upLocal + L * n : upFixed;
-    const double *uU = local ? downLocal + U * n : downFixed;
-    const PetscScalar *mL = x.massAt(L), *mU = x.massAt(U);
-    double net[cap];
-    for (int i = 0; i < n; ++i) net[i] = mL[i] * (kL * uL[i] + topLower) - mU[i] * (kU * uU[i] + topUpper);
-    PetscScalar *dL = x.changeInMarked(L);
-    for (int i = 0; i < n; ++i) dL[i] -= net[i];
-    PetscScalar *dU = x.changeInMarked(U);
-    for (int i = 0; i < n; ++i) dU[i] += net[i];
-  }
+  auto swapFaces = [&](const DriftFace *f, const DriftFace *end) {
+    for (; f != end; ++f) {
+      const PetscInt L = f->lower, U = f->upper;
+      if (!(swaps[L] & swaps[U])) continue;
+      const CellSums &a = sums[L], &b = sums[U];
+      const double cL = f->areaOverVolumeLower * a.rate, cU = f->areaOverVolumeUpper * b.rate;
+      const double up = cL * a.up, down = cU * b.down;
+      const double X = std::max(up, down);
+      if (!(X > 0.0)) continue;
+      // lambda = min(1, faceShare min(ML, MU) / X), dividing only when the
+      // limiter acts (rarely: a division's latency is most of a face's).
+      const double limit = faceShare * std::min(a.mass, b.mass);
+      const double lambda = X <= limit ? 1.0 : limit / X;
+      // The side that sent less tops up with its own mixture: X - sent over
+      // its bulk mass (on the other side X - sent is 0, so no branch is needed).
+      const double topLower = lambda * ((X - up) * a.inverseMass), topUpper = lambda * ((X - down) * b.inverseMass);
+      const double kL = lambda * cL, kU = lambda * cU;
+      const double *uL = local ? upLocal + L * n : upFixed;
+      const double *uU = local ? downLocal + U * n : downFixed;
+      const PetscScalar *mL = L < own ? ownMasses + L * n : ghostMasses + (L - own) * n;
+      const PetscScalar *mU = U < own ? ownMasses + U * n : ghostMasses + (U - own) * n;
+      double net[cap];
+      for (int i = 0; i < n; ++i) net[i] = mL[i] * (kL * uL[i] + topLower) - mU[i] * (kU * uU[i] + topUpper);
+      PetscScalar *dL = L < own ? ownChanges + L * n : ghostChanges + (L - own) * n;
+      for (int i = 0; i < n; ++i) dL[i] -= net[i];
+      PetscScalar *dU = U < own ? ownChanges + U * n : ghostChanges + (U - own) * n;
+      for (int i = 0; i < n; ++i) dU[i] += net[i];
+    }
+  };
+  if (gathered > own) sumCells(ghostMasses, own, gathered);
+  sumCells(ownMasses, 0, top);
+  // The faces whose last own cell lies below the freeboard (the others do not swap).
+  const auto end = std::partition_point(driftFaces.begin(), driftFaces.end(),
+                                        [&](const DriftFace &f) { return lastOwnCell(f, own) < top; });
+  swapFaces(driftFaces.data(), driftFaces.data() + (end - driftFaces.begin()));
+  // Both cells of a face that swaps are cells that swap.
+  if (first <= last) x.markChanged(first, last + 1);
 }
 
 PetscErrorCode DriftOperator::view(PetscViewer viewer) const {
