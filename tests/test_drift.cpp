@@ -7,7 +7,9 @@
 // fractions, k_d 100x the paper's, near-empty and near-packed cells, and no
 // alpha_s floor next to empty cells), and drift scaled by the bed's agitation
 // (exponent 0 equal to the unscaled drift bit for bit, a uniform field to
-// round-off, the factor of the frame being applied).
+// round-off, the factor of the frame being applied), and the operator
+// against a straightforward implementation written here, along the frames of
+// small.h5 with each option that changes the kernel's path.
 // Runs at 1 and 2 ranks.  Every PETSc call is checked with PetscCallAbort:
 // an error (a database that does not load, a set-up or step that fails)
 // stops the test with PETSc's message and a non-zero exit, never a silent pass.
@@ -493,6 +495,202 @@ void agitationFollowsTheDatabase() {
   RCFD_CHECK(stepFrames(*reversed, *switched, m0, 2, 20) == stepFrames(*reversed, *fresh, m0, 2, 20));
 }
 
+// The drift written the straightforward way, face by face on the whole mesh
+// in natural order (every rank computes all of it): what the operator's
+// kernel must give to round-off.
+struct ReferenceDrift {
+  char model = 'B'; // 'A', 'B' or 'c' (constant)
+  double kd = 5e3, alphaMin = 1e-3, alphaMax = 0.65, maxShare = 0.5, exponent = 1.0;
+  bool localD32 = false, hindered = false;
+  std::vector<double> velocities;
+  std::vector<std::vector<double>> agitation; // per frame, natural order (empty: unscaled)
+
+  std::vector<double> run(const Database &db, const FractionSet &set, std::vector<double> m, int steps,
+                          long *substeps) const {
+    const Mesh &mesh = db.mesh();
+    const int nf = set.size(), N = mesh.numCells();
+    const double rho = 1440.0, d32 = set.inventorySauterDiameter();
+    std::vector<double> d(nf);
+    for (int i = 0; i < nf; ++i) d[i] = set.diameter(i);
+    auto velocity = [&](int i, double s) {
+      return model == 'A' ? -kd * (d[i] * d[i] - s * s)
+             : model == 'B' ? -kd * (d[i] - s) * std::fabs(d[i] - s) : velocities[i];
+    };
+    struct Face { int lower, upper; double area; };
+    std::vector<Face> faces;
+    std::vector<double> sentUp(N, 0.0), sentDown(N, 0.0), count(N, 0.0);
+    const Vec3 g = db.metadata().gravity;
+    const double gn = std::hypot(g[0], g[1], g[2]);
+    for (int f = 0; f < mesh.numFaces(); ++f) {
+      const Vec3 &S = mesh.faceArea[f];
+      const double area = std::hypot(S[0], S[1], S[2]);
+      const double along = -(S[0] * g[0] + S[1] * g[1] + S[2] * g[2]) / gn;
+      if (std::fabs(along) <= 1e-9 * area) continue;
+      int lo = mesh.faceOwner[f], up = mesh.faceNeighbour[f];
+      if (along < 0) std::swap(lo, up);
+      faces.push_back({lo, up, std::fabs(along)});
+      sentUp[lo] += std::fabs(along) / mesh.cellVolume[lo];
+      sentDown[up] += std::fabs(along) / mesh.cellVolume[up];
+      count[lo] += 1, count[up] += 1;
+    }
+    double maxAoverV = 0.0, maxFaces = 0.0, umax = 0.0;
+    for (int c = 0; c < N; ++c) maxAoverV = std::max({maxAoverV, sentUp[c], sentDown[c]}), maxFaces = std::max(maxFaces, count[c]);
+    const double dmin = *std::min_element(d.begin(), d.end()), dmax = *std::max_element(d.begin(), d.end());
+    for (int i = 0; i < nf; ++i)
+      umax = localD32 ? std::max({umax, std::fabs(velocity(i, dmin)), std::fabs(velocity(i, dmax))})
+                      : std::max(umax, std::fabs(velocity(i, d32)));
+    const double faceShare = 0.999 * (1.0 - maxShare) / maxFaces;
+    for (int k = 0; k < steps; ++k) {
+      const int frame = k % db.numFrames();
+      const double dt = db.metadata().dtRec;
+      std::vector<double> scale(N, 1.0);
+      double largest = 1.0;
+      if (!agitation.empty()) {
+        largest = 0.0;
+        for (int c = 0; c < N; ++c) largest = std::max(largest, scale[c] = std::pow(agitation[frame][c], exponent));
+      }
+      const int n = std::max(1, static_cast<int>(std::ceil(umax * largest * maxAoverV * dt / maxShare)));
+      *substeps += n;
+      for (int s = 0; s < n; ++s) {
+        std::vector<double> change(m.size(), 0.0), uL(nf), uU(nf), pL(nf), pU(nf);
+        for (const Face &f : faces) {
+          const double *mL = &m[f.lower * nf], *mU = &m[f.upper * nf];
+          const double VL = mesh.cellVolume[f.lower], VU = mesh.cellVolume[f.upper];
+          double ML = 0.0, MU = 0.0;
+          for (int i = 0; i < nf; ++i) ML += mL[i], MU += mU[i];
+          if (!(ML > 0.0 && MU > 0.0) || ML < alphaMin * rho * VL || MU < alphaMin * rho * VU) continue;
+          double cL = f.area / VL * (dt / n) * scale[f.lower], cU = f.area / VU * (dt / n) * scale[f.upper];
+          if (hindered) {
+            cL *= std::max(0.0, 1.0 - ML / (rho * VL * alphaMax));
+            cU *= std::max(0.0, 1.0 - MU / (rho * VU * alphaMax));
+          }
+          auto sauter = [&](const double *mc, double total) {
+            double sum = 0.0;
+            for (int i = 0; i < nf; ++i) sum += mc[i] / d[i];
+            return sum > 0 ? total / sum : d32;
+          };
+          const double sL = localD32 ? sauter(mL, ML) : d32, sU = localD32 ? sauter(mU, MU) : d32;
+          double up = 0.0, down = 0.0;
+          for (int i = 0; i < nf; ++i) {
+            uL[i] = velocity(i, sL), uU[i] = velocity(i, sU);
+            up += pL[i] = uL[i] > 0 ? mL[i] * uL[i] * cL : 0.0;
+            down += pU[i] = uU[i] < 0 ? -mU[i] * uU[i] * cU : 0.0;
+          }
+          const double X = std::max(up, down);
+          if (X <= 0.0) continue;
+          const double lambda = std::min({1.0, faceShare / X * ML, faceShare / X * MU});
+          const double topL = (X - up) / ML, topU = (X - down) / MU;
+          for (int i = 0; i < nf; ++i) {
+            const double net = lambda * (pL[i] + topL * mL[i]) - lambda * (pU[i] + topU * mU[i]);
+            change[f.lower * nf + i] -= net;
+            change[f.upper * nf + i] += net;
+          }
+        }
+        for (size_t j = 0; j < m.size(); ++j) m[j] += change[j];
+      }
+    }
+    return m;
+  }
+};
+
+// The operator against ReferenceDrift along 90 frames of small.h5 (a bed
+// with its freeboard, bubbles made in it and cells below alpha_min), for the
+// default law and each option that changes the kernel's path: to 1e-13 of
+// the largest mass, the same sub-steps, every fraction's total to 1e-12 and
+// no negative mass.
+void againstReference() {
+  std::unique_ptr<Database> db;
+  PetscCallAbort(PETSC_COMM_WORLD,
+                 Database::load(PETSC_COMM_WORLD, dataDir + "/small.h5", DatabaseLoadOptions{}, &db));
+  const Mesh &mesh = db->mesh();
+  const int N = mesh.numCells(), K = db->numFrames();
+  std::vector<double> alpha;
+  db->layout().gatherToAll(1, db->alphaS(0), &alpha);
+  // An agitation field known per natural cell and frame, a_bar taken from it.
+  auto field = std::make_shared<AgitationField>();
+  std::vector<std::vector<double>> natural(K, std::vector<double>(N)), local(K);
+  for (int k = 0; k < K; ++k) {
+    for (int c = 0; c < N; ++c) natural[k][c] = 0.2 + 0.8 * std::fabs(std::sin(0.37 * c + 0.11 * k));
+    for (PetscInt r = 0; r < db->layout().numLocal(); ++r)
+      local[k].push_back(natural[k][db->layout().naturalCell(db->layout().rowStart() + r)]);
+  }
+  PetscCallAbort(PETSC_COMM_WORLD, field->setValues(*db, AgitationMeasure::LeavingShare, local));
+  int checked = 0;
+  auto compare = [&](const std::vector<double> &d, const std::vector<double> &w, const std::string &options,
+                     ReferenceDrift reference) {
+    FractionSet set(d, w);
+    const int nf = set.size();
+    std::mt19937_64 rng(11);
+    std::uniform_real_distribution<double> U(0.0, 1.0);
+    std::vector<double> m0;
+    for (int c = 0; c < N; ++c) {
+      const double r = U(rng);
+      const double a = r < 0.05 ? 0.0 : r < 0.1 ? 2e-4 * alpha[c] : alpha[c]; // bubbles, dilute cells
+      std::vector<double> y(nf);
+      double s = 0.0;
+      for (double &v : y) s += (v = 0.05 + U(rng));
+      for (int i = 0; i < nf; ++i) m0.push_back(1440.0 * a * mesh.cellVolume[c] * y[i] / s);
+    }
+    auto drift = makeOperator<DriftOperator>(options);
+    if (!reference.agitation.empty()) {
+      drift->useAgitation(field);
+      for (auto &frame : reference.agitation)
+        for (double &v : frame) v /= field->solidWeightedMean();
+    }
+    PetscCallAbort(PETSC_COMM_WORLD, drift->setUp(RunContext{*db, set, 1440.0}));
+    long substeps = 0;
+    const auto expected = reference.run(*db, set, m0, 90, &substeps);
+    const auto got = stepFrames(*db, *drift, m0, nf, 90);
+    double lowest = 0.0, worstTotal = 0.0;
+    for (double v : got) lowest = std::fmin(lowest, v);
+    for (int i = 0; i < nf; ++i) {
+      double before = 0.0, after = 0.0;
+      for (int c = 0; c < N; ++c) before += m0[c * nf + i], after += got[c * nf + i];
+      worstTotal = std::fmax(worstTotal, std::fabs(after / before - 1.0));
+    }
+    const double difference = largestRelativeDifference(expected, got), moved = largestRelativeDifference(m0, got);
+    PetscPrintf(PETSC_COMM_WORLD,
+                "against the reference, nf = %d (%s): difference %.1e of the largest mass (drift moved %.1e), "
+                "sub-steps %ld (reference %ld), totals %.1e, smallest mass %.1e\n",
+                nf, options.c_str(), difference, moved, drift->substepsTaken(), substeps, worstTotal, lowest);
+    RCFD_CHECK(difference < 1e-13);
+    RCFD_CHECK(moved > 1e-6);
+    RCFD_CHECK(drift->substepsTaken() == substeps);
+    RCFD_CHECK(worstTotal < 1e-12);
+    RCFD_CHECK(lowest >= 0.0);
+    ++checked;
+    return drift->substepsTaken();
+  };
+  const std::vector<double> penta = {1.783e-3, 1.998e-3, 2.284e-3, 2.855e-3, 3.426e-3},
+                            pentaShares = {0.100, 0.205, 0.445, 0.150, 0.100};
+  compare(penta, pentaShares, "-model B -kd 5e3", {});
+  RCFD_CHECK(compare({1.459e-3, 4.075e-3}, {0.564, 0.436}, "-model B -kd 3e6", {'B', 3e6}) > 90); // sub-steps
+  ReferenceDrift localD32{'A', 5e4};
+  localD32.localD32 = true;
+  compare(penta, pentaShares, "-model A -kd 5e4 -local_d32", localD32);
+  ReferenceDrift hindered{'B', 1e5};
+  hindered.hindered = true;
+  hindered.alphaMax = 0.6;
+  compare(penta, pentaShares, "-model B -kd 1e5 -hindered -alpha_max 0.6", hindered);
+  ReferenceDrift floorless{'B', 5e4};
+  floorless.alphaMin = 0.0;
+  floorless.maxShare = 0.3;
+  compare(penta, pentaShares, "-model B -kd 5e4 -alpha_min 0 -max_share 0.3", floorless);
+  ReferenceDrift constant{'c'};
+  constant.velocities = {0.02, -0.01, 0.0};
+  compare({1e-3, 2e-3, 3e-3}, {0.3, 0.3, 0.4}, "-model constant -velocities 0.02,-0.01,0", constant);
+  ReferenceDrift scaled{'B', 5e4};
+  scaled.agitation = natural;
+  scaled.exponent = 2.0;
+  compare(penta, pentaShares, "-model B -kd 5e4 -agitation_exponent 2", scaled);
+  // Seven fractions: the kernel's general path (no unrolled instance).
+  ReferenceDrift seven{'A', 5e3};
+  seven.localD32 = seven.hindered = true;
+  compare({1e-3, 1.5e-3, 2e-3, 2.5e-3, 3e-3, 3.5e-3, 4e-3}, std::vector<double>(7, 1.0 / 7.0),
+          "-model A -kd 5e3 -local_d32 -hindered", seven);
+  RCFD_CHECK(checked == 8);
+}
+
 void leftOutWhenNotNeeded() {
   auto db = identityDb(column(2, 4, 0.04), std::vector<double>(4, 0.5), {0, 0, -9.81});
   FractionSet one({2e-3}, {1.0}), two({1e-3, 2e-3}, {0.5, 0.5});
@@ -530,6 +728,7 @@ int main(int argc, char **argv) {
   agitationOfTheFrame();
   agitationOfTheSendingCell();
   agitationFollowsTheDatabase();
+  againstReference();
   const int total = rcfd::test::globalFailures();
   PetscCall(PetscFinalize());
   return total == 0 ? 0 : 1;

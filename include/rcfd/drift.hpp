@@ -5,6 +5,7 @@
 
 #include "rcfd/swap_operator.hpp"
 
+#include <algorithm>
 #include <memory>
 #include <vector>
 
@@ -55,7 +56,33 @@ private:
   PetscErrorCode substep(double dt, const double *scale, FractionState &state);
   PetscErrorCode substepsFor(double dt, double largestScale, int *n) const;
   PetscErrorCode setUpScaling(const RunContext &ctx);
+  void setUpTables();
   template <int NF> void sweep(double dt, const double *scale); // NF = 0: nf read at run time
+
+  // The sweep's tables, made once (setUpSwap): each face's two cells and
+  // area / volume on each side; each gathered cell's masses at alpha_min and
+  // at alpha_max; each fraction's upward and downward speed with the fixed
+  // d32 (u and -u where positive, else 0).
+  struct DriftFace {
+    PetscInt lower, upper;
+    double areaOverVolumeLower, areaOverVolumeUpper;
+  };
+  // The larger index of a face's own cells (ghosts come after the own cells).
+  static PetscInt lastOwnCell(const DriftFace &f, PetscInt own) {
+    return f.lower < own ? (f.upper < own ? std::max(f.lower, f.upper) : f.lower) : f.upper;
+  }
+  std::vector<DriftFace> driftFaces; // in the order of lastOwnCell()
+  std::vector<double> dilute, packed, fixedUp, fixedDown;
+  // Per sub-step, per gathered cell: whether it swaps (solid at
+  // or above alpha_min), its sums, and with the local d32 its speeds.
+  struct CellSums {
+    double mass, inverseMass; // M and 1 / M
+    double rate; // dt times the agitation and hindrance factors
+    double up, down; // sum over fractions of m_i times the upward / downward speed
+  };
+  std::vector<CellSums> cellSums;
+  std::vector<unsigned char> live;
+  std::vector<double> cellUp, cellDown; // nf per gathered cell, -drift_local_d32 only
 
   Model model = Model::B;
   double kd = 5e3, d32Override = -1.0, alphaMax = 0.65, alphaMin = 1e-3, maxShare = 0.5;

@@ -72,6 +72,8 @@ public:
   double maxAreaOverVolume() const;
   /// Cells a kernel may index: this rank's own cells, then its ghosts.
   PetscInt numGathered() const;
+  /// This rank's own cells (the first numOwn() gathered cells).
+  PetscInt numOwn() const { return open.nlocal; }
 
   /// Collective.  One sweep: gather(masses), kernel(), endKernel(), then
   /// scatterAdd(into), where `into` defaults to `masses`.  Cost: one scatter
@@ -101,10 +103,18 @@ public:
   }
   /// The nf accumulated changes of gathered cell i (same window).
   PetscScalar *changeAt(PetscInt i) {
-    if (i >= open.nlocal) return open.ghostChange + (i - open.nlocal) * open.nf;
-    open.changedFrom = std::min(open.changedFrom, i); // scatterAdd() visits only this range
-    open.changedTo = std::max(open.changedTo, i + 1);
-    return open.ownChange + i * open.nf;
+    if (i < open.nlocal) markChanged(i, i + 1);
+    return changeInMarked(i);
+  }
+  /// For a kernel that knows which own cells it may change: mark them once
+  /// (own cells from..to-1; scatterAdd() visits only the marked range) and
+  /// then reach their changes through changeInMarked(), which marks nothing.
+  void markChanged(PetscInt from, PetscInt to) {
+    open.changedFrom = std::min(open.changedFrom, from);
+    open.changedTo = std::max(open.changedTo, to);
+  }
+  PetscScalar *changeInMarked(PetscInt i) {
+    return i < open.nlocal ? open.ownChange + i * open.nf : open.ghostChange + (i - open.nlocal) * open.nf;
   }
 
   /// Collective.  The values of a cell Vec (block size 1, PETSc order, e.g.

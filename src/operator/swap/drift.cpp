@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <cstdint>
 #include <cstring>
 
 namespace rcfd {
@@ -114,9 +115,47 @@ PetscErrorCode DriftOperator::setUpSwap(const RunContext &ctx) {
   for (int i = 0; i < nf; ++i) diameter[i] = ctx.fractions.diameter(i);
   d32 = d32Override > 0 ? d32Override : ctx.fractions.inventorySauterDiameter();
   velocityCache.resize(nf);
-  for (int i = 0; i < nf; ++i) velocityCache[i] = velocity(i, d32);
+  fixedUp.resize(nf);
+  fixedDown.resize(nf);
+  for (int i = 0; i < nf; ++i) {
+    velocityCache[i] = velocity(i, d32);
+    fixedUp[i] = std::max(velocityCache[i], 0.0);
+    fixedDown[i] = std::max(-velocityCache[i], 0.0);
+  }
+  setUpTables();
   PetscCall(setUpScaling(ctx));
   PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+// The faces as the sweep reads them, and the masses of each gathered cell at
+// alpha_min and alpha_max, multiplied in the order (alpha_min rho) V and
+// (rho V) alpha_max.  A cell on no face never swaps (an infinite floor).
+void DriftOperator::setUpTables() {
+  const FaceExchange &x = exchange();
+  const size_t gathered = static_cast<size_t>(x.numGathered());
+  driftFaces.clear();
+  driftFaces.reserve(x.faces().size());
+  dilute.assign(gathered, HUGE_VAL);
+  packed.assign(gathered, 0.0);
+  auto cell = [&](PetscInt c, double volume) {
+    dilute[c] = alphaMin * rho * volume;
+    packed[c] = rho * volume * alphaMax;
+  };
+  for (const SwapFace &f : x.faces()) {
+    driftFaces.push_back({f.lower, f.upper, f.areaOverVolumeLower, f.areaOverVolumeUpper});
+    cell(f.lower, f.volumeLower);
+    cell(f.upper, f.volumeUpper);
+  }
+  // In the order of their last own cell, so that a sweep can leave out the
+  // faces of the freeboard at the top of the own cells.
+  const PetscInt own = x.numOwn();
+  std::stable_sort(driftFaces.begin(), driftFaces.end(), [own](const DriftFace &a, const DriftFace &b) {
+    return lastOwnCell(a, own) < lastOwnCell(b, own);
+  });
+  cellSums.assign(gathered, CellSums{});
+  live.assign(gathered, 0);
+  cellUp.assign(localD32 ? gathered * nf : 0, 0.0);
+  cellDown.assign(cellUp.size(), 0.0);
 }
 
 // The factor (a/a_bar)^n of every cell a face of this rank touches, per
@@ -234,62 +273,115 @@ PetscErrorCode DriftOperator::substep(double dt, const double *scale, FractionSt
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
+// What depends on one cell alone (its bulk mass and inverse, whether it
+// swaps, its agitation and hindrance factors, its speeds with the local d32,
+// and the sums of its masses times the upward and downward speeds) is found
+// first, once per cell; a cell is the lower side of one face and the upper
+// side of another, so this halves that work, and a face is then a few
+// products of its cells' numbers, without a division unless its limiter
+// acts.  The own cells above the last one holding any mass (the freeboard,
+// most of the cells of an upper rank) are found first, from the top in
+// blocks, by the bits of their masses (a zero mass is all zero bits; a -0.0
+// only makes its block go through the cell loop), and skipped with their
+// faces.
 template <int NF> void DriftOperator::sweep(double dt, const double *scale) {
   const int n = NF > 0 ? NF : nf;
   constexpr int cap = NF > 0 ? NF : kMaxFractions;
   FaceExchange &x = exchange();
+  const PetscInt own = x.numOwn(), gathered = x.numGathered();
   const double faceShare = 0.999 * (1.0 - maxShare) / std::max(1, x.maxFacesPerCell());
-  double uLowerLocal[cap], uUpperLocal[cap], pLower[cap], pUpper[cap];
-  // With the inventory's d32 every face uses the same velocities.
-  const double *uLower = localD32 ? uLowerLocal : velocityCache.data();
-  const double *uUpper = localD32 ? uUpperLocal : velocityCache.data();
-  auto sauter = [&](const PetscScalar *mc, double total) {
-    double s = 0.0;
-    for (int i = 0; i < n; ++i) s += mc[i] / diameter[i];
-    return s > 0 ? total / s : d32;
-  };
-  for (const SwapFace &f : x.faces()) {
-    const PetscScalar *mL = x.massAt(f.lower), *mU = x.massAt(f.upper);
-    double ML = 0.0, MU = 0.0;
-    for (int i = 0; i < n; ++i) ML += mL[i], MU += mU[i];
-    if (!(ML > 0.0 && MU > 0.0)) continue; // an empty side has nothing to swap with
-    // alpha_s >= alpha_min on both sides, without dividing (most faces stop here or above).
-    if (!(ML >= alphaMin * rho * f.volumeLower && MU >= alphaMin * rho * f.volumeUpper)) continue;
-    double cL = f.areaOverVolumeLower * dt, cU = f.areaOverVolumeUpper * dt;
-    if (scale) { // u_d of each sending cell times its agitation factor
-      cL *= scale[f.lower];
-      cU *= scale[f.upper];
+  // Locals: the stores of the flags (bytes) would otherwise make the
+  // compiler reload every table's address after each of them.
+  unsigned char *swaps = live.data();
+  CellSums *sums = cellSums.data();
+  const double *floor = dilute.data(), *full = packed.data();
+  const double *upFixed = fixedUp.data(), *downFixed = fixedDown.data();
+  double *upLocal = cellUp.data(), *downLocal = cellDown.data();
+  const bool hinder = hindered, local = localD32;
+  const PetscScalar *ownMasses = x.massAt(0), *ghostMasses = x.massAt(own);
+  PetscScalar *ownChanges = x.changeInMarked(0), *ghostChanges = x.changeInMarked(own);
+
+  PetscInt top = own;
+  for (constexpr PetscInt block = 64; top > 0;) {
+    const PetscInt from = std::max<PetscInt>(0, top - block);
+    std::uint64_t bits = 0;
+    for (PetscInt k = from * n; k < top * n; ++k) {
+      std::uint64_t b;
+      std::memcpy(&b, ownMasses + k, sizeof b);
+      bits |= b;
     }
-    if (hindered) {
-      cL *= std::max(0.0, 1.0 - ML / (rho * f.volumeLower * alphaMax));
-      cU *= std::max(0.0, 1.0 - MU / (rho * f.volumeUpper * alphaMax));
-    }
-    if (localD32) {
-      const double sL = sauter(mL, ML), sU = sauter(mU, MU);
-      for (int i = 0; i < n; ++i) uLowerLocal[i] = velocity(i, sL), uUpperLocal[i] = velocity(i, sU);
-    }
-    double up = 0.0, down = 0.0;
-    for (int i = 0; i < n; ++i) {
-      pLower[i] = uLower[i] > 0 ? mL[i] * uLower[i] * cL : 0.0;
-      pUpper[i] = uUpper[i] < 0 ? -mU[i] * uUpper[i] * cU : 0.0;
-      up += pLower[i];
-      down += pUpper[i];
-    }
-    const double X = std::max(up, down);
-    if (X <= 0.0) continue;
-    const double perX = faceShare / X;
-    const double lambda = std::min({1.0, perX * ML, perX * MU});
-    // The side that sent less tops up with its own mixture (one of the two is zero).
-    const double topLower = up < X ? (X - up) / ML : 0.0, topUpper = down < X ? (X - down) / MU : 0.0;
-    PetscScalar *dL = x.changeAt(f.lower), *dU = x.changeAt(f.upper);
-    for (int i = 0; i < n; ++i) {
-      const double toUpper = lambda * (pLower[i] + topLower * mL[i]);
-      const double toLower = lambda * (pUpper[i] + topUpper * mU[i]);
-      const double net = toUpper - toLower;
-      dL[i] -= net;
-      dU[i] += net;
-    }
+    if (bits != 0) break;
+    top = from;
   }
+  std::fill(swaps + top, swaps + own, 0);
+
+  PetscInt first = own, last = -1; // the own cells that swap
+  auto sumCells = [&](const PetscScalar *m, PetscInt from, PetscInt to) { // m: the masses of cell `from`
+    for (PetscInt c = from; c < to; ++c, m += n) {
+      double M = 0.0;
+      for (int i = 0; i < n; ++i) M += m[i];
+      // Solid at or above alpha_min (an empty cell has nothing to swap with).
+      const bool swapping = M > 0.0 && M >= floor[c];
+      swaps[c] = swapping;
+      if (!swapping) continue;
+      if (c < own) first = std::min(first, c), last = c;
+      double rate = dt;
+      if (scale) rate *= scale[c]; // u_d of each sending cell times its agitation factor
+      if (hinder) rate *= std::max(0.0, 1.0 - M / full[c]);
+      const double *up = upFixed, *down = downFixed;
+      if (local) {
+        double s = 0.0;
+        for (int i = 0; i < n; ++i) s += m[i] / diameter[i];
+        const double sauter = s > 0 ? M / s : d32;
+        up = upLocal + c * n, down = downLocal + c * n;
+        for (int i = 0; i < n; ++i) {
+          const double u = velocity(i, sauter);
+          upLocal[c * n + i] = std::max(u, 0.0);
+          downLocal[c * n + i] = std::max(-u, 0.0);
+        }
+      }
+      double U = 0.0, D = 0.0;
+      for (int i = 0; i < n; ++i) U += m[i] * up[i], D += m[i] * down[i];
+      sums[c] = {M, 1.0 / M, rate, U, D};
+    }
+  };
+  auto swapFaces = [&](const DriftFace *f, const DriftFace *end) {
+    for (; f != end; ++f) {
+      const PetscInt L = f->lower, U = f->upper;
+      if (!(swaps[L] & swaps[U])) continue;
+      const CellSums &a = sums[L], &b = sums[U];
+      const double cL = f->areaOverVolumeLower * a.rate, cU = f->areaOverVolumeUpper * b.rate;
+      const double up = cL * a.up, down = cU * b.down;
+      const double X = std::max(up, down);
+      if (!(X > 0.0)) continue;
+      // lambda = min(1, faceShare min(ML, MU) / X), dividing only when the
+      // limiter acts (rarely: a division's latency is most of a face's).
+      const double limit = faceShare * std::min(a.mass, b.mass);
+      const double lambda = X <= limit ? 1.0 : limit / X;
+      // The side that sent less tops up with its own mixture: X - sent over
+      // its bulk mass (on the other side X - sent is 0, so no branch is needed).
+      const double topLower = lambda * ((X - up) * a.inverseMass), topUpper = lambda * ((X - down) * b.inverseMass);
+      const double kL = lambda * cL, kU = lambda * cU;
+      const double *uL = local ? upLocal + L * n : upFixed;
+      const double *uU = local ? downLocal + U * n : downFixed;
+      const PetscScalar *mL = L < own ? ownMasses + L * n : ghostMasses + (L - own) * n;
+      const PetscScalar *mU = U < own ? ownMasses + U * n : ghostMasses + (U - own) * n;
+      double net[cap];
+      for (int i = 0; i < n; ++i) net[i] = mL[i] * (kL * uL[i] + topLower) - mU[i] * (kU * uU[i] + topUpper);
+      PetscScalar *dL = L < own ? ownChanges + L * n : ghostChanges + (L - own) * n;
+      for (int i = 0; i < n; ++i) dL[i] -= net[i];
+      PetscScalar *dU = U < own ? ownChanges + U * n : ghostChanges + (U - own) * n;
+      for (int i = 0; i < n; ++i) dU[i] += net[i];
+    }
+  };
+  if (gathered > own) sumCells(ghostMasses, own, gathered);
+  sumCells(ownMasses, 0, top);
+  // The faces whose last own cell lies below the freeboard (the others do not swap).
+  const auto end = std::partition_point(driftFaces.begin(), driftFaces.end(),
+                                        [&](const DriftFace &f) { return lastOwnCell(f, own) < top; });
+  swapFaces(driftFaces.data(), driftFaces.data() + (end - driftFaces.begin()));
+  // Both cells of a face that swaps are cells that swap.
+  if (first <= last) x.markChanged(first, last + 1);
 }
 
 PetscErrorCode DriftOperator::view(PetscViewer viewer) const {
