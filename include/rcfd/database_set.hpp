@@ -29,8 +29,9 @@ class DatabaseSet {
 public:
   /// Collective.  Reads the headers of `paths` and partitions the mesh once,
   /// by the work per cell summed over the databases.  Refuses, with one
-  /// sentence naming both files, a database of another mesh, another dt_rec
-  /// or another number of frames than the first.  `superficialVelocities`
+  /// sentence naming both files, a database of another mesh or another dt_rec
+  /// than the first; the numbers of frames may differ (a run takes the path's
+  /// frame k modulo each database's length).  `superficialVelocities`
   /// (empty, or one per file) replaces the recorded u_sup.
   static PetscErrorCode open(MPI_Comm comm, const std::vector<std::string> &paths,
                              const DatabaseLoadOptions &options,

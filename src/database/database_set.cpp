@@ -59,10 +59,6 @@ PetscErrorCode DatabaseSet::open(MPI_Comm comm, const std::vector<std::string> &
                  "Databases '%s' and '%s' were recorded with different dt_rec (%g s and %g s); the databases of a run "
                  "must share one time step",
                  first.path.c_str(), e.path.c_str(), first.metadata.dtRec, h.metadata.dtRec);
-      PetscCheck(h.numFrames == first.numFrames, comm, PETSC_ERR_USER_INPUT,
-                 "Databases '%s' and '%s' have different numbers of frames (%d and %d); the databases of a run share "
-                 "one frame path, so they need the same number (use -db_frames to cut them alike)",
-                 first.path.c_str(), e.path.c_str(), first.numFrames, h.numFrames);
       for (std::size_t c = 0; c < work.size(); ++c) work[c] += h.work[c];
     }
     set->entries.push_back(std::move(e));
