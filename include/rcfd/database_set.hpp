@@ -52,8 +52,10 @@ public:
   PetscErrorCode get(int i, std::shared_ptr<Database> *db);
   /// Drops every held database nobody else holds (after a switch).
   void dropUnused();
-  /// Databases held now, and the loads so far with their wall time [s].
+  /// Databases held now, the most held at once so far, and the loads so far
+  /// with their wall time [s].
   int numHeld() const;
+  int maxHeld() const { return peak; }
   int numLoads() const { return loads; }
   double loadSeconds() const { return seconds; }
 
@@ -64,7 +66,7 @@ private:
   Mesh mesh_;
   Layout layout_;
   std::map<int, std::shared_ptr<Database>> held;
-  int loads = 0;
+  int loads = 0, peak = 0;
   double seconds = 0.0;
 };
 

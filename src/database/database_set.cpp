@@ -105,6 +105,7 @@ PetscErrorCode DatabaseSet::get(int i, std::shared_ptr<Database> *db) {
   seconds += elapsed;
   ++loads;
   held[i] = std::shared_ptr<Database>(std::move(loaded));
+  peak = std::max(peak, numHeld());
   *db = held[i];
   PetscFunctionReturn(PETSC_SUCCESS);
 }

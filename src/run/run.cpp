@@ -500,10 +500,10 @@ PetscErrorCode Run::solve() {
     }
     PetscCall(PetscPrintf(r.comm, "  monitors: %.3g s of the wall (%s)\n", total, costs.c_str()));
     if (r.switching)
-      PetscCall(PetscPrintf(r.comm, "  databases: %ld switches, %d loads in %.3g s (%.3g s per load), %d held at the end%s\n",
+      PetscCall(PetscPrintf(r.comm, "  databases: %ld switches, %d loads in %.3g s (%.3g s per load), at most %d held at once%s\n",
                             r.switching->numSwitches(), r.switching->set().numLoads(), r.switching->set().loadSeconds(),
                             r.switching->set().loadSeconds() / std::max(1, r.switching->set().numLoads()),
-                            r.switching->set().numHeld(),
+                            r.switching->set().maxHeld(),
                             std::isfinite(r.switching->extrapolatingSince()) ? "; rcfd extrapolated (switches.csv)" : ""));
   }
   PetscFunctionReturn(PETSC_SUCCESS);

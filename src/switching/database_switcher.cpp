@@ -275,8 +275,8 @@ PetscErrorCode DatabaseSwitcher::view(PetscViewer viewer) const {
     PetscCall(PetscViewerASCIIPrintf(viewer, "%d: %s, recorded at u_sup %g m/s%s\n", i, set_->entry(i).path.c_str(),
                                      set_->entry(i).conditions.superficialVelocity,
                                      i == active_.database || i == active_.partner ? " (active)" : ""));
-  PetscCall(PetscViewerASCIIPrintf(viewer, "%d loads of a database, %.3g s in all; %d held now\n", set_->numLoads(),
-                                   set_->loadSeconds(), set_->numHeld()));
+  PetscCall(PetscViewerASCIIPrintf(viewer, "%d loads of a database, %.3g s in all; %d held now, at most %d at once\n",
+                                   set_->numLoads(), set_->loadSeconds(), set_->numHeld(), set_->maxHeld()));
   PetscCall(PetscViewerASCIIPopTab(viewer));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
