@@ -56,19 +56,27 @@ masses_kept() {
 }
 masses_kept "$work/schedule" # switches at rows 21, 41, 51
 
-# Markov: the same switches at 1 and 2 ranks, and after a restart from a checkpoint after a switch.
-markov=(-db "$a,$b" -db_switch_type markov -db_switch_interval 0.05 -db_switch_seed 3 -quiet "${common[@]}")
-for np in 1 2; do
-  mpiexec -n $np "$rcfd" run "${markov[@]}" -checkpoint_every 0.2 -output_dir "$work/markov$np"
-  mpiexec -n $np "$rcfd" run "${markov[@]}" -restart "$work/markov$np/checkpoint.h5" -output_dir "$work/again$np"
-  for f in switches.csv cog.csv path.txt; do
-    if cmp -s "$work/markov$np/$f" "$work/again$np/$f"; then ok; else fail "restart at $np ranks: $f differs"; fi
+# alike NAME ARGS...: a run at 1 and at 2 ranks with a checkpoint at 0.2 s, and each again from that
+# checkpoint: switches.csv, cog.csv and path.txt byte for byte after the restart; switches.csv the same and
+# cog.csv within 1e-10 at 2 ranks.
+alike() {
+  local name=$1
+  shift
+  for np in 1 2; do
+    mpiexec -n $np "$rcfd" run "$@" -checkpoint_every 0.2 -output_dir "$work/$name$np"
+    mpiexec -n $np "$rcfd" run "$@" -restart "$work/$name$np/checkpoint.h5" -output_dir "$work/${name}_again$np"
+    for f in switches.csv cog.csv path.txt; do
+      if cmp -s "$work/$name$np/$f" "$work/${name}_again$np/$f"; then ok; else fail "$name, restart at $np ranks: $f differs"; fi
+    done
   done
-done
+  if cmp -s "$work/${name}1/switches.csv" "$work/${name}2/switches.csv"; then ok; else fail "$name: switches.csv differs at 2 ranks"; fi
+  if "$compare" "$work/${name}1/cog.csv" "$work/${name}2/cog.csv" 1e-10 1e-14 >/dev/null; then ok; else
+    fail "$name at 2 ranks: $("$compare" "$work/${name}1/cog.csv" "$work/${name}2/cog.csv" 1e-10 1e-14)"; fi
+}
+
+# Markov: the same switches at 1 and 2 ranks, and after a restart from a checkpoint after a switch.
+alike markov -db "$a,$b" -db_switch_type markov -db_switch_interval 0.05 -db_switch_seed 3 -quiet "${common[@]}"
 same "markov switches" "$(grep -c 'switch$' "$work/markov1/switches.csv")" 6
-if cmp -s "$work/markov1/switches.csv" "$work/markov2/switches.csv"; then ok; else fail "switches.csv differs at 2 ranks"; fi
-if "$compare" "$work/markov1/cog.csv" "$work/markov2/cog.csv" 1e-10 1e-14 >/dev/null; then ok; else
-  fail "markov at 2 ranks: $("$compare" "$work/markov1/cog.csv" "$work/markov2/cog.csv" 1e-10 1e-14)"; fi
 # Blend: restarted from a checkpoint (0.4 s) while a blend is active, byte for byte.
 blend=(-db "$a,$b" -db_switch_type blend -db_switch_schedule 0:1.1,0.1:1.2,0.3:1.25 -quiet "${common[@]}")
 "$rcfd" run "${blend[@]}" -checkpoint_every 0.2 -output_dir "$work/blend"
@@ -110,19 +118,10 @@ bottom_d32, umf_usup) nor one of this run's monitors' (delta_z, z_cog_bed)" run 
 # writes the same files byte for byte.
 "$rcfd" synth -o "$work/c25.h5" -synth_cells 10,2,20 -synth_frames 25 -synth_warm_up 0.2 -quiet \
   -synth_nucleation_rate 4000 -synth_seed 2 -superficial_velocity 1.3
-lengths=(-db "$a,$work/c25.h5" -db_switch_schedule 0:1.1,0.1:1.3,0.35:1.1 -mass_check_every 0 -quiet "${common[@]}")
-for np in 1 2; do
-  mpiexec -n $np "$rcfd" run "${lengths[@]}" -checkpoint_every 0.2 -output_dir "$work/lengths$np"
-  mpiexec -n $np "$rcfd" run "${lengths[@]}" -restart "$work/lengths$np/checkpoint.h5" -output_dir "$work/lengths_again$np"
-  for f in switches.csv cog.csv path.txt; do
-    if cmp -s "$work/lengths$np/$f" "$work/lengths_again$np/$f"; then ok; else fail "different lengths, restart at $np ranks: $f differs"; fi
-  done
-  masses_kept "$work/lengths$np"
-done
+alike lengths -db "$a,$work/c25.h5" -db_switch_schedule 0:1.1,0.1:1.3,0.35:1.1 -mass_check_every 0 -quiet "${common[@]}"
+masses_kept "$work/lengths1"
+masses_kept "$work/lengths2"
 same "switches between different lengths" "$(awk -F, '/switch$/ {print $1, $2, $3}' "$work/lengths1/switches.csv")" "0.1 0 1 0.35 1 0"
-if cmp -s "$work/lengths1/switches.csv" "$work/lengths2/switches.csv"; then ok; else fail "different lengths: switches.csv differs at 2 ranks"; fi
-if "$compare" "$work/lengths1/cog.csv" "$work/lengths2/cog.csv" 1e-10 1e-14 >/dev/null; then ok; else
-  fail "different lengths at 2 ranks: $("$compare" "$work/lengths1/cog.csv" "$work/lengths2/cog.csv" 1e-10 1e-14)"; fi
 # The short bed's bulk is followed through its wraps: cog.csv's mismatch against the frame in use stays at
 # the beds' own (4e-7; 0.07 when its wrap is not stepped as a jump).
 worst=$(awk -F, 'NR > 1 && $1 > 0.1 && $1 < 0.35 && $9 > w {w = $9} END {print w + 0}' "$work/lengths1/cog.csv")
