@@ -3,8 +3,9 @@
 # (rcfd synth, 300 frames) recorded at four superficial velocities, and a schedule that visits each in
 # turn (one switch every T_END/4 s), against a run on one of them alone, at 1 and 2 ranks.  Per run: the
 # peak memory of the largest rank (the run's "peak memory" line, getrusage), the databases read and
-# their load time per switch (the run's "databases:" line: reading the frames onto the layout; the
-# operators' set-up again and the remap come on top, in the wall time), and the wall time.  With
+# their load time per switch (the run's "databases:" line: reading the frames onto the layout), what a
+# switch adds to the wall time against the one-database run (the load, the operators' set-up again and
+# the remap), and the wall time.  With
 # OLD_RCFD=path the same runs of another rcfd binary are measured as well (e.g. the one that kept the
 # database the run started on, two held).  Not part of the test suite: a benchmark, several minutes.
 #
@@ -49,8 +50,8 @@ mkdir -p bench/results
   echo "$n synthetic beds of ${cells:-?} cells, ${frames:-?} frames (${size} MB files), u_sup ${velocities[*]} m/s;"
   echo "schedule ${schedule} over ${t_end} s (shift,drift,carry, replay path); peak memory of the largest rank."
   echo
-  echo "| rcfd | ranks | databases | switches | loads | load per switch [s] | held at once | peak memory [MB] | wall [s] |"
-  echo "|---|---|---|---|---|---|---|---|---|"
+  echo "| rcfd | ranks | databases | switches | loads | load per switch [s] | wall per switch [s] | held at once | peak memory [MB] | wall [s] |"
+  echo "|---|---|---|---|---|---|---|---|---|---|"
 } >"$out"
 list=$(IFS=,; echo "${files[*]}")
 for rcfd in "${binaries[@]}"; do
@@ -67,9 +68,14 @@ for rcfd in "${binaries[@]}"; do
       loads=$(sed -n 's/.* \([0-9]*\) loads in.*/\1/p' <<<"$line")
       per=$(sed -n 's/.*(\([0-9.e-]*\) s per load).*/\1/p' <<<"$line")
       held=$(sed -n 's/.*at most \([0-9]*\) held.*/\1/p;s/.*, \([0-9]*\) held at the end.*/\1 at the end/p' <<<"$line")
-      printf '| %s | %s | %s | %s | %s | %s | %s | %s | %.1f |\n' "$(basename "$(dirname "$(dirname "$rcfd")")")/$(basename "$rcfd")" \
-        "$np" "$([ "$what" = one ] && echo 1 || echo "$n")" "${switches:-0}" "${loads:-1}" "${per:--}" \
-        "${held:-1}" "$peak" "$(awk -v a="$start" -v b="$end" 'BEGIN { print b - a }')" >>"$out"
+      wall=$(awk -v a="$start" -v b="$end" 'BEGIN { printf "%.1f", b - a }')
+      [ "$what" = one ] && alone=$wall
+      # what a switch adds to the wall time: the set's run against the one database's, per switch
+      added=$(awk -v w="$wall" -v a="$alone" -v s="${switches:-0}" 'BEGIN { if (s > 0) printf "%.2f", (w - a) / s; else print "-" }')
+      printf '| %s | %s | %s | %s | %s | %s | %s | %s | %s | %s |\n' \
+        "$(basename "$(dirname "$(dirname "$rcfd")")")/$(basename "$rcfd")" "$np" \
+        "$([ "$what" = one ] && echo 1 || echo "$n")" "${switches:-0}" "${loads:-1}" "${per:--}" "$added" \
+        "${held:-1}" "$peak" "$wall" >>"$out"
     done
   done
 done

@@ -38,6 +38,11 @@ expect_error "-db_conditions has 3 superficial velocities for the 2 databases of
   -output_dir "$work/self"
 if "$compare" "$work/alone/cog.csv" "$work/self/cog.csv" 1e-12 1e-15 >/dev/null; then ok; else
   fail "a database blended with itself: $("$compare" "$work/alone/cog.csv" "$work/self/cog.csv" 1e-12 1e-15)"; fi
+# Ensembles and calibrations share one loaded database: refused before anything runs, saying what to do.
+expect_error "-ensemble 2 with several databases in -db: an ensemble's members share one loaded database" \
+  run -db "$a,$b" -db_switch_schedule 0:1.1 -ensemble 2 -path_type random -output_dir "$work/refused"
+expect_error "calibrate on each database of the set alone (-db a.h5), then run the set" \
+  calibrate -db "$a,$b" -db_switch_schedule 0:1.1 -reference "$work/alone/cog.csv" -output_dir "$work/refused"
 
 # Schedule: 1.1 -> 1.3 -> (1.2: nearest of a tie is the first) -> 1.5 (outside: warned once, step 80).
 "$rcfd" run -db "$a,$b" -db_switch_schedule 0:1.1,0.1:1.3,0.2:1.2,0.25:1.3,0.4:1.5 -mass_check_every 0 "${common[@]}" \

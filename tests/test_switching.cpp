@@ -79,9 +79,9 @@ PetscErrorCode frameErrors(const Database &db, int k, double *column, double *co
 
 // Databases of different lengths: a set of 12 and 8 frames opens; database a
 // blended with its own first 8 frames (a truncated copy, read onto the set's
-// layout) pairs frame k with k mod 8: column-stochastic everywhere, consistent
-// wherever neither database wraps, a's own shifts for k < 8; at k = 7, where
-// the copy wraps, the blend is not consistent (the run steps there as a jump).
+// layout) is as long as the shorter, column-stochastic, consistent (T alpha_k
+// V = alpha_{k+1} V of the blend) to round-off up to its own wrap, and a's own
+// shifts; either way round.
 PetscErrorCode differentLengths(const std::string &dir, const DatabaseSet &set, const Database &da) {
   PetscFunctionBeginUser;
   const std::string shorter = dir + "/a8.h5";
@@ -92,19 +92,19 @@ PetscErrorCode differentLengths(const std::string &dir, const DatabaseSet &set, 
   DatabaseLoadOptions firstEight;
   firstEight.lastFrame = 7;
   firstEight.layout = &set.layout();
-  std::unique_ptr<Database> truncated, blend;
+  std::unique_ptr<Database> truncated;
   PetscCall(Database::load(PETSC_COMM_WORLD, dir + "/a.h5", firstEight, &truncated));
   RCFD_CHECK(truncated->numFrames() == 8);
-  PetscCall(blendDatabases(da, *truncated, 0.3, &blend));
-  RCFD_CHECK(blend->numFrames() == 12);
-  double worstColumn = 0.0, worstInside = 0.0, worstOwn = 0.0, atWrap = 0.0;
-  for (int k = 0; k < blend->numFrames(); ++k) {
-    double column, consistency;
-    PetscCall(frameErrors(*blend, k, &column, &consistency));
-    worstColumn = std::max(worstColumn, column);
-    if (k == 7) atWrap = consistency;
-    else if (k != 11) worstInside = std::max(worstInside, consistency);
-    if (k < 8) {
+  for (const bool longFirst : {true, false}) {
+    std::unique_ptr<Database> blend;
+    PetscCall(longFirst ? blendDatabases(da, *truncated, 0.3, &blend) : blendDatabases(*truncated, da, 0.3, &blend));
+    RCFD_CHECK(blend->numFrames() == 8);
+    double worstColumn = 0.0, worstConsistency = 0.0, worstOwn = 0.0;
+    for (int k = 0; k < blend->numFrames(); ++k) {
+      double column, consistency;
+      PetscCall(frameErrors(*blend, k, &column, &consistency));
+      worstColumn = std::max(worstColumn, column);
+      if (k + 1 < blend->numFrames()) worstConsistency = std::max(worstConsistency, consistency);
       OwnedMat difference, own;
       PetscCall(blend->shiftMatrix(k, &difference));
       PetscCall(da.shiftMatrix(k, &own));
@@ -113,11 +113,10 @@ PetscErrorCode differentLengths(const std::string &dir, const DatabaseSet &set, 
       PetscCall(MatNorm(difference, NORM_INFINITY, &norm));
       worstOwn = std::max(worstOwn, norm);
     }
+    RCFD_CHECK(worstColumn < 1e-13);
+    RCFD_CHECK(worstConsistency < 1e-12);
+    RCFD_CHECK(worstOwn < 1e-14);
   }
-  RCFD_CHECK(worstColumn < 1e-13);
-  RCFD_CHECK(worstInside < 1e-12);
-  RCFD_CHECK(worstOwn < 1e-14);
-  RCFD_CHECK(atWrap > 1e-4);
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 

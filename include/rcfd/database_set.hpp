@@ -71,8 +71,8 @@ private:
 };
 
 /// Collective.  The blend of databases a (weight w) and b (1 - w) on one
-/// layout, frame k of a paired with frame k + lag of b (each index modulo its
-/// database's length), combined as mass fluxes, not as matrices:
+/// layout, as many frames as the shorter has, frame k of a paired with frame
+/// (k + lag) mod K_b of b, combined as mass fluxes, not as matrices:
 ///   F = w T_a D_a + (1 - w) T_b D_b,  D = diag(alpha V) of the frame,
 ///   alpha = w alpha_a + (1 - w) alpha_b,  T = F diag(alpha V)^-1,
 /// so T is column-stochastic and T alpha_k V = alpha_{k+1} V whenever a and b

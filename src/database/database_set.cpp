@@ -145,7 +145,10 @@ PetscErrorCode blendDatabases(const Database &a, const Database &b, double w, st
                  a.layout().rowEnd() == b.layout().rowEnd(),
              comm, PETSC_ERR_ARG_INCOMP, "Databases '%s' and '%s' are not on one layout; blend the databases of one set",
              a.path().c_str(), b.path().c_str());
-  const int K = std::max(a.numFrames(), b.numFrames());
+  // As long as the shorter: with lag 0 no frame of the blend pairs the last
+  // frame of one database with a frame of the other that does not follow it,
+  // except the blend's own last (a wrap, which a run steps as a jump).
+  const int K = std::min(a.numFrames(), b.numFrames());
   OwnedVec volume, massA, massB, mass, inverse, empty;
   PetscCall(VecDuplicate(a.alphaS(0), volume.put()));
   for (OwnedVec *v : {&massA, &massB, &mass, &inverse, &empty}) PetscCall(VecDuplicate(volume, v->put()));

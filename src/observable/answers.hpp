@@ -123,6 +123,11 @@ public:
   BottomLayerMonitor(std::shared_ptr<LayerSampler> sampler, UmfCorrelation correlation,
                      const OperatingConditions &given, const ZoneSet *zones, bool quiet)
       : sampler(std::move(sampler)), correlation(std::move(correlation)), given(given), zones(zones), quiet(quiet) {}
+  /// Fixed conditions, whatever the database says.
+  BottomLayerMonitor(std::shared_ptr<LayerSampler> sampler, UmfCorrelation correlation, GasProperties gas,
+                     double superficialVelocity, const ZoneSet *zones, bool quiet)
+      : BottomLayerMonitor(std::move(sampler), std::move(correlation),
+                           OperatingConditions{superficialVelocity, gas.density, gas.kinematicViscosity}, zones, quiet) {}
   PetscErrorCode setUp(const RunContext &run, const FractionState &, const std::string &dir) override;
   PetscErrorCode sample(const MonitorContext &ctx) override;
   PetscErrorCode flush() override;

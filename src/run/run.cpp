@@ -62,6 +62,7 @@ void Run::setQuiet(bool quiet) { impl->quiet = quiet ? PETSC_TRUE : PETSC_FALSE;
 void Run::setWriteFields(bool write) { impl->writeFields = write ? PETSC_TRUE : PETSC_FALSE; }
 void Run::useDatabase(std::shared_ptr<Database> database) { impl->db = std::move(database); }
 void Run::useSwitchRules(const SwitchRuleRegistry &rules) { impl->rules = &rules; }
+bool Run::switchesDatabases() const { return impl->switching != nullptr; }
 
 const Database &Run::database() const { return *impl->db; }
 std::shared_ptr<Database> Run::sharedDatabase() const { return impl->db; }
@@ -164,8 +165,9 @@ PetscErrorCode Run::setFromOptions() {
   PetscCall(Database::optionsFromCommandLine(&r.loadOptions));
   if (splitList(r.dbPath).size() > 1) { // several databases: a rule moves between them
     PetscCheck(!r.db, r.comm, PETSC_ERR_USER_INPUT,
-               "-db names %zu databases, but this run was handed one loaded database (an ensemble's or a "
-               "calibration's runs share theirs): run several databases one run at a time",
+               "-db names %zu databases, but this run was handed one loaded database (Run::useDatabase, as an "
+               "ensemble's or a calibration's runs share one): a run on several reads and drops them as it "
+               "switches, so it cannot share one; give it its own -db set and no loaded database",
                splitList(r.dbPath).size());
     r.switching = std::make_unique<DatabaseSwitcher>();
     PetscCall(r.switching->setFromOptions(r.comm, *r.rules));
