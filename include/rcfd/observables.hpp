@@ -47,6 +47,9 @@ class Monitor {
 public:
   virtual ~Monitor() = default;
   /// Collective.  `state` gives the layout of the masses the monitor will see.
+  /// Keep copies of what it needs of run.db, not pointers into it: a run on
+  /// several databases drops the database it started on when it switches;
+  /// sample() gets the database in use (MonitorContext::run, docs/databases.md).
   /// The default does nothing.
   virtual PetscErrorCode setUp(const RunContext &run, const FractionState &state,
                                const std::string &outputDirectory);

@@ -127,7 +127,8 @@ public:
   BottomLayerMonitor(std::shared_ptr<LayerSampler> sampler, UmfCorrelation correlation, GasProperties gas,
                      double superficialVelocity, const ZoneSet *zones, bool quiet)
       : BottomLayerMonitor(std::move(sampler), std::move(correlation),
-                           OperatingConditions{superficialVelocity, gas.density, gas.kinematicViscosity}, zones, quiet) {}
+                           OperatingConditions{superficialVelocity, gas.density, gas.kinematicViscosity}, zones,
+                           quiet) {}
   PetscErrorCode setUp(const RunContext &run, const FractionState &, const std::string &dir) override;
   PetscErrorCode sample(const MonitorContext &ctx) override;
   PetscErrorCode flush() override;

@@ -41,9 +41,10 @@ PetscErrorCode BottomLayerMonitor::sample(const MonitorContext &ctx) {
   }
   // An empty bottom layer has no diameter and no u_mf (NaN): it cannot warn.
   double umf = std::numeric_limits<double>::quiet_NaN();
-  if (std::isfinite(d32))
-    PetscCall(collectively(PETSC_COMM_SELF, [&] { umf = minFluidizationVelocity(correlation, d32, rhoP, gas, gravity); },
-                           PETSC_ERR_USER_INPUT)); // d32 and the conditions are the same on every rank
+  if (std::isfinite(d32)) // d32 and the conditions are the same on every rank: no reduction
+    PetscCall(collectively(
+        PETSC_COMM_SELF, [&] { umf = minFluidizationVelocity(correlation, d32, rhoP, gas, gravity); },
+        PETSC_ERR_USER_INPUT));
   if (detector.update(ctx.time, umf))
     PetscCall(PetscPrintf(comm,
                           "WARNING: de-fluidization at t = %.6g s: u_mf of the bottom layer (d32 = %.4g mm, %s) "
