@@ -272,7 +272,8 @@ PetscErrorCode DatabaseSwitcher::view(PetscViewer viewer) const {
                                    rule_->describe().c_str()));
   PetscCall(PetscViewerASCIIPushTab(viewer));
   for (int i = 0; i < set_->size(); ++i)
-    PetscCall(PetscViewerASCIIPrintf(viewer, "%d: %s, recorded at u_sup %g m/s%s\n", i, set_->entry(i).path.c_str(),
+    PetscCall(PetscViewerASCIIPrintf(viewer, "%d: %s, %d frames, recorded at u_sup %g m/s%s\n", i,
+                                     set_->entry(i).path.c_str(), set_->entry(i).numFrames,
                                      set_->entry(i).conditions.superficialVelocity,
                                      i == active_.database || i == active_.partner ? " (active)" : ""));
   PetscCall(PetscViewerASCIIPrintf(viewer, "%d loads of a database, %.3g s in all; %d held now, at most %d at once\n",
