@@ -3,14 +3,18 @@
 // consistent (T alpha_k V = alpha_{k+1} V of the blend) to round-off, a
 // database blended with itself its own shifts; the hysteresis band rule on a
 // constructed signal; the schedule, blend and markov rules' choices, and the
-// markov rule continued from its saved state.
+// markov rule continued from its saved state; databases of different lengths
+// (a blend with a truncated copy); the monitors following a switch.
 #include "check.hpp"
 #include "base/petsc_compat.hpp"
 #include "scoped_options.hpp"
 #include "state_access.hpp"
 
+#include "base/csv.hpp"
+#include "base/h5.hpp"
 #include "builders/synthetic/synthetic_bed.hpp"
 #include "rcfd/database_set.hpp"
+#include "rcfd/run.hpp"
 #include "rcfd/switching.hpp"
 
 #include <cmath>
@@ -19,7 +23,7 @@ using namespace rcfd;
 
 namespace {
 
-void writeBed(const std::string &path, int nz, double rate, std::uint64_t seed) {
+void writeBed(const std::string &path, int nz, double rate, std::uint64_t seed, int frames = 12) {
   int rank;
   MPI_Comm_rank(PETSC_COMM_WORLD, &rank);
   if (rank == 0) {
@@ -27,7 +31,7 @@ void writeBed(const std::string &path, int nz, double rate, std::uint64_t seed) 
     o.box.nx = 10;
     o.box.ny = 2;
     o.box.nz = nz;
-    o.numFrames = 12;
+    o.numFrames = frames;
     o.warmUpTime = 0.1;
     o.nucleationRate = rate;
     o.seed = seed;
@@ -70,6 +74,49 @@ PetscErrorCode frameErrors(const Database &db, int k, double *column, double *co
   PetscCall(VecAXPY(moved, -1.0, next));
   PetscCall(VecNorm(moved, NORM_INFINITY, consistency));
   *consistency /= largest;
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+// Databases of different lengths: a set of 12 and 8 frames opens; database a
+// blended with its own first 8 frames (a truncated copy, read onto the set's
+// layout) is as long as the shorter, column-stochastic, consistent (T alpha_k
+// V = alpha_{k+1} V of the blend) to round-off up to its own wrap, and a's own
+// shifts; either way round.
+PetscErrorCode differentLengths(const std::string &dir, const DatabaseSet &set, const Database &da) {
+  PetscFunctionBeginUser;
+  const std::string shorter = dir + "/a8.h5";
+  writeBed(shorter, 20, 1500.0, 1, 8);
+  std::unique_ptr<DatabaseSet> mixed;
+  PetscCall(DatabaseSet::open(PETSC_COMM_WORLD, {dir + "/a.h5", shorter}, DatabaseLoadOptions{}, {}, &mixed));
+  RCFD_CHECK(mixed->entry(0).numFrames == 12 && mixed->entry(1).numFrames == 8);
+  DatabaseLoadOptions firstEight;
+  firstEight.lastFrame = 7;
+  firstEight.layout = &set.layout();
+  std::unique_ptr<Database> truncated;
+  PetscCall(Database::load(PETSC_COMM_WORLD, dir + "/a.h5", firstEight, &truncated));
+  RCFD_CHECK(truncated->numFrames() == 8);
+  for (const bool longFirst : {true, false}) {
+    std::unique_ptr<Database> blend;
+    PetscCall(longFirst ? blendDatabases(da, *truncated, 0.3, &blend) : blendDatabases(*truncated, da, 0.3, &blend));
+    RCFD_CHECK(blend->numFrames() == 8);
+    double worstColumn = 0.0, worstConsistency = 0.0, worstOwn = 0.0;
+    for (int k = 0; k < blend->numFrames(); ++k) {
+      double column, consistency;
+      PetscCall(frameErrors(*blend, k, &column, &consistency));
+      worstColumn = std::max(worstColumn, column);
+      if (k + 1 < blend->numFrames()) worstConsistency = std::max(worstConsistency, consistency);
+      OwnedMat difference, own;
+      PetscCall(blend->shiftMatrix(k, &difference));
+      PetscCall(da.shiftMatrix(k, &own));
+      PetscCall(MatAXPY(difference, -1.0, own, DIFFERENT_NONZERO_PATTERN));
+      PetscReal norm;
+      PetscCall(MatNorm(difference, NORM_INFINITY, &norm));
+      worstOwn = std::max(worstOwn, norm);
+    }
+    RCFD_CHECK(worstColumn < 1e-13);
+    RCFD_CHECK(worstConsistency < 1e-12);
+    RCFD_CHECK(worstOwn < 1e-14);
+  }
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
@@ -155,10 +202,11 @@ PetscErrorCode blends(const std::string &dir) {
     RCFD_CHECK(worstPaired < 1e-14); // the same frames blended: a's own shifts
     RCFD_CHECK(worstByIndex > 1e-3); // frames 7 apart blended: another database
   }
+  PetscCall(differentLengths(dir, *set, *da));
   // Dropping: a database nobody else holds goes when another is loaded.
   da.reset();
   set->dropUnused();
-  RCFD_CHECK(set->numHeld() == 1);
+  RCFD_CHECK(set->numHeld() == 1 && set->maxHeld() == 2);
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
@@ -236,9 +284,74 @@ PetscErrorCode rules() {
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
+/// sum over cells of (natural index + 1) alpha_s of frame k: a fingerprint of the field in natural order.
+PetscErrorCode fingerprint(const Database &db, int k, double *sum) {
+  const PetscScalar *a;
+  PetscFunctionBeginUser;
+  *sum = 0.0;
+  PetscCall(VecGetArrayRead(db.alphaS(k), &a));
+  const auto &owned = db.layout().ownedNatural();
+  for (std::size_t c = 0; c < owned.size(); ++c) *sum += (owned[c] + 1.0) * a[c];
+  PetscCall(VecRestoreArrayRead(db.alphaS(k), &a));
+  PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, sum, 1, MPI_DOUBLE, MPI_SUM, PETSC_COMM_WORLD));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+// The monitors follow the database in use.  A run on a (12 frames, 1.1 m/s)
+// and b8 (8 frames, 1.3 m/s), switched by the schedule at 0.02 s: bottom.csv's
+// u_sup is 1.1 m/s before the switch and 1.3 from it on, and the field file at
+// 0.04 s (the path's frame 8: b8's frame 0) holds b8's frame 0, not a's frame 8.
+PetscErrorCode monitorsFollow(const std::string &dir) {
+  PetscMPIInt size;
+  PetscFunctionBeginUser;
+  PetscCallMPI(MPI_Comm_size(PETSC_COMM_WORLD, &size));
+  const std::string a = dir + "/a.h5", b8 = dir + "/b8.h5", out = dir + "/follow-np" + std::to_string(size);
+  writeBed(b8, 20, 4000.0, 2, 8);
+  int frameAt = -1; // the database frame the monitors see at 0.04 s
+  {
+    ScopedOptions o("-db " + a + "," + b8 + " -db_conditions 1.1,1.3 -db_switch_schedule 0:1.1,0.02:1.3 "
+                    "-bottom_layer -fields_every 0.01 -t_end 0.05 -path_type replay");
+    const OperatorRegistry registry = OperatorRegistry::withBuiltins();
+    Run run(PETSC_COMM_WORLD, registry);
+    PetscCall(run.setFromOptions());
+    run.setQuiet(true);
+    run.setOutputDirectory(out);
+    PetscCall(run.addMonitor(
+        [&](const MonitorContext &m) {
+          if (std::fabs(m.time - 0.04) < 1e-9) frameAt = m.frame;
+          return PETSC_SUCCESS;
+        },
+        1, "frame"));
+    PetscCall(run.setUp());
+    PetscCall(run.solve());
+  }
+  RCFD_CHECK(frameAt == 0);
+  const csv::Table bottom = csv::Table::read(out + "/bottom.csv");
+  const int t = bottom.find({"time_s"}), u = bottom.find({"usup_m_s"});
+  int before = 0, after = 0;
+  for (std::size_t r = 0; r < bottom.numRows(); ++r) {
+    if (bottom.number(r, t) < 0.02 - 1e-9) before += bottom.number(r, u) == 1.1;
+    else after += bottom.number(r, u) == 1.3;
+  }
+  RCFD_CHECK(before == 4 && after == 7); // 0 to 0.015 s, 0.02 to 0.05 s
+  std::unique_ptr<Database> da, db;
+  PetscCall(Database::load(PETSC_COMM_WORLD, a, DatabaseLoadOptions{}, &da));
+  PetscCall(Database::load(PETSC_COMM_WORLD, b8, DatabaseLoadOptions{}, &db));
+  double expected, other, written = 0.0;
+  PetscCall(fingerprint(*db, 0, &expected));
+  PetscCall(fingerprint(*da, 8, &other));
+  const std::vector<double> field =
+      h5::File::openRead(out + "/fields_000004.h5", MPI_COMM_NULL).read<double>("/alpha_s_database");
+  for (std::size_t i = 0; i < field.size(); ++i) written += (i + 1.0) * field[i];
+  RCFD_CHECK(std::fabs(written - expected) < 1e-12 * expected);
+  RCFD_CHECK(std::fabs(other - expected) > 1e-6 * expected); // the check can tell the databases apart
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
 PetscErrorCode run(const std::string &dir) {
   PetscFunctionBeginUser;
   PetscCall(blends(dir));
+  PetscCall(monitorsFollow(dir));
   hysteresis();
   PetscCall(rules());
   PetscFunctionReturn(PETSC_SUCCESS);

@@ -29,8 +29,9 @@ class DatabaseSet {
 public:
   /// Collective.  Reads the headers of `paths` and partitions the mesh once,
   /// by the work per cell summed over the databases.  Refuses, with one
-  /// sentence naming both files, a database of another mesh, another dt_rec
-  /// or another number of frames than the first.  `superficialVelocities`
+  /// sentence naming both files, a database of another mesh or another dt_rec
+  /// than the first; the numbers of frames may differ (a run takes the path's
+  /// frame k modulo each database's length).  `superficialVelocities`
   /// (empty, or one per file) replaces the recorded u_sup.
   static PetscErrorCode open(MPI_Comm comm, const std::vector<std::string> &paths,
                              const DatabaseLoadOptions &options,
@@ -51,8 +52,10 @@ public:
   PetscErrorCode get(int i, std::shared_ptr<Database> *db);
   /// Drops every held database nobody else holds (after a switch).
   void dropUnused();
-  /// Databases held now, and the loads so far with their wall time [s].
+  /// Databases held now, the most held at once so far, and the loads so far
+  /// with their wall time [s].
   int numHeld() const;
+  int maxHeld() const { return peak; }
   int numLoads() const { return loads; }
   double loadSeconds() const { return seconds; }
 
@@ -63,13 +66,13 @@ private:
   Mesh mesh_;
   Layout layout_;
   std::map<int, std::shared_ptr<Database>> held;
-  int loads = 0;
+  int loads = 0, peak = 0;
   double seconds = 0.0;
 };
 
 /// Collective.  The blend of databases a (weight w) and b (1 - w) on one
-/// layout, frame k of a paired with frame k + lag of b (each index modulo its
-/// database's length), combined as mass fluxes, not as matrices:
+/// layout, as many frames as the shorter has, frame k of a paired with frame
+/// (k + lag) mod K_b of b, combined as mass fluxes, not as matrices:
 ///   F = w T_a D_a + (1 - w) T_b D_b,  D = diag(alpha V) of the frame,
 ///   alpha = w alpha_a + (1 - w) alpha_b,  T = F diag(alpha V)^-1,
 /// so T is column-stochastic and T alpha_k V = alpha_{k+1} V whenever a and b

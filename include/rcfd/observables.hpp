@@ -47,6 +47,9 @@ class Monitor {
 public:
   virtual ~Monitor() = default;
   /// Collective.  `state` gives the layout of the masses the monitor will see.
+  /// Keep copies of what it needs of run.db, not pointers into it: a run on
+  /// several databases drops the database it started on when it switches;
+  /// sample() gets the database in use (MonitorContext::run, docs/databases.md).
   /// The default does nothing.
   virtual PetscErrorCode setUp(const RunContext &run, const FractionState &state,
                                const std::string &outputDirectory);
@@ -172,12 +175,16 @@ std::string formatNumberRow(const std::vector<double> &row);
 /// Writes cell fields of the state, one HDF5 file per output time plus an
 /// XDMF index that ParaView opens as a time series.  Fields: alpha_s of the
 /// state, alpha_s of the database frame, alpha of each fraction, and the local
-/// Sauter diameter.
+/// Sauter diameter.  It keeps the mesh's sizes from setUp, not the database:
+/// the frame's alpha_s is handed to write(), from the database in use (a run
+/// on several databases switches, docs/databases.md).
 class FieldWriter {
 public:
   PetscErrorCode setUp(const Database &db, const FractionSet &fractions, double solidDensity,
                        const std::string &directory, Vec stateTemplate);
-  PetscErrorCode write(double time, int frame, Vec masses);
+  /// Collective.  `databaseAlpha`: alpha_s of the frame the state should match,
+  /// on the layout of setUp's database.
+  PetscErrorCode write(double time, Vec databaseAlpha, Vec masses);
   int count() const { return static_cast<int>(times.size()); }
   /// The times written so far, oldest first (kept by checkpoints).
   const std::vector<double> &outputTimes() const { return times; }
@@ -188,7 +195,9 @@ public:
 
 private:
   PetscErrorCode writeIndex() const;
-  const Database *db = nullptr;
+  MPI_Comm comm = MPI_COMM_NULL;
+  BoxSpec box;
+  std::vector<double> cellVolume; // natural order, on rank 0
   const FractionSet *fractions = nullptr;
   double rho = 0.0;
   std::string dir;

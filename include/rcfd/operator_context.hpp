@@ -12,6 +12,11 @@ struct RunContext {
   const Database &db;
   const FractionSet &fractions;
   double solidDensity; // [kg/m^3]
+  /// The conditions the database in use stands for when they are not its file's
+  /// (a run on several databases: -db_conditions, a blend's interpolation;
+  /// docs/databases.md); null: db.metadata().conditions.
+  const OperatingConditions *conditions = nullptr;
+  const OperatingConditions &recordedAt() const { return conditions ? *conditions : db.metadata().conditions; }
 };
 
 /// The step being taken: frame k moves the state from t_k to t_k + dt_rec.

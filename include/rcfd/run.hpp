@@ -74,6 +74,10 @@ public:
   /// The switching rules -db_switch_type chooses from when -db names several
   /// databases (default: the built-in ones); it must outlive the run.  Before setFromOptions.
   void useSwitchRules(const SwitchRuleRegistry &rules);
+  /// Whether -db names several databases (after setFromOptions): such a run
+  /// reads and drops them as it switches, so it cannot share one loaded
+  /// database (useDatabase) with other runs.
+  bool switchesDatabases() const;
   /// Loads the database (unless one was given), sets up the operators, the
   /// path, the monitors and the initial state (or the state of -restart
   /// FILE); views the run given -run_view.  Collective.  A restart refuses a

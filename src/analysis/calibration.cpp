@@ -92,6 +92,9 @@ PetscErrorCode DriftCalibration::setUp() {
   Run first(comm, registry);
   first.setDefaultOutputDirectory("rcfd-calibrate");
   PetscCall(first.setFromOptions());
+  PetscCheck(!first.switchesDatabases(), comm, PETSC_ERR_USER_INPUT,
+             "rcfd calibrate with several databases in -db: a calibration's runs share one loaded database and fit "
+             "one bed's drift; calibrate on each database of the set alone (-db a.h5), then run the set");
   first.setQuiet(true);
   first.setWriteFields(false);
   PetscCall(first.setUp());

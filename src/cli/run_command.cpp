@@ -72,6 +72,10 @@ PetscErrorCode runCommand(MPI_Comm comm) {
   PetscCall(rejectUnusedOptions(comm, "run"));
   PetscCheck(members >= 1, comm, PETSC_ERR_USER_INPUT, "-ensemble must be at least 1");
   if (members > 1) { // `run` only read the options: its path's seed is the first member's
+    PetscCheck(!run.switchesDatabases(), comm, PETSC_ERR_USER_INPUT,
+               "-ensemble %d with several databases in -db: an ensemble's members share one loaded database, and "
+               "a run on several reads and drops them as it switches; run each member as its own rcfd run on the "
+               "set with -path_seed s, s+1, ... (or the ensemble on one database of the set)", (int)members);
     PetscCheck(run.path().hasSeed(), comm, PETSC_ERR_USER_INPUT,
                "-ensemble %d needs a stochastic -path_type (random, markov or quarter), not %s",
                (int)members, run.path().kind().c_str());

@@ -59,10 +59,6 @@ PetscErrorCode DatabaseSet::open(MPI_Comm comm, const std::vector<std::string> &
                  "Databases '%s' and '%s' were recorded with different dt_rec (%g s and %g s); the databases of a run "
                  "must share one time step",
                  first.path.c_str(), e.path.c_str(), first.metadata.dtRec, h.metadata.dtRec);
-      PetscCheck(h.numFrames == first.numFrames, comm, PETSC_ERR_USER_INPUT,
-                 "Databases '%s' and '%s' have different numbers of frames (%d and %d); the databases of a run share "
-                 "one frame path, so they need the same number (use -db_frames to cut them alike)",
-                 first.path.c_str(), e.path.c_str(), first.numFrames, h.numFrames);
       for (std::size_t c = 0; c < work.size(); ++c) work[c] += h.work[c];
     }
     set->entries.push_back(std::move(e));
@@ -109,6 +105,7 @@ PetscErrorCode DatabaseSet::get(int i, std::shared_ptr<Database> *db) {
   seconds += elapsed;
   ++loads;
   held[i] = std::shared_ptr<Database>(std::move(loaded));
+  peak = std::max(peak, numHeld());
   *db = held[i];
   PetscFunctionReturn(PETSC_SUCCESS);
 }
@@ -148,7 +145,10 @@ PetscErrorCode blendDatabases(const Database &a, const Database &b, double w, st
                  a.layout().rowEnd() == b.layout().rowEnd(),
              comm, PETSC_ERR_ARG_INCOMP, "Databases '%s' and '%s' are not on one layout; blend the databases of one set",
              a.path().c_str(), b.path().c_str());
-  const int K = std::max(a.numFrames(), b.numFrames());
+  // As long as the shorter: with lag 0 no frame of the blend pairs the last
+  // frame of one database with a frame of the other that does not follow it,
+  // except the blend's own last (a wrap, which a run steps as a jump).
+  const int K = std::min(a.numFrames(), b.numFrames());
   OwnedVec volume, massA, massB, mass, inverse, empty;
   PetscCall(VecDuplicate(a.alphaS(0), volume.put()));
   for (OwnedVec *v : {&massA, &massB, &mass, &inverse, &empty}) PetscCall(VecDuplicate(volume, v->put()));

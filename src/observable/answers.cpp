@@ -113,10 +113,8 @@ PetscErrorCode Answers::setFromOptions(MPI_Comm c) {
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
-PetscErrorCode Answers::createMonitors(const RunContext &run, double tEnd, bool quiet, std::vector<Named> *out) {
-  PetscFunctionBeginUser;
-  // Conditions: the case's value, else the database's, else the default.
-  const OperatingConditions &recorded = run.db.metadata().conditions;
+OperatingConditions resolveConditions(const OperatingConditions &given, const OperatingConditions &recorded,
+                                      std::string *sources) {
   const GasProperties air;
   const double defaults[3] = {1.1, air.density, air.kinematicViscosity};
   const double caseValue[3] = {given.superficialVelocity, given.gasDensity, given.gasKinematicViscosity};
@@ -125,9 +123,16 @@ PetscErrorCode Answers::createMonitors(const RunContext &run, double tEnd, bool 
   for (int i = 0; i < 3; ++i) {
     const bool fromCase = std::isfinite(caseValue[i]), fromDb = std::isfinite(dbValue[i]);
     value[i] = fromCase ? caseValue[i] : fromDb ? dbValue[i] : defaults[i];
-    sources[i] = fromCase ? "case" : fromDb ? "database" : "default";
+    if (sources) sources[i] = fromCase ? "case" : fromDb ? "database" : "default";
   }
-  used = OperatingConditions{value[0], value[1], value[2]};
+  return OperatingConditions{value[0], value[1], value[2]};
+}
+
+PetscErrorCode Answers::createMonitors(const RunContext &run, double tEnd, bool quiet, std::vector<Named> *out) {
+  PetscFunctionBeginUser;
+  // Conditions: the case's value, else the database's (the one in use), else the default.
+  used = resolveConditions(given, run.recordedAt(), sources);
+  const double value[3] = {used.superficialVelocity, used.gasDensity, used.gasKinematicViscosity};
 
   for (TimeWindow *w : {&profilesWindow, &halvesWindow}) {
     const bool given_ = !std::isnan(w->begin);
@@ -157,14 +162,11 @@ PetscErrorCode Answers::createMonitors(const RunContext &run, double tEnd, bool 
                             "viscosity %g m^2/s (%s); u_mf by %s\n",
                             value[0], sources[0].c_str(), value[1], sources[1].c_str(), value[2],
                             sources[2].c_str(), findUmfCorrelation(correlation).citation.c_str()));
-    GasProperties gas;
-    gas.density = value[1];
-    gas.kinematicViscosity = value[2];
-    PetscCheck(run.solidDensity > gas.density, comm, PETSC_ERR_USER_INPUT,
+    PetscCheck(run.solidDensity > value[1], comm, PETSC_ERR_USER_INPUT,
                "u_mf needs a particle density (%s kg/m^3) above the gas density (%s kg/m^3, -gas_density)",
-               plain(run.solidDensity).c_str(), plain(gas.density).c_str());
-    out->push_back({std::make_unique<BottomLayerMonitor>(sampler, findUmfCorrelation(correlation), gas, value[0],
-                                                         &zones, quiet),
+               plain(run.solidDensity).c_str(), plain(value[1]).c_str());
+    out->push_back({std::make_unique<BottomLayerMonitor>(sampler, findUmfCorrelation(correlation), given, &zones,
+                                                         quiet),
                     every, "bottom.csv"});
   }
   if (mixing) out->push_back({std::make_unique<MixingMonitor>(), every, "mixing.csv"});

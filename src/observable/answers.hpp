@@ -107,15 +107,28 @@ private:
   std::vector<double> bottomSum, topSum;
 };
 
+/// The operating conditions a monitor uses: each quantity the case's (`given`),
+/// else the database's (`recorded`), else the default (u_sup 1.1 m/s, air);
+/// `sources`, when given, says which for each of u_sup, rho_g, nu.
+OperatingConditions resolveConditions(const OperatingConditions &given, const OperatingConditions &recorded,
+                                      std::string *sources = nullptr);
+
 /// bottom.csv: time_s,d32_bottom_m,umf_m_s,usup_m_s,defluidized[,d32_<zone>_m...]
 /// The warning is printed once, on rank 0, the first time u_mf of the bottom
-/// layer reaches u_sup; `defluidized` is 1 in every row where it has.
+/// layer reaches u_sup; `defluidized` is 1 in every row where it has.  The
+/// conditions are resolved at every sample against the database in use
+/// (RunContext::recordedAt), so they follow a run's switches (docs/databases.md).
 class BottomLayerMonitor final : public Monitor {
 public:
+  BottomLayerMonitor(std::shared_ptr<LayerSampler> sampler, UmfCorrelation correlation,
+                     const OperatingConditions &given, const ZoneSet *zones, bool quiet)
+      : sampler(std::move(sampler)), correlation(std::move(correlation)), given(given), zones(zones), quiet(quiet) {}
+  /// Fixed conditions, whatever the database says.
   BottomLayerMonitor(std::shared_ptr<LayerSampler> sampler, UmfCorrelation correlation, GasProperties gas,
                      double superficialVelocity, const ZoneSet *zones, bool quiet)
-      : sampler(std::move(sampler)), correlation(std::move(correlation)), gas(gas), detector(superficialVelocity),
-        zones(zones), quiet(quiet) {}
+      : BottomLayerMonitor(std::move(sampler), std::move(correlation),
+                           OperatingConditions{superficialVelocity, gas.density, gas.kinematicViscosity}, zones,
+                           quiet) {}
   PetscErrorCode setUp(const RunContext &run, const FractionState &, const std::string &dir) override;
   PetscErrorCode sample(const MonitorContext &ctx) override;
   PetscErrorCode flush() override;
@@ -126,7 +139,7 @@ public:
 private:
   std::shared_ptr<LayerSampler> sampler;
   UmfCorrelation correlation;
-  GasProperties gas;
+  OperatingConditions given; // the case's; NaN: the database's in use
   DefluidizationDetector detector;
   const ZoneSet *zones;
   bool quiet;

@@ -29,9 +29,22 @@ PetscErrorCode BottomLayerMonitor::sample(const MonitorContext &ctx) {
   PetscCall(sampler->masses(ctx, &perLayer));
   const int nf = fractions->size();
   const double d32 = layers::sauterDiameter(*perLayer, 0, *fractions);
+  // The conditions of the database in use now: a run on several databases switches.
+  const OperatingConditions now = resolveConditions(given, ctx.run.recordedAt());
+  GasProperties gas;
+  gas.density = now.gasDensity;
+  gas.kinematicViscosity = now.gasKinematicViscosity;
+  if (now.superficialVelocity != detector.superficialVelocity()) { // keeps whether and when it fired
+    const std::vector<double> fired = detector.saveState();
+    detector = DefluidizationDetector(now.superficialVelocity);
+    detector.restoreState(fired);
+  }
   // An empty bottom layer has no diameter and no u_mf (NaN): it cannot warn.
-  const double umf = std::isfinite(d32) ? minFluidizationVelocity(correlation, d32, rhoP, gas, gravity)
-                                        : std::numeric_limits<double>::quiet_NaN();
+  double umf = std::numeric_limits<double>::quiet_NaN();
+  if (std::isfinite(d32)) // d32 and the conditions are the same on every rank: no reduction
+    PetscCall(collectively(
+        PETSC_COMM_SELF, [&] { umf = minFluidizationVelocity(correlation, d32, rhoP, gas, gravity); },
+        PETSC_ERR_USER_INPUT));
   if (detector.update(ctx.time, umf))
     PetscCall(PetscPrintf(comm,
                           "WARNING: de-fluidization at t = %.6g s: u_mf of the bottom layer (d32 = %.4g mm, %s) "

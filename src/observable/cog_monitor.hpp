@@ -52,7 +52,7 @@ public:
     return writer.setUp(run.db, run.fractions, run.solidDensity, outputDirectory, state.masses());
   }
   PetscErrorCode sample(const MonitorContext &ctx) override {
-    return writer.write(ctx.time, ctx.frame, ctx.state.masses());
+    return writer.write(ctx.time, ctx.run.db.alphaS(ctx.frame), ctx.state.masses()); // the database in use
   }
   /// The times written so far: a restart continues the series.
   std::vector<double> saveState() const override { return writer.outputTimes(); }

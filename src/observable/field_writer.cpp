@@ -23,13 +23,17 @@ std::string fieldFileName(int index) {
 PetscErrorCode FieldWriter::setUp(const Database &database, const FractionSet &set,
                                   double solidDensity, const std::string &directory,
                                   Vec stateTemplate) {
+  PetscMPIInt rank;
   PetscFunctionBeginUser;
-  db = &database;
+  comm = database.layout().comm();
+  box = database.mesh().boxSpec();
+  PetscCallMPI(MPI_Comm_rank(comm, &rank));
+  if (rank == 0) cellVolume = database.mesh().cellVolume;
   fractions = &set;
   rho = solidDensity;
   dir = directory;
-  PetscCall(db->layout().naturalScatter(set.size(), stateTemplate, natural.put(), toNatural.put()));
-  PetscCall(db->layout().naturalScatter(1, db->alphaS(0), naturalAlpha.put(), alphaToNatural.put()));
+  PetscCall(database.layout().naturalScatter(set.size(), stateTemplate, natural.put(), toNatural.put()));
+  PetscCall(database.layout().naturalScatter(1, database.alphaS(0), naturalAlpha.put(), alphaToNatural.put()));
   PetscCall(VecScatterCreateToZero(natural, toZero.put(), zeroMasses.put()));
   PetscCall(VecScatterCreateToZero(naturalAlpha, alphaToZero.put(), zeroAlpha.put()));
   PetscFunctionReturn(PETSC_SUCCESS);
@@ -39,32 +43,30 @@ PetscErrorCode FieldWriter::setUp(const Database &database, const FractionSet &s
 // HDF5's plain file driver: a collective MPI-IO file took 35 ms per output
 // on one rank and 100 ms on two for 56,000 cells, several times the step
 // they describe.
-PetscErrorCode FieldWriter::write(double time, int frame, Vec masses) {
+PetscErrorCode FieldWriter::write(double time, Vec databaseAlpha, Vec masses) {
   const int nf = fractions->size();
   PetscFunctionBeginUser;
   PetscCall(VecScatterBegin(toNatural, masses, natural, INSERT_VALUES, SCATTER_FORWARD));
   PetscCall(VecScatterEnd(toNatural, masses, natural, INSERT_VALUES, SCATTER_FORWARD));
   PetscCall(VecScatterBegin(toZero, natural, zeroMasses, INSERT_VALUES, SCATTER_FORWARD));
   PetscCall(VecScatterEnd(toZero, natural, zeroMasses, INSERT_VALUES, SCATTER_FORWARD));
-  PetscCall(VecScatterBegin(alphaToNatural, db->alphaS(frame), naturalAlpha, INSERT_VALUES,
-                            SCATTER_FORWARD));
-  PetscCall(VecScatterEnd(alphaToNatural, db->alphaS(frame), naturalAlpha, INSERT_VALUES,
-                          SCATTER_FORWARD));
+  PetscCall(VecScatterBegin(alphaToNatural, databaseAlpha, naturalAlpha, INSERT_VALUES, SCATTER_FORWARD));
+  PetscCall(VecScatterEnd(alphaToNatural, databaseAlpha, naturalAlpha, INSERT_VALUES, SCATTER_FORWARD));
   PetscCall(VecScatterBegin(alphaToZero, naturalAlpha, zeroAlpha, INSERT_VALUES, SCATTER_FORWARD));
   PetscCall(VecScatterEnd(alphaToZero, naturalAlpha, zeroAlpha, INSERT_VALUES, SCATTER_FORWARD));
   PetscMPIInt rank;
-  PetscCallMPI(MPI_Comm_rank(db->layout().comm(), &rank));
+  PetscCallMPI(MPI_Comm_rank(comm, &rank));
   const std::string file = dir + "/" + fieldFileName(count());
   const PetscScalar *m = nullptr, *a = nullptr;
   PetscCall(VecGetArrayRead(zeroMasses, &m));
   PetscCall(VecGetArrayRead(zeroAlpha, &a));
-  const PetscErrorCode written = collectively(db->layout().comm(), [&] {
+  const PetscErrorCode written = collectively(comm, [&] {
     if (rank != 0) return;
     // Derived fields: alpha_s of the state, alpha of each fraction, local
     // Sauter diameter; and the database's alpha_s for comparison.
-    const size_t n = static_cast<size_t>(db->mesh().numCells());
+    const size_t n = cellVolume.size();
     std::vector<std::vector<double>> fields(nf + 2, std::vector<double>(n));
-    const auto &vol = db->mesh().cellVolume;
+    const auto &vol = cellVolume;
     for (size_t c = 0; c < n; ++c) {
       const double solid = rho * vol[c];
       double total = 0.0, surface = 0.0;
@@ -90,7 +92,7 @@ PetscErrorCode FieldWriter::write(double time, int frame, Vec masses) {
   PetscCall(VecRestoreArrayRead(zeroMasses, &m));
   PetscCall(written);
   times.push_back(time);
-  PetscCall(agreeOnStatus(db->layout().comm(), writeIndex())); // written by rank 0: the others must not wait
+  PetscCall(agreeOnStatus(comm, writeIndex())); // written by rank 0: the others must not wait
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
@@ -98,11 +100,11 @@ PetscErrorCode FieldWriter::continueSeries(const std::vector<double> &earlier) {
   PetscMPIInt rank;
   int complete = 1;
   PetscFunctionBeginUser;
-  PetscCallMPI(MPI_Comm_rank(db->layout().comm(), &rank));
+  PetscCallMPI(MPI_Comm_rank(comm, &rank));
   if (rank == 0)
     for (size_t t = 0; t < earlier.size() && complete; ++t)
       complete = access((dir + "/" + fieldFileName(static_cast<int>(t))).c_str(), F_OK) == 0;
-  PetscCallMPI(MPI_Bcast(&complete, 1, MPI_INT, 0, db->layout().comm()));
+  PetscCallMPI(MPI_Bcast(&complete, 1, MPI_INT, 0, comm));
   if (complete) times = earlier;
   else times.clear(); // another directory: a series of its own
   PetscFunctionReturn(PETSC_SUCCESS);
@@ -115,9 +117,9 @@ PetscErrorCode FieldWriter::continueSeries(const std::vector<double> &earlier) {
 PetscErrorCode FieldWriter::writeIndex() const {
   PetscMPIInt rank;
   PetscFunctionBeginUser;
-  PetscCallMPI(MPI_Comm_rank(db->layout().comm(), &rank));
+  PetscCallMPI(MPI_Comm_rank(comm, &rank));
   if (rank != 0) PetscFunctionReturn(PETSC_SUCCESS);
-  const BoxSpec &b = db->mesh().boxSpec();
+  const BoxSpec &b = box;
   const Vec3 h = b.spacing();
   std::vector<std::string> names = {"alpha_s", "alpha_s_database", "d32"};
   for (int i = 0; i < fractions->size(); ++i) names.push_back("alpha_" + fractions->label(i));

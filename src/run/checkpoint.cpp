@@ -109,7 +109,7 @@ std::vector<std::pair<std::string, std::string>> Run::Impl::physicsRecord() cons
       {"path", path->describe()}};
   if (switching) { // the set and its rule, not the database active when the checkpoint was written
     record.front().second = switching->set().identity() + ", frames " + std::to_string(loadOptions.firstFrame) +
-                            " to " + std::to_string(loadOptions.firstFrame + db->numFrames() - 1);
+                            " to " + std::to_string(loadOptions.firstFrame + pathFrames - 1); // the path's frames
     std::string options = optionsUnder("db_switch_");
     if (const std::string pairing = optionsUnder("db_blend_"); !pairing.empty()) options += " " + pairing;
     record.emplace_back("switching", switching->rule().describe() + " " + options);

@@ -62,6 +62,7 @@ void Run::setQuiet(bool quiet) { impl->quiet = quiet ? PETSC_TRUE : PETSC_FALSE;
 void Run::setWriteFields(bool write) { impl->writeFields = write ? PETSC_TRUE : PETSC_FALSE; }
 void Run::useDatabase(std::shared_ptr<Database> database) { impl->db = std::move(database); }
 void Run::useSwitchRules(const SwitchRuleRegistry &rules) { impl->rules = &rules; }
+bool Run::switchesDatabases() const { return impl->switching != nullptr; }
 
 const Database &Run::database() const { return *impl->db; }
 std::shared_ptr<Database> Run::sharedDatabase() const { return impl->db; }
@@ -164,8 +165,9 @@ PetscErrorCode Run::setFromOptions() {
   PetscCall(Database::optionsFromCommandLine(&r.loadOptions));
   if (splitList(r.dbPath).size() > 1) { // several databases: a rule moves between them
     PetscCheck(!r.db, r.comm, PETSC_ERR_USER_INPUT,
-               "-db names %zu databases, but this run was handed one loaded database (an ensemble's or a "
-               "calibration's runs share theirs): run several databases one run at a time",
+               "-db names %zu databases, but this run was handed one loaded database (Run::useDatabase, as an "
+               "ensemble's or a calibration's runs share one): a run on several reads and drops them as it "
+               "switches, so it cannot share one; give it its own -db set and no loaded database",
                splitList(r.dbPath).size());
     r.switching = std::make_unique<DatabaseSwitcher>();
     PetscCall(r.switching->setFromOptions(r.comm, *r.rules));
@@ -201,7 +203,6 @@ PetscErrorCode Run::setUp() {
   if (r.switching) { // one partition for all; the first database the rule chooses
     PetscCall(r.switching->open(r.comm, splitList(r.dbPath), r.loadOptions));
     PetscCall(r.switching->activate(r.switching->initial(), &r.db));
-    r.firstDb = r.db;
     r.switching->set().dropUnused(); // a blend's two databases
   }
   if (!r.db) {
@@ -209,7 +210,7 @@ PetscErrorCode Run::setUp() {
     PetscCall(Database::load(r.comm, r.dbPath, r.loadOptions, &loaded));
     r.db = std::move(loaded);
   }
-  const double dt = r.db->metadata().dtRec;
+  const double dt = r.dtRec = r.db->metadata().dtRec;
   if (r.solidDensity <= 0) r.solidDensity = r.db->metadata().solidDensity;
   if (r.tEnd < 0) r.tEnd = std::max(1, r.db->numFrames() - 1) * dt; // one pass inside the database
   if (r.checkpointFile.empty()) r.checkpointFile = r.outputDir + "/checkpoint.h5";
@@ -221,6 +222,7 @@ PetscErrorCode Run::setUp() {
   const RunContext ctx = r.context();
   PetscCall(r.ops.setUp(ctx));
   PetscCall(r.path->setUp(PathContext{*r.db, r.quiet == PETSC_TRUE}));
+  r.pathFrames = r.db->numFrames();
   PetscCall(collectively(r.comm, [&] { // before anything is written: one sentence, nothing made
     namespace fs = std::filesystem;
     if (fs::exists(r.outputDir) && !fs::is_directory(r.outputDir))
@@ -349,7 +351,7 @@ PetscErrorCode Run::Impl::march() {
   // The frame of the next step; after a restart the path stands on it.
   int frame = r.startStep == 0 ? r.path->next() : r.path->frame();
   r.lastStep = r.startStep;
-  if (r.startStep == 0) PetscCall(r.callMonitors(0, 0.0, frame, r.steps == 0));
+  if (r.startStep == 0) PetscCall(r.callMonitors(0, 0.0, r.dbFrame(frame), r.steps == 0));
   const long checkpointSteps =
       r.checkpointEvery > 0 ? std::max(1L, std::lround(r.checkpointEvery / dt)) : 0L;
   r.wallStart = r.lastProgress = MPI_Wtime();
@@ -358,7 +360,7 @@ PetscErrorCode Run::Impl::march() {
   info.dt = dt;
   bool wrapNoted = false, stop = false;
   if (r.stopAtSteady && r.startStep > 0) { // the checkpoint's run may have stopped there
-    PetscCall(r.steadyAt(r.startStep, r.startStep * dt, frame, true, &stop));
+    PetscCall(r.steadyAt(r.startStep, r.startStep * dt, r.dbFrame(frame), true, &stop));
     if (stop) {
       if (!r.quiet)
         PetscCall(PetscPrintf(r.comm, "Steady already at the checkpoint's t = %g s (-stop_at_steady): no steps to "
@@ -369,14 +371,18 @@ PetscErrorCode Run::Impl::march() {
   for (long s = r.startStep; s < r.steps; ++s) {
     info.step = s;
     info.time = s * dt;
-    info.frame = frame;
+    int next; // in the path's frame index
+    bool pathJump;
     try {
-      info.nextFrame = r.path->next();
-      info.jump = r.path->lastWasJump();
+      next = r.path->next();
+      pathJump = r.path->lastWasJump();
     } catch (const std::out_of_range &) { // a recorded path ends with the run it came from
-      info.nextFrame = (frame + 1) % r.db->numFrames();
-      info.jump = info.nextFrame != frame + 1;
+      next = (frame + 1) % r.pathFrames;
+      pathJump = next != frame + 1;
     }
+    info.frame = r.dbFrame(frame); // the active database's; the same with one database
+    info.nextFrame = r.dbFrame(next);
+    info.jump = pathJump || (next == frame + 1 && info.nextFrame != info.frame + 1); // or the active database wraps
     r.lastStep = s + 1;
     PetscCall(r.pathFile->add(std::to_string(frame)));
     if (r.keepHistory) r.frames.push_back(frame);
@@ -390,13 +396,13 @@ PetscErrorCode Run::Impl::march() {
                               info.nextFrame, (s + 1) * dt, r.outputDir.c_str()));
     }
     PetscCall(r.ops.apply(info, r.fstate));
-    frame = info.nextFrame;
+    frame = next;
     const double t = (s + 1) * dt;
-    if (r.stopAtSteady) PetscCall(r.steadyAt(s + 1, t, frame, false, &stop));
+    if (r.stopAtSteady) PetscCall(r.steadyAt(s + 1, t, r.dbFrame(frame), false, &stop));
     if (ledgerOn && !conservative) r.ops.addedMass(&added);
     if (ledgerOn) PetscCall(r.ledger.check(s + 1, r.fstate, s + 1 == r.steps || stop, conservative ? nullptr : &added));
     if (r.switching) PetscCall(r.followSwitches(s + 1, t, frame));
-    PetscCall(r.callMonitors(s + 1, t, frame, s + 1 == r.steps || stop));
+    PetscCall(r.callMonitors(s + 1, t, r.dbFrame(frame), s + 1 == r.steps || stop));
     if (checkpointSteps && ((s + 1) % checkpointSteps == 0 || stop)) { // the files first: the checkpoint records their lengths
       PetscCall(r.flushMonitors());
       PetscCall(r.writeCheckpoint(s + 1));
@@ -434,7 +440,7 @@ PetscErrorCode Run::Impl::reportFailure(PetscErrorCode status) {
   const std::string why = specific && *specific ? specific : (generic ? generic : "unknown error");
   PetscFunctionBeginUser;
   PetscCallMPI(MPI_Comm_rank(comm, &rank));
-  const double t = lastStep * db->metadata().dtRec;
+  const double t = lastStep * dtRec; // db may be gone: a switch that failed to load the next one
   (void)flushMonitors(); // best effort: the disk may be what failed
   if (rank == 0) {
     char where[160];
@@ -496,10 +502,10 @@ PetscErrorCode Run::solve() {
     }
     PetscCall(PetscPrintf(r.comm, "  monitors: %.3g s of the wall (%s)\n", total, costs.c_str()));
     if (r.switching)
-      PetscCall(PetscPrintf(r.comm, "  databases: %ld switches, %d loads in %.3g s (%.3g s per load), %d held at the end%s\n",
+      PetscCall(PetscPrintf(r.comm, "  databases: %ld switches, %d loads in %.3g s (%.3g s per load), at most %d held at once%s\n",
                             r.switching->numSwitches(), r.switching->set().numLoads(), r.switching->set().loadSeconds(),
                             r.switching->set().loadSeconds() / std::max(1, r.switching->set().numLoads()),
-                            r.switching->set().numHeld(),
+                            r.switching->set().maxHeld(),
                             std::isfinite(r.switching->extrapolatingSince()) ? "; rcfd extrapolated (switches.csv)" : ""));
   }
   PetscFunctionReturn(PETSC_SUCCESS);

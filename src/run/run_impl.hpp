@@ -46,27 +46,35 @@ struct Run::Impl {
   PetscErrorCode followSwitches(long step, double time, int nextFrame);
   /// Makes the databases of `target` the active one: the operators are set up on it
   /// again (keeping their saved state), and with `remap` the state is carried
-  /// onto its frame `nextFrame` by the composition remap of a stitching jump.
+  /// onto its frame for the path's frame `nextFrame` (dbFrame) by the composition
+  /// remap of a stitching jump.
   PetscErrorCode switchTo(const SwitchDecision &target, int nextFrame, double time, bool remap);
-  RunContext context() const { return RunContext{*db, set, solidDensity}; }
+  RunContext context() const {
+    return RunContext{*db, set, solidDensity, switching ? &switching->activeConditions() : nullptr};
+  }
+  /// The active database's frame for the path's frame k: the path runs over the
+  /// frames of the database the run started on, a database of another length
+  /// takes k modulo its own (docs/databases.md, "Databases of different lengths").
+  /// With one database, k itself.
+  int dbFrame(int k) const { return k % db->numFrames(); }
 
   MPI_Comm comm;
   const OperatorRegistry &registry;
   PathRegistry builtinPaths; // used when the run was given no registry
   const PathRegistry &paths;
   std::shared_ptr<Database> db; // the active database
-  // Several databases: the rules (-db_switch_type), the switcher, the database
-  // the run started on (its monitors and path keep it), the carry across a switch.
+  // Several databases: the rules (-db_switch_type), the switcher, the carry
+  // across a switch.  Only the active database is held (docs/databases.md, "Memory").
   SwitchRuleRegistry builtinRules = SwitchRuleRegistry::withBuiltins();
   const SwitchRuleRegistry *rules = &builtinRules;
   std::unique_ptr<DatabaseSwitcher> switching;
-  std::shared_ptr<Database> firstDb;
   std::unique_ptr<CarryOperator> switchCarry;
   FractionSet set;
   FractionState fstate;
   Pipeline ops;
   MassLedger ledger;
   std::unique_ptr<FramePath> path;
+  int pathFrames = 0; // the path's frame index: frames of the database the run started on
   CogMonitor *cog = nullptr; // the first entry of `monitors`
   std::vector<Entry> monitors;
   Answers answers; // the monitors a case asks for by option (profiles, halves, ...)
@@ -79,6 +87,7 @@ struct Run::Impl {
   std::string dbPath, outputDir = "rcfd-output", initKind = "mixed", initFile;
   std::string pipelineSpec = "shift,drift,carry";
   std::string checkpointFile, restartFile;
+  double dtRec = 0.0; // of every database of the run
   double tEnd = -1.0, fieldsEvery = 0.0, progressInterval = 2.0, solidDensity = -1.0;
   double checkpointEvery = 0.0;
   long steps = 0;

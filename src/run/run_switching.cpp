@@ -21,20 +21,25 @@ PetscErrorCode Run::Impl::switchTo(const SwitchDecision &target, int nextFrame, 
   PetscFunctionBeginUser;
   const SwitchDecision from = switching->active();
   const double start = MPI_Wtime();
+  std::vector<std::vector<double>> kept; // what each operator keeps, taken while its database lives
+  for (const auto &op : ops.operators()) kept.push_back(op->saveState());
+  // The database switched from goes first, before the next is read, so that a
+  // run holds one database (and a blend its two while it is made); the
+  // operators that point into it are set up again below, before any use.
+  db.reset();
   PetscCall(switching->activate(target, &db));
   const RunContext ctx = context();
-  for (const auto &op : ops.operators()) {
-    const std::vector<double> kept = op->saveState();
-    PetscCall(op->setUp(ctx));
-    PetscCall(op->restoreState(kept));
+  for (std::size_t k = 0; k < ops.operators().size(); ++k) {
+    PetscCall(ops.operators()[k]->setUp(ctx));
+    PetscCall(ops.operators()[k]->restoreState(kept[k]));
   }
-  switching->set().dropUnused(); // the database switched from, unless the run started on it
+  switching->set().dropUnused(); // a blend's two databases
   if (remap) { // the composition remap of a stitching jump, onto the new database's frame
     PetscCall(switchCarry->setUp(ctx));
     StepInfo jump;
     jump.jump = true;
-    jump.frame = nextFrame;
-    jump.nextFrame = nextFrame;
+    jump.frame = dbFrame(nextFrame); // the new database's frame of the path's
+    jump.nextFrame = jump.frame;
     PetscCall(switchCarry->apply(jump, fstate));
     PetscCall(switching->record(time, from, MPI_Wtime() - start));
   }

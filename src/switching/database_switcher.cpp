@@ -51,6 +51,7 @@ PetscErrorCode DatabaseSwitcher::open(MPI_Comm c, const std::vector<std::string>
   for (int i = 0; i < set_->size(); ++i) conditions.push_back(set_->entry(i).conditions);
   PetscCall(rule_->setUp(comm, conditions));
   active_ = rule_->initial();
+  activeConditions_ = conditionsOf(active_);
   for (int i : {active_.database, active_.partner})
     PetscCheck(i < set_->size(), comm, PETSC_ERR_USER_INPUT, "The %s switching rule starts on database %d of %d",
                rule_->kind().c_str(), i, set_->size());
@@ -81,9 +82,6 @@ PetscErrorCode DatabaseSwitcher::setUp(const Database &first, const FractionSet 
   quiet = beQuiet;
   const Vec3 &g = first.metadata().gravity;
   gravity = std::hypot(g[0], g[1], g[2]);
-  const OperatingConditions &c = set_->entry(active_.database).conditions;
-  if (std::isfinite(c.gasDensity)) gas.density = c.gasDensity;
-  if (std::isfinite(c.gasKinematicViscosity)) gas.kinematicViscosity = c.gasKinematicViscosity;
   PetscCall(layers.setUp(first));
   csv = std::make_unique<CsvSeries>(
       comm, outputDir + "/switches.csv",
@@ -114,10 +112,28 @@ PetscErrorCode DatabaseSwitcher::measure(long step, double time, const FractionS
   s->inventoryD32 = mass > 0 ? mass / massOverD : std::numeric_limits<double>::quiet_NaN();
   s->bottomD32 = layers::sauterDiameter(perLayer, 0, *fractions);
   const double usup = std::isfinite(rule_->superficialVelocity(time)) ? rule_->superficialVelocity(time)
-                                                                       : set_->entry(active_.database).conditions.superficialVelocity;
+                                                                       : activeConditions_.superficialVelocity;
+  GasProperties gas; // of the database in use, else air
+  if (std::isfinite(activeConditions_.gasDensity)) gas.density = activeConditions_.gasDensity;
+  if (std::isfinite(activeConditions_.gasKinematicViscosity))
+    gas.kinematicViscosity = activeConditions_.gasKinematicViscosity;
   if (std::isfinite(s->bottomD32) && std::isfinite(usup) && rho > gas.density)
     s->umfOverUsup = minFluidizationVelocity(findUmfCorrelation("wen-yu"), s->bottomD32, rho, gas, gravity) / usup;
   PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+// A blend stands for the conditions between its two databases' at its weight
+// (the blend rule's w makes that the schedule's u_sup); a quantity only one of
+// them recorded is that one's.
+OperatingConditions DatabaseSwitcher::conditionsOf(const SwitchDecision &d) const {
+  const OperatingConditions &a = set_->entry(d.database).conditions;
+  if (d.partner < 0) return a;
+  const OperatingConditions &b = set_->entry(d.partner).conditions;
+  auto mix = [w = d.weight](double x, double y) {
+    return std::isfinite(x) && std::isfinite(y) ? w * x + (1.0 - w) * y : std::isfinite(x) ? x : y;
+  };
+  return {mix(a.superficialVelocity, b.superficialVelocity), mix(a.gasDensity, b.gasDensity),
+          mix(a.gasKinematicViscosity, b.gasKinematicViscosity)};
 }
 
 namespace {
@@ -173,7 +189,7 @@ PetscErrorCode DatabaseSwitcher::decide(long step, double time, const FractionSt
   s.time = time;
   PetscCall(measure(step, time, state, &s)); // also for the validity warning
   const double usup = std::isfinite(rule_->superficialVelocity(time)) ? rule_->superficialVelocity(time)
-                                                                       : set_->entry(active_.database).conditions.superficialVelocity;
+                                                                       : activeConditions_.superficialVelocity;
   PetscCall(warnIfOutside(s, usup));
   SwitchDecision d;
   PetscCall(collectively(comm, [&] { d = rule_->decide(active_, s); }));
@@ -203,6 +219,7 @@ PetscErrorCode DatabaseSwitcher::activate(const SwitchDecision &choice, std::sha
     *db = std::move(blend);
   }
   active_ = choice;
+  activeConditions_ = conditionsOf(choice);
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
@@ -255,11 +272,12 @@ PetscErrorCode DatabaseSwitcher::view(PetscViewer viewer) const {
                                    rule_->describe().c_str()));
   PetscCall(PetscViewerASCIIPushTab(viewer));
   for (int i = 0; i < set_->size(); ++i)
-    PetscCall(PetscViewerASCIIPrintf(viewer, "%d: %s, recorded at u_sup %g m/s%s\n", i, set_->entry(i).path.c_str(),
+    PetscCall(PetscViewerASCIIPrintf(viewer, "%d: %s, %d frames, recorded at u_sup %g m/s%s\n", i,
+                                     set_->entry(i).path.c_str(), set_->entry(i).numFrames,
                                      set_->entry(i).conditions.superficialVelocity,
                                      i == active_.database || i == active_.partner ? " (active)" : ""));
-  PetscCall(PetscViewerASCIIPrintf(viewer, "%d loads of a database, %.3g s in all; %d held now\n", set_->numLoads(),
-                                   set_->loadSeconds(), set_->numHeld()));
+  PetscCall(PetscViewerASCIIPrintf(viewer, "%d loads of a database, %.3g s in all; %d held now, at most %d at once\n",
+                                   set_->numLoads(), set_->loadSeconds(), set_->numHeld(), set_->maxHeld()));
   PetscCall(PetscViewerASCIIPopTab(viewer));
   PetscFunctionReturn(PETSC_SUCCESS);
 }

@@ -46,6 +46,9 @@ public:
   const DatabaseSet &set() const { return *set_; }
   const SwitchRule &rule() const { return *rule_; }
   const SwitchDecision &active() const { return active_; }
+  /// The conditions of the active choice: its database's (-db_conditions or the
+  /// file's), or for a blend each quantity interpolated with the blend's weight.
+  const OperatingConditions &activeConditions() const { return activeConditions_; }
   SwitchDecision initial() const { return rule_->initial(); }
   long numSwitches() const { return switches; }
   /// Time of the validity warning [s], NaN while the run stays inside.
@@ -62,19 +65,20 @@ public:
 private:
   PetscErrorCode measure(long step, double time, const FractionState &state, SwitchSignals *s) const;
   PetscErrorCode warnIfOutside(const SwitchSignals &s, double usup);
+  OperatingConditions conditionsOf(const SwitchDecision &choice) const;
   static constexpr std::size_t kSaved = 7; // words before the rule's own
   MPI_Comm comm = MPI_COMM_NULL;
   std::vector<double> conditionVelocities; // -db_conditions
   std::unique_ptr<DatabaseSet> set_;
   std::unique_ptr<SwitchRule> rule_;
   SwitchDecision active_;
+  OperatingConditions activeConditions_;
   long switches = 0;
   double warnedAt = std::numeric_limits<double>::quiet_NaN();
   // Signals.
   HorizontalLayers layers;
   const FractionSet *fractions = nullptr;
   double rho = 0.0, gravity = 9.81;
-  GasProperties gas;
   std::map<std::string, const Monitor *> monitorSignals; // the signals the rule uses, by who offers them
   bool pairByRecurrence = false;            // -db_blend_pairing recurrence
   std::map<std::pair<int, int>, int> lags;  // blend pairing lag of each pair of databases, once computed
