@@ -58,7 +58,7 @@ public:
   /// direction is zero) and builds the ghost scatter for states of
   /// `numFractions` masses per cell.  Cost: one pass over the mesh's faces,
   /// one scatter of three numbers per cell and two reductions; memory per
-  /// rank one SwapFace (64 bytes with 32-bit PetscInt) per face, nf numbers per own cell and
+  /// rank one SwapFace (56 bytes with 32-bit PetscInt) per face, nf numbers per own cell and
   /// 2 nf per ghost cell.
   PetscErrorCode setUp(const Database &db, int numFractions, const Vec3 &direction, double minShare);
 

@@ -9,6 +9,7 @@
 #include <cstdio>
 #include <cstdint>
 #include <cstring>
+#include <type_traits>
 
 namespace rcfd {
 
@@ -345,7 +346,8 @@ template <int NF> void DriftOperator::sweep(double dt, const double *scale) {
       sums[c] = {M, 1.0 / M, rate, U, D};
     }
   };
-  auto swapFaces = [&](const DriftFace *f, const DriftFace *end) {
+  auto swapFaces = [&](auto localSpeeds, const DriftFace *f, const DriftFace *end) {
+    constexpr bool perCell = decltype(localSpeeds)::value; // else the fixed speeds, read once
     for (; f != end; ++f) {
       const PetscInt L = f->lower, U = f->upper;
       if (!(swaps[L] & swaps[U])) continue;
@@ -362,8 +364,8 @@ template <int NF> void DriftOperator::sweep(double dt, const double *scale) {
       // its bulk mass (on the other side X - sent is 0, so no branch is needed).
       const double topLower = lambda * ((X - up) * a.inverseMass), topUpper = lambda * ((X - down) * b.inverseMass);
       const double kL = lambda * cL, kU = lambda * cU;
-      const double *uL = local ? upLocal + L * n : upFixed;
-      const double *uU = local ? downLocal + U * n : downFixed;
+      const double *uL = perCell ? upLocal + L * n : upFixed;
+      const double *uU = perCell ? downLocal + U * n : downFixed;
       const PetscScalar *mL = L < own ? ownMasses + L * n : ghostMasses + (L - own) * n;
       const PetscScalar *mU = U < own ? ownMasses + U * n : ghostMasses + (U - own) * n;
       double net[cap];
@@ -379,7 +381,9 @@ template <int NF> void DriftOperator::sweep(double dt, const double *scale) {
   // The faces whose last own cell lies below the freeboard (the others do not swap).
   const auto end = std::partition_point(driftFaces.begin(), driftFaces.end(),
                                         [&](const DriftFace &f) { return lastOwnCell(f, own) < top; });
-  swapFaces(driftFaces.data(), driftFaces.data() + (end - driftFaces.begin()));
+  const DriftFace *faces = driftFaces.data(), *below = faces + (end - driftFaces.begin());
+  if (local) swapFaces(std::true_type{}, faces, below);
+  else swapFaces(std::false_type{}, faces, below);
   // Both cells of a face that swaps are cells that swap.
   if (first <= last) x.markChanged(first, last + 1);
 }
