@@ -16,13 +16,15 @@ namespace {
 
 // An implied identity row r whose column did not sum to exactly 1 holds
 // 1 / sum after rescaling, as a stored row would: it is stored from now on
-// (rare: a column that also holds round-off from other rows).
-void materialiseRescaledIdentities(const PetscScalar *inv, PetscInt rstart, PetscInt n, LocalShiftRows *rows) {
+// (rare: a column that also holds round-off from other rows).  inv[r * stride]
+// is 1 / the sum of column r.
+void materialiseRescaledIdentities(const PetscScalar *inv, PetscInt stride, PetscInt rstart, PetscInt n,
+                                   LocalShiftRows *rows) {
   size_t i = 0;
   std::vector<PetscInt> changed;
   for (PetscInt r = 0; r < n; ++r) {
     if (i < rows->row.size() && rows->row[i] == r) ++i;
-    else if (inv[r] != 1.0) changed.push_back(r);
+    else if (inv[r * stride] != 1.0) changed.push_back(r);
   }
   if (changed.empty()) return;
   LocalShiftRows all;
@@ -39,7 +41,7 @@ void materialiseRescaledIdentities(const PetscScalar *inv, PetscInt rstart, Pets
     } else {
       all.row.push_back(changed[c]);
       all.col.push_back(rstart + changed[c]);
-      all.val.push_back(1.0 * inv[changed[c]]); // as MatDiagonalScale scales the stored 1
+      all.val.push_back(1.0 * inv[changed[c] * stride]); // as MatDiagonalScale scales the stored 1
       ++c;
     }
     all.rowPtr.push_back(static_cast<PetscInt>(all.col.size()));
@@ -47,98 +49,147 @@ void materialiseRescaledIdentities(const PetscScalar *inv, PetscInt rstart, Pets
   *rows = std::move(all);
 }
 
+// Other ranks' columns read by a batch, ascending.
+std::vector<PetscInt> ghostColumns(const std::vector<LocalShiftRows> &batch, PetscInt rstart, PetscInt rend) {
+  std::vector<PetscInt> ghosts;
+  for (const LocalShiftRows &rows : batch)
+    for (PetscInt c : rows.col)
+      if (c < rstart || c >= rend) ghosts.push_back(c);
+  std::sort(ghosts.begin(), ghosts.end());
+  ghosts.erase(std::unique(ghosts.begin(), ghosts.end()), ghosts.end());
+  return ghosts;
+}
+
+// Collective.  Makes check->toGhosts reach every column of `needed`: kept if
+// it does on every rank, else built again over the union (a column summed
+// through the scatter that no row of a frame reads gets 0 added, exactly).
+PetscErrorCode reachGhosts(const Layout &L, const std::vector<PetscInt> &needed, ColumnCheck *check) {
+  PetscFunctionBeginUser;
+  int missing = !std::includes(check->ghosts.begin(), check->ghosts.end(), needed.begin(), needed.end());
+  PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, &missing, 1, MPI_INT, MPI_MAX, L.comm()));
+  if (!missing && check->toGhosts) PetscFunctionReturn(PETSC_SUCCESS);
+  std::vector<PetscInt> all;
+  std::set_union(check->ghosts.begin(), check->ghosts.end(), needed.begin(), needed.end(), std::back_inserter(all));
+  check->ghosts = std::move(all);
+  PetscCall(L.rowsScatter(check->batch, static_cast<PetscInt>(check->ghosts.size()), check->ghosts.data(),
+                          check->partial.put(), check->toGhosts.put()));
+  ++check->scattersBuilt;
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+// The sentence refusing column r of a frame whose sum is s, or "" if it is accepted.
+std::string columnError(const Layout &L, const ColumnCheck &check, const std::string &where, PetscInt r, double s) {
+  const bool quantised = check.weightBits > 0;
+  if (quantised ? s == 1.0 : std::fabs(s - 1.0) <= check.tolerance) return {};
+  char text[512];
+  if (quantised)
+    std::snprintf(text, sizeof text,
+                  "%s: shift column of cell %d sums to %.17g, but the database says its weights are quantised "
+                  "to multiples of 2^-%d (/metadata weight_bits) with every column summing to exactly 1",
+                  where.c_str(), (int)L.ownedNatural()[r], s, check.weightBits);
+  else
+    std::snprintf(text, sizeof text,
+                  "%s: shift column of cell %d sums to %.12g, expected 1 within %g (-db_column_tolerance)",
+                  where.c_str(), (int)L.ownedNatural()[r], s, check.tolerance);
+  return text;
+}
+
 } // namespace
 
-PetscErrorCode rescaleColumns(const Layout &L, LocalShiftRows *rows, ColumnCheck *check) {
+int batchFor(const Layout &L) {
+  PetscMPIInt size;
+  MPI_Comm_size(L.comm(), &size);
+  const double cellsPerRank = static_cast<double>(L.numCells()) / size;
+  return static_cast<int>(std::clamp(16e6 / 8.0 / cellsPerRank, 1.0, 16.0));
+}
+
+PetscErrorCode rescaleColumns(const Layout &L, std::vector<LocalShiftRows> *batch,
+                              const std::vector<std::string> &where, ColumnCheck *check) {
+  const PetscInt B = check->batch;
   const MPI_Comm comm = L.comm();
   const PetscInt rstart = L.rowStart(), rend = L.rowEnd(), n = L.numLocal();
   PetscMPIInt size;
   PetscFunctionBeginUser;
+  PetscCheck(batch->size() <= static_cast<size_t>(B) && where.size() == batch->size(), PETSC_COMM_SELF,
+             PETSC_ERR_PLIB, "rescaleColumns takes up to %d frames, each with its name", (int)B);
   PetscCallMPI(MPI_Comm_size(comm, &size));
-  // This frame's columns of other ranks' cells, ascending (PETSc's garray).
-  std::vector<PetscInt> ghosts;
-  for (PetscInt c : rows->col)
-    if (c < rstart || c >= rend) ghosts.push_back(c);
-  std::sort(ghosts.begin(), ghosts.end());
-  ghosts.erase(std::unique(ghosts.begin(), ghosts.end()), ghosts.end());
-  auto ghostOf = [&](PetscInt c) { return std::lower_bound(ghosts.begin(), ghosts.end(), c) - ghosts.begin(); };
+  const std::vector<PetscInt> ghosts = ghostColumns(*batch, rstart, rend);
+  if (size > 1) PetscCall(reachGhosts(L, ghosts, check));
+  const std::vector<PetscInt> &reached = check->ghosts; // the scatter's ghosts, a superset of this batch's
+  auto ghostOf = [&](PetscInt c) { return std::lower_bound(reached.begin(), reached.end(), c) - reached.begin(); };
 
-  OwnedVec &sums = check->sums, partial; // own columns' sums; this rank's share of the ghosts' columns
-  OwnedScatter toGhosts;
-  if (!sums) PetscCall(VecCreateMPI(comm, n, L.numCells(), sums.put()));
+  // Sums of frame j of the batch at s[B * r + j]: own columns; p, this rank's share of the ghosts' columns.
+  OwnedVec &sums = check->sums, &partial = check->partial;
+  if (!sums) {
+    PetscCall(VecCreateMPI(comm, n * B, L.numCells() * B, sums.put()));
+    PetscCall(VecSetBlockSize(sums, B));
+  }
   PetscCall(VecSet(sums, 0.0));
-  if (size > 1)
-    PetscCall(L.rowsScatter(1, static_cast<PetscInt>(ghosts.size()), ghosts.data(), partial.put(), toGhosts.put()));
+  if (partial) PetscCall(VecSet(partial, 0.0));
   PetscScalar *s, *p = nullptr;
   PetscCall(VecGetArray(sums, &s));
   if (partial) PetscCall(VecGetArray(partial, &p));
-  auto add = [&](PetscInt first, PetscInt last) {
-    for (PetscInt e = first; e < last; ++e) {
-      const PetscInt c = rows->col[e];
-      if (c >= rstart && c < rend) s[c - rstart] += rows->val[e];
-      else p[ghostOf(c)] += rows->val[e];
-    }
-  };
-  if (!rows->impliedIdentity) {
-    add(0, static_cast<PetscInt>(rows->col.size())); // row by row, like MatMultTranspose
-  } else { // the same additions in the same order, identity rows' 1 in its place
-    size_t i = 0;
-    for (PetscInt r = 0; r < n; ++r) {
-      if (i < rows->row.size() && rows->row[i] == r) add(rows->rowPtr[i], rows->rowPtr[i + 1]), ++i;
-      else s[r] += 1.0;
+  for (size_t j = 0; j < batch->size(); ++j) {
+    const LocalShiftRows &rows = (*batch)[j];
+    auto add = [&](PetscInt first, PetscInt last) {
+      for (PetscInt e = first; e < last; ++e) {
+        const PetscInt c = rows.col[e];
+        if (c >= rstart && c < rend) s[B * (c - rstart) + j] += rows.val[e];
+        else p[B * ghostOf(c) + j] += rows.val[e];
+      }
+    };
+    if (!rows.impliedIdentity) {
+      add(0, static_cast<PetscInt>(rows.col.size())); // row by row, like MatMultTranspose
+    } else { // the same additions in the same order, identity rows' 1 in its place
+      size_t i = 0;
+      for (PetscInt r = 0; r < n; ++r) {
+        if (i < rows.row.size() && rows.row[i] == r) add(rows.rowPtr[i], rows.rowPtr[i + 1]), ++i;
+        else s[B * r + j] += 1.0;
+      }
     }
   }
   PetscCall(VecRestoreArray(sums, &s));
   if (partial) PetscCall(VecRestoreArray(partial, &p));
-  if (toGhosts) {
-    PetscCall(VecScatterBegin(toGhosts, partial, sums, ADD_VALUES, SCATTER_REVERSE));
-    PetscCall(VecScatterEnd(toGhosts, partial, sums, ADD_VALUES, SCATTER_REVERSE));
+  if (size > 1) { // the other ranks' shares added after this rank's own, as MatMultTranspose adds them
+    PetscCall(VecScatterBegin(check->toGhosts, partial, sums, ADD_VALUES, SCATTER_REVERSE));
+    PetscCall(VecScatterEnd(check->toGhosts, partial, sums, ADD_VALUES, SCATTER_REVERSE));
   }
 
-  // Check every column, then rescale so that each sums to 1 to round-off.
+  // Check every column of every frame, then rescale so that each sums to 1
+  // to round-off.  The refusal is of the batch's first frame with a bad
+  // column (of its first bad column on this rank).
   PetscCall(VecGetArray(sums, &s));
-  bool bad = false;
-  std::string why;
+  const size_t frames = batch->size();
+  std::vector<std::string> refusal(frames);
+  size_t firstBad = frames;
   double largest = check->largestError; // in a register: the loop runs over every cell of every frame
-  const bool quantised = check->weightBits > 0;
-  for (PetscInt r = 0; r < n && !bad; ++r) {
-    const double err = std::fabs(s[r] - 1.0);
-    largest = std::max(largest, err);
-    if (quantised ? s[r] == 1.0 : err <= check->tolerance) {
-      s[r] = 1.0 / s[r];
-      continue;
+  for (PetscInt r = 0; r < n; ++r)
+    for (size_t j = 0; j < std::min(frames, firstBad); ++j) {
+      double &sum = s[B * r + j];
+      largest = std::max(largest, std::fabs(sum - 1.0));
+      refusal[j] = columnError(L, *check, where[j], r, sum);
+      if (refusal[j].empty()) sum = 1.0 / sum;
+      else firstBad = j;
     }
-    char text[512];
-    if (quantised) {
-      bad = true;
-      std::snprintf(text, sizeof text,
-                    "%s: shift column of cell %d sums to %.17g, but the database says its weights are quantised "
-                    "to multiples of 2^-%d (/metadata weight_bits) with every column summing to exactly 1",
-                    check->where.c_str(), (int)L.ownedNatural()[r], s[r], check->weightBits);
-      why = text;
-    } else {
-      bad = true;
-      std::snprintf(text, sizeof text,
-                    "%s: shift column of cell %d sums to %.12g, expected 1 within %g (-db_column_tolerance)",
-                    check->where.c_str(), (int)L.ownedNatural()[r], s[r], check->tolerance);
-      why = text;
-    }
-  }
+  const std::string why = firstBad < frames ? refusal[firstBad] : std::string();
   check->largestError = largest;
   PetscCall(VecRestoreArray(sums, &s));
-  PetscCall(agreeOnFailure(comm, bad, why));
-  if (toGhosts) {
-    PetscCall(VecScatterBegin(toGhosts, sums, partial, INSERT_VALUES, SCATTER_FORWARD));
-    PetscCall(VecScatterEnd(toGhosts, sums, partial, INSERT_VALUES, SCATTER_FORWARD));
+  PetscCall(agreeOnFailure(comm, !why.empty(), why));
+  if (size > 1) {
+    PetscCall(VecScatterBegin(check->toGhosts, sums, partial, INSERT_VALUES, SCATTER_FORWARD));
+    PetscCall(VecScatterEnd(check->toGhosts, sums, partial, INSERT_VALUES, SCATTER_FORWARD));
   }
   const PetscScalar *inv, *ginv = nullptr;
   PetscCall(VecGetArrayRead(sums, &inv));
   if (partial) PetscCall(VecGetArrayRead(partial, &ginv));
-  for (size_t e = 0; e < rows->col.size(); ++e) { // as MatDiagonalScale(T, NULL, 1 / sums)
-    const PetscInt c = rows->col[e];
-    rows->val[e] *= c >= rstart && c < rend ? inv[c - rstart] : ginv[ghostOf(c)];
+  for (size_t j = 0; j < batch->size(); ++j) {
+    LocalShiftRows &rows = (*batch)[j];
+    for (size_t e = 0; e < rows.col.size(); ++e) { // as MatDiagonalScale(T, NULL, 1 / sums)
+      const PetscInt c = rows.col[e];
+      rows.val[e] *= c >= rstart && c < rend ? inv[B * (c - rstart) + j] : ginv[B * ghostOf(c) + j];
+    }
+    if (rows.impliedIdentity) materialiseRescaledIdentities(inv + j, B, rstart, n, &rows);
   }
-  if (rows->impliedIdentity) materialiseRescaledIdentities(inv, rstart, n, rows);
   PetscCall(VecRestoreArrayRead(sums, &inv));
   if (partial) PetscCall(VecRestoreArrayRead(partial, &ginv));
   PetscFunctionReturn(PETSC_SUCCESS);
