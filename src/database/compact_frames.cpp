@@ -16,15 +16,13 @@ namespace {
 
 // An implied identity row r whose column did not sum to exactly 1 holds
 // 1 / sum after rescaling, as a stored row would: it is stored from now on
-// (rare: a column that also holds round-off from other rows).  inv[r * stride]
-// is 1 / the sum of column r.
-void materialiseRescaledIdentities(const PetscScalar *inv, PetscInt stride, PetscInt rstart, PetscInt n,
-                                   LocalShiftRows *rows) {
+// (rare: a column that also holds round-off from other rows).
+void materialiseRescaledIdentities(const PetscScalar *inv, PetscInt rstart, PetscInt n, LocalShiftRows *rows) {
   size_t i = 0;
   std::vector<PetscInt> changed;
   for (PetscInt r = 0; r < n; ++r) {
     if (i < rows->row.size() && rows->row[i] == r) ++i;
-    else if (inv[r * stride] != 1.0) changed.push_back(r);
+    else if (inv[r] != 1.0) changed.push_back(r);
   }
   if (changed.empty()) return;
   LocalShiftRows all;
@@ -41,7 +39,7 @@ void materialiseRescaledIdentities(const PetscScalar *inv, PetscInt stride, Pets
     } else {
       all.row.push_back(changed[c]);
       all.col.push_back(rstart + changed[c]);
-      all.val.push_back(1.0 * inv[changed[c] * stride]); // as MatDiagonalScale scales the stored 1
+      all.val.push_back(1.0 * inv[changed[c]]); // as MatDiagonalScale scales the stored 1
       ++c;
     }
     all.rowPtr.push_back(static_cast<PetscInt>(all.col.size()));
@@ -63,26 +61,45 @@ std::vector<PetscInt> ghostColumns(const std::vector<LocalShiftRows> &batch, Pet
 // Collective.  Makes check->toGhosts reach every column of `needed`: kept if
 // it does on every rank, else built again over the union (a column summed
 // through the scatter that no row of a frame reads gets 0 added, exactly).
+// The sums are held frame by frame (frame j of the batch at j * n + r on the
+// rank owning r, j * ghosts + g in `partial`), so that each frame's passes
+// run over contiguous memory as a single frame's did.
 PetscErrorCode reachGhosts(const Layout &L, const std::vector<PetscInt> &needed, ColumnCheck *check) {
+  const PetscInt B = check->batch;
+  PetscMPIInt size;
   PetscFunctionBeginUser;
+  PetscCallMPI(MPI_Comm_size(L.comm(), &size));
   int missing = !std::includes(check->ghosts.begin(), check->ghosts.end(), needed.begin(), needed.end());
   PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, &missing, 1, MPI_INT, MPI_MAX, L.comm()));
   if (!missing && check->toGhosts) PetscFunctionReturn(PETSC_SUCCESS);
   std::vector<PetscInt> all;
   std::set_union(check->ghosts.begin(), check->ghosts.end(), needed.begin(), needed.end(), std::back_inserter(all));
   check->ghosts = std::move(all);
-  PetscCall(L.rowsScatter(check->batch, static_cast<PetscInt>(check->ghosts.size()), check->ghosts.data(),
-                          check->partial.put(), check->toGhosts.put()));
+  const PetscInt *ranges; // of cells, from a vector of one value per cell
+  OwnedVec cells;
+  PetscCall(VecCreateMPI(L.comm(), L.numLocal(), L.numCells(), cells.put()));
+  PetscCall(VecGetOwnershipRanges(cells, &ranges));
+  const auto G = static_cast<PetscInt>(check->ghosts.size());
+  std::vector<PetscInt> from(static_cast<size_t>(G * B));
+  for (PetscInt g = 0; g < G; ++g) {
+    const PetscInt c = check->ghosts[g];
+    const PetscInt *up = std::upper_bound(ranges, ranges + size + 1, c); // past c's owner's range
+    const PetscInt start = *(up - 1), count = *up - start;
+    for (PetscInt j = 0; j < B; ++j) from[j * G + g] = B * start + j * count + (c - start);
+  }
+  OwnedIS fromIS, toIS;
+  PetscCall(ISCreateGeneral(PETSC_COMM_SELF, G * B, from.data(), PETSC_COPY_VALUES, fromIS.put()));
+  PetscCall(ISCreateStride(PETSC_COMM_SELF, G * B, 0, 1, toIS.put()));
+  PetscCall(VecCreateSeq(PETSC_COMM_SELF, G * B, check->partial.put()));
+  PetscCall(VecScatterCreate(check->sums, fromIS, check->partial, toIS, check->toGhosts.put()));
   ++check->scattersBuilt;
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
-// The sentence refusing column r of a frame whose sum is s, or "" if it is accepted.
-std::string columnError(const Layout &L, const ColumnCheck &check, const std::string &where, PetscInt r, double s) {
-  const bool quantised = check.weightBits > 0;
-  if (quantised ? s == 1.0 : std::fabs(s - 1.0) <= check.tolerance) return {};
+// The sentence refusing column r of a frame, whose sum s is not accepted.
+std::string refusal(const Layout &L, const ColumnCheck &check, const std::string &where, PetscInt r, double s) {
   char text[512];
-  if (quantised)
+  if (check.weightBits > 0)
     std::snprintf(text, sizeof text,
                   "%s: shift column of cell %d sums to %.17g, but the database says its weights are quantised "
                   "to multiples of 2^-%d (/metadata weight_bits) with every column summing to exactly 1",
@@ -99,6 +116,7 @@ std::string columnError(const Layout &L, const ColumnCheck &check, const std::st
 int batchFor(const Layout &L) {
   PetscMPIInt size;
   MPI_Comm_size(L.comm(), &size);
+  if (size == 1) return 1; // nobody to wait for
   const double cellsPerRank = static_cast<double>(L.numCells()) / size;
   return static_cast<int>(std::clamp(16e6 / 8.0 / cellsPerRank, 1.0, 16.0));
 }
@@ -113,17 +131,14 @@ PetscErrorCode rescaleColumns(const Layout &L, std::vector<LocalShiftRows> *batc
   PetscCheck(batch->size() <= static_cast<size_t>(B) && where.size() == batch->size(), PETSC_COMM_SELF,
              PETSC_ERR_PLIB, "rescaleColumns takes up to %d frames, each with its name", (int)B);
   PetscCallMPI(MPI_Comm_size(comm, &size));
-  const std::vector<PetscInt> ghosts = ghostColumns(*batch, rstart, rend);
-  if (size > 1) PetscCall(reachGhosts(L, ghosts, check));
-  const std::vector<PetscInt> &reached = check->ghosts; // the scatter's ghosts, a superset of this batch's
-  auto ghostOf = [&](PetscInt c) { return std::lower_bound(reached.begin(), reached.end(), c) - reached.begin(); };
+  OwnedVec &sums = check->sums, &partial = check->partial; // own columns' sums; this rank's share of the ghosts'
+  if (!sums) PetscCall(VecCreateMPI(comm, n * B, L.numCells() * B, sums.put()));
+  if (size > 1) PetscCall(reachGhosts(L, ghostColumns(*batch, rstart, rend), check));
+  const std::vector<PetscInt> &ghosts = check->ghosts; // the scatter's, a superset of this batch's
+  const auto G = static_cast<PetscInt>(ghosts.size());
+  auto ghostOf = [&](PetscInt c) { return std::lower_bound(ghosts.begin(), ghosts.end(), c) - ghosts.begin(); };
 
-  // Sums of frame j of the batch at s[B * r + j]: own columns; p, this rank's share of the ghosts' columns.
-  OwnedVec &sums = check->sums, &partial = check->partial;
-  if (!sums) {
-    PetscCall(VecCreateMPI(comm, n * B, L.numCells() * B, sums.put()));
-    PetscCall(VecSetBlockSize(sums, B));
-  }
+  // Frame j of the batch: own columns' sums at s + j * n, its share of the ghosts' at p + j * G.
   PetscCall(VecSet(sums, 0.0));
   if (partial) PetscCall(VecSet(partial, 0.0));
   PetscScalar *s, *p = nullptr;
@@ -131,11 +146,12 @@ PetscErrorCode rescaleColumns(const Layout &L, std::vector<LocalShiftRows> *batc
   if (partial) PetscCall(VecGetArray(partial, &p));
   for (size_t j = 0; j < batch->size(); ++j) {
     const LocalShiftRows &rows = (*batch)[j];
+    PetscScalar *sj = s + j * n, *pj = p ? p + j * G : nullptr;
     auto add = [&](PetscInt first, PetscInt last) {
       for (PetscInt e = first; e < last; ++e) {
         const PetscInt c = rows.col[e];
-        if (c >= rstart && c < rend) s[B * (c - rstart) + j] += rows.val[e];
-        else p[B * ghostOf(c) + j] += rows.val[e];
+        if (c >= rstart && c < rend) sj[c - rstart] += rows.val[e];
+        else pj[ghostOf(c)] += rows.val[e];
       }
     };
     if (!rows.impliedIdentity) {
@@ -144,7 +160,7 @@ PetscErrorCode rescaleColumns(const Layout &L, std::vector<LocalShiftRows> *batc
       size_t i = 0;
       for (PetscInt r = 0; r < n; ++r) {
         if (i < rows.row.size() && rows.row[i] == r) add(rows.rowPtr[i], rows.rowPtr[i + 1]), ++i;
-        else s[B * r + j] += 1.0;
+        else sj[r] += 1.0;
       }
     }
   }
@@ -157,21 +173,23 @@ PetscErrorCode rescaleColumns(const Layout &L, std::vector<LocalShiftRows> *batc
 
   // Check every column of every frame, then rescale so that each sums to 1
   // to round-off.  The refusal is of the batch's first frame with a bad
-  // column (of its first bad column on this rank).
+  // column on this rank (its first bad column).
   PetscCall(VecGetArray(sums, &s));
-  const size_t frames = batch->size();
-  std::vector<std::string> refusal(frames);
-  size_t firstBad = frames;
+  std::string why;
+  const bool quantised = check->weightBits > 0;
   double largest = check->largestError; // in a register: the loop runs over every cell of every frame
-  for (PetscInt r = 0; r < n; ++r)
-    for (size_t j = 0; j < std::min(frames, firstBad); ++j) {
-      double &sum = s[B * r + j];
-      largest = std::max(largest, std::fabs(sum - 1.0));
-      refusal[j] = columnError(L, *check, where[j], r, sum);
-      if (refusal[j].empty()) sum = 1.0 / sum;
-      else firstBad = j;
+  for (size_t j = 0; j < batch->size() && why.empty(); ++j)
+    for (PetscInt r = 0; r < n; ++r) {
+      double &sum = s[j * n + r];
+      const double err = std::fabs(sum - 1.0);
+      largest = std::max(largest, err);
+      if (quantised ? sum == 1.0 : err <= check->tolerance) {
+        sum = 1.0 / sum;
+        continue;
+      }
+      why = refusal(L, *check, where[j], r, sum);
+      break;
     }
-  const std::string why = firstBad < frames ? refusal[firstBad] : std::string();
   check->largestError = largest;
   PetscCall(VecRestoreArray(sums, &s));
   PetscCall(agreeOnFailure(comm, !why.empty(), why));
@@ -186,9 +204,9 @@ PetscErrorCode rescaleColumns(const Layout &L, std::vector<LocalShiftRows> *batc
     LocalShiftRows &rows = (*batch)[j];
     for (size_t e = 0; e < rows.col.size(); ++e) { // as MatDiagonalScale(T, NULL, 1 / sums)
       const PetscInt c = rows.col[e];
-      rows.val[e] *= c >= rstart && c < rend ? inv[B * (c - rstart) + j] : ginv[B * ghostOf(c) + j];
+      rows.val[e] *= c >= rstart && c < rend ? inv[j * n + c - rstart] : ginv[j * G + ghostOf(c)];
     }
-    if (rows.impliedIdentity) materialiseRescaledIdentities(inv + j, B, rstart, n, &rows);
+    if (rows.impliedIdentity) materialiseRescaledIdentities(inv + j * n, rstart, n, &rows);
   }
   PetscCall(VecRestoreArrayRead(sums, &inv));
   if (partial) PetscCall(VecRestoreArrayRead(partial, &ginv));

@@ -45,16 +45,19 @@ struct ColumnCheck {
   double largestError = 0.0; ///< largest |column sum - 1| seen on this rank (updated)
   /// Other ranks' columns of all frames so far (ascending) and the scatter of
   /// `batch` sums per cell to and from them: built again only when a batch
-  /// reads a column not in it (a few times per load), not once per frame.
+  /// reads a column not in it.  The union grows with the frames (on the
+  /// default bed at 2 ranks, in every batch to about 900 columns), so that
+  /// is once per batch, not once per frame.
   std::vector<PetscInt> ghosts;
-  OwnedVec sums, partial; ///< own columns' sums (block size `batch`); this rank's share of the ghosts'
+  OwnedVec sums, partial; ///< own columns' sums, `batch` per cell; this rank's share of the ghosts'
   OwnedScatter toGhosts;
   int scattersBuilt = 0; ///< how often (for tests and measurements)
 };
 
-/// The frames of a batch on `layout`: 16, fewer on a large mesh, so that the
-/// batch's column sums (8 bytes per cell and frame) stay within about 16 MB
-/// per rank.  The same on every rank.
+/// The frames of a batch on `layout`: 1 on one rank (no one to wait for; a
+/// frame's rows then stay in cache from reading to compacting), else 16,
+/// fewer on a large mesh so that the batch's column sums (8 bytes per cell
+/// and frame) stay within about 16 MB per rank.  The same on every rank.
 int batchFor(const Layout &layout);
 
 /// Collective.  Sums the columns of each of `batch` (at most check->batch frames,
