@@ -8,7 +8,8 @@
 //    from another row is rescaled on load as a stored one is.
 //  - Both versions have the same identity (the content hash of the full CSR).
 //  - The version 3 file is smaller (the quantised one much smaller).
-//  - Each kind of broken version 3 frame is refused with its sentence.
+//  - Each kind of broken version 3 frame is refused with its sentence, also
+//    one broken in a row or column that only one of 2 ranks reads (no hang).
 // Runs at 1 and 2 ranks; argv[1] is the test-data directory with small.h5.
 #include "base/h5.hpp"
 #include "base/petsc_compat.hpp"
@@ -131,15 +132,15 @@ void sameStoredFrames(const std::string &v2, const std::string &v3, int cells) {
   RCFD_CHECK(K > 0 && differ == 0);
 }
 
-// A copy of `good` with frame 5 edited by `edit` must be refused with `expected`.
+// A copy of `good` with frame `frame` edited by `edit` must be refused with `expected`.
 void expectRefusal(const std::string &good, const std::string &name,
                    const std::function<void(const h5::File &, const std::string &)> &edit,
-                   const std::string &expected) {
+                   const std::string &expected, int frame = 5) {
   const std::string path = dir + "/broken_" + name + ".h5";
   if (rank == 0) {
     fs::copy_file(good, path, fs::copy_options::overwrite_existing);
     h5::File f = h5::File::openReadWrite(path);
-    edit(f, "/frames/000005/");
+    edit(f, frameGroup(frame) + "/");
   }
   MPI_Barrier(PETSC_COMM_WORLD);
   const std::string text = test::loadRefusal(path);
@@ -176,6 +177,16 @@ void brokenFramesRefused(const std::string &good, const std::string &quantised) 
   expectRefusal(good, "short_val", [](const h5::File &f, const std::string &g) {
     edited<double>(f, g + "shift_val", [](std::vector<double> &v) { v.pop_back(); });
   }, "expected as many");
+  // Broken in one row, which one rank reads (at 2 ranks the other reads
+  // good rows and must not wait for ever): a negative weight, refused by the
+  // rank reading it, and a weight too large, refused by the rank owning its
+  // column (in a later batch of frames than the first).
+  expectRefusal(good, "one_rank_weight", [](const h5::File &f, const std::string &g) {
+    edited<double>(f, g + "shift_val", [](std::vector<double> &v) { v[0] = -v[0]; });
+  }, "frame 5: shift entry (");
+  expectRefusal(good, "one_rank_column", [](const h5::File &f, const std::string &g) {
+    edited<double>(f, g + "shift_val", [](std::vector<double> &v) { v[0] += 0.5; });
+  }, "frame 37: shift column of cell", 37);
   expectRefusal(quantised, "missing_quantum", [](const h5::File &f, const std::string &g) {
     H5Ldelete(f.id(), (g + "shift_quantum").c_str(), H5P_DEFAULT);
   }, "dataset shift_quantum is missing");

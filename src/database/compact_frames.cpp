@@ -47,98 +47,167 @@ void materialiseRescaledIdentities(const PetscScalar *inv, PetscInt rstart, Pets
   *rows = std::move(all);
 }
 
+// Other ranks' columns read by a batch, ascending.
+std::vector<PetscInt> ghostColumns(const std::vector<LocalShiftRows> &batch, PetscInt rstart, PetscInt rend) {
+  std::vector<PetscInt> ghosts;
+  for (const LocalShiftRows &rows : batch)
+    for (PetscInt c : rows.col)
+      if (c < rstart || c >= rend) ghosts.push_back(c);
+  std::sort(ghosts.begin(), ghosts.end());
+  ghosts.erase(std::unique(ghosts.begin(), ghosts.end()), ghosts.end());
+  return ghosts;
+}
+
+// Collective.  Makes check->toGhosts reach every column of `needed`: kept if
+// it does on every rank, else built again over the union (a column summed
+// through the scatter that no row of a frame reads gets 0 added, exactly).
+// The sums are held frame by frame (frame j of the batch at j * n + r on the
+// rank owning r, j * ghosts + g in `partial`), so that each frame's passes
+// run over contiguous memory as a single frame's did.
+PetscErrorCode reachGhosts(const Layout &L, const std::vector<PetscInt> &needed, ColumnCheck *check) {
+  const PetscInt B = check->batch;
+  PetscMPIInt size;
+  PetscFunctionBeginUser;
+  PetscCallMPI(MPI_Comm_size(L.comm(), &size));
+  int missing = !std::includes(check->ghosts.begin(), check->ghosts.end(), needed.begin(), needed.end());
+  PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, &missing, 1, MPI_INT, MPI_MAX, L.comm()));
+  if (!missing && check->toGhosts) PetscFunctionReturn(PETSC_SUCCESS);
+  std::vector<PetscInt> all;
+  std::set_union(check->ghosts.begin(), check->ghosts.end(), needed.begin(), needed.end(), std::back_inserter(all));
+  check->ghosts = std::move(all);
+  const PetscInt *ranges; // of cells, from a vector of one value per cell
+  OwnedVec cells;
+  PetscCall(VecCreateMPI(L.comm(), L.numLocal(), L.numCells(), cells.put()));
+  PetscCall(VecGetOwnershipRanges(cells, &ranges));
+  const auto G = static_cast<PetscInt>(check->ghosts.size());
+  std::vector<PetscInt> from(static_cast<size_t>(G * B));
+  for (PetscInt g = 0; g < G; ++g) {
+    const PetscInt c = check->ghosts[g];
+    const PetscInt *up = std::upper_bound(ranges, ranges + size + 1, c); // past c's owner's range
+    const PetscInt start = *(up - 1), count = *up - start;
+    for (PetscInt j = 0; j < B; ++j) from[j * G + g] = B * start + j * count + (c - start);
+  }
+  OwnedIS fromIS, toIS;
+  PetscCall(ISCreateGeneral(PETSC_COMM_SELF, G * B, from.data(), PETSC_COPY_VALUES, fromIS.put()));
+  PetscCall(ISCreateStride(PETSC_COMM_SELF, G * B, 0, 1, toIS.put()));
+  PetscCall(VecCreateSeq(PETSC_COMM_SELF, G * B, check->partial.put()));
+  PetscCall(VecScatterCreate(check->sums, fromIS, check->partial, toIS, check->toGhosts.put()));
+  ++check->scattersBuilt;
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+// The sentence refusing column r of a frame, whose sum s is not accepted.
+std::string refusal(const Layout &L, const ColumnCheck &check, const std::string &where, PetscInt r, double s) {
+  char text[512];
+  if (check.weightBits > 0)
+    std::snprintf(text, sizeof text,
+                  "%s: shift column of cell %d sums to %.17g, but the database says its weights are quantised "
+                  "to multiples of 2^-%d (/metadata weight_bits) with every column summing to exactly 1",
+                  where.c_str(), (int)L.ownedNatural()[r], s, check.weightBits);
+  else
+    std::snprintf(text, sizeof text,
+                  "%s: shift column of cell %d sums to %.12g, expected 1 within %g (-db_column_tolerance)",
+                  where.c_str(), (int)L.ownedNatural()[r], s, check.tolerance);
+  return text;
+}
+
 } // namespace
 
-PetscErrorCode rescaleColumns(const Layout &L, LocalShiftRows *rows, ColumnCheck *check) {
+int batchFor(const Layout &L) {
+  PetscMPIInt size;
+  MPI_Comm_size(L.comm(), &size);
+  if (size == 1) return 1; // nobody to wait for
+  const double cellsPerRank = static_cast<double>(L.numCells()) / size;
+  return static_cast<int>(std::clamp(16e6 / 8.0 / cellsPerRank, 1.0, 16.0));
+}
+
+PetscErrorCode rescaleColumns(const Layout &L, std::vector<LocalShiftRows> *batch,
+                              const std::vector<std::string> &where, ColumnCheck *check) {
+  const PetscInt B = check->batch;
   const MPI_Comm comm = L.comm();
   const PetscInt rstart = L.rowStart(), rend = L.rowEnd(), n = L.numLocal();
   PetscMPIInt size;
   PetscFunctionBeginUser;
+  PetscCheck(batch->size() <= static_cast<size_t>(B) && where.size() == batch->size(), PETSC_COMM_SELF,
+             PETSC_ERR_PLIB, "rescaleColumns takes up to %d frames, each with its name", (int)B);
   PetscCallMPI(MPI_Comm_size(comm, &size));
-  // This frame's columns of other ranks' cells, ascending (PETSc's garray).
-  std::vector<PetscInt> ghosts;
-  for (PetscInt c : rows->col)
-    if (c < rstart || c >= rend) ghosts.push_back(c);
-  std::sort(ghosts.begin(), ghosts.end());
-  ghosts.erase(std::unique(ghosts.begin(), ghosts.end()), ghosts.end());
+  OwnedVec &sums = check->sums, &partial = check->partial; // own columns' sums; this rank's share of the ghosts'
+  if (!sums) PetscCall(VecCreateMPI(comm, n * B, L.numCells() * B, sums.put()));
+  if (size > 1) PetscCall(reachGhosts(L, ghostColumns(*batch, rstart, rend), check));
+  const std::vector<PetscInt> &ghosts = check->ghosts; // the scatter's, a superset of this batch's
+  const auto G = static_cast<PetscInt>(ghosts.size());
   auto ghostOf = [&](PetscInt c) { return std::lower_bound(ghosts.begin(), ghosts.end(), c) - ghosts.begin(); };
 
-  OwnedVec &sums = check->sums, partial; // own columns' sums; this rank's share of the ghosts' columns
-  OwnedScatter toGhosts;
-  if (!sums) PetscCall(VecCreateMPI(comm, n, L.numCells(), sums.put()));
+  // Frame j of the batch: own columns' sums at s + j * n, its share of the ghosts' at p + j * G.
   PetscCall(VecSet(sums, 0.0));
-  if (size > 1)
-    PetscCall(L.rowsScatter(1, static_cast<PetscInt>(ghosts.size()), ghosts.data(), partial.put(), toGhosts.put()));
+  if (partial) PetscCall(VecSet(partial, 0.0));
   PetscScalar *s, *p = nullptr;
   PetscCall(VecGetArray(sums, &s));
   if (partial) PetscCall(VecGetArray(partial, &p));
-  auto add = [&](PetscInt first, PetscInt last) {
-    for (PetscInt e = first; e < last; ++e) {
-      const PetscInt c = rows->col[e];
-      if (c >= rstart && c < rend) s[c - rstart] += rows->val[e];
-      else p[ghostOf(c)] += rows->val[e];
-    }
-  };
-  if (!rows->impliedIdentity) {
-    add(0, static_cast<PetscInt>(rows->col.size())); // row by row, like MatMultTranspose
-  } else { // the same additions in the same order, identity rows' 1 in its place
-    size_t i = 0;
-    for (PetscInt r = 0; r < n; ++r) {
-      if (i < rows->row.size() && rows->row[i] == r) add(rows->rowPtr[i], rows->rowPtr[i + 1]), ++i;
-      else s[r] += 1.0;
+  for (size_t j = 0; j < batch->size(); ++j) {
+    const LocalShiftRows &rows = (*batch)[j];
+    PetscScalar *sj = s + j * n, *pj = p ? p + j * G : nullptr;
+    auto add = [&](PetscInt first, PetscInt last) {
+      for (PetscInt e = first; e < last; ++e) {
+        const PetscInt c = rows.col[e];
+        if (c >= rstart && c < rend) sj[c - rstart] += rows.val[e];
+        else pj[ghostOf(c)] += rows.val[e];
+      }
+    };
+    if (!rows.impliedIdentity) {
+      add(0, static_cast<PetscInt>(rows.col.size())); // row by row, like MatMultTranspose
+    } else { // the same additions in the same order, identity rows' 1 in its place
+      size_t i = 0;
+      for (PetscInt r = 0; r < n; ++r) {
+        if (i < rows.row.size() && rows.row[i] == r) add(rows.rowPtr[i], rows.rowPtr[i + 1]), ++i;
+        else sj[r] += 1.0;
+      }
     }
   }
   PetscCall(VecRestoreArray(sums, &s));
   if (partial) PetscCall(VecRestoreArray(partial, &p));
-  if (toGhosts) {
-    PetscCall(VecScatterBegin(toGhosts, partial, sums, ADD_VALUES, SCATTER_REVERSE));
-    PetscCall(VecScatterEnd(toGhosts, partial, sums, ADD_VALUES, SCATTER_REVERSE));
+  if (size > 1) { // the other ranks' shares added after this rank's own, as MatMultTranspose adds them
+    PetscCall(VecScatterBegin(check->toGhosts, partial, sums, ADD_VALUES, SCATTER_REVERSE));
+    PetscCall(VecScatterEnd(check->toGhosts, partial, sums, ADD_VALUES, SCATTER_REVERSE));
   }
 
-  // Check every column, then rescale so that each sums to 1 to round-off.
+  // Check every column of every frame, then rescale so that each sums to 1
+  // to round-off.  The refusal is of the batch's first frame with a bad
+  // column on this rank (its first bad column).
   PetscCall(VecGetArray(sums, &s));
-  bool bad = false;
   std::string why;
-  double largest = check->largestError; // in a register: the loop runs over every cell of every frame
   const bool quantised = check->weightBits > 0;
-  for (PetscInt r = 0; r < n && !bad; ++r) {
-    const double err = std::fabs(s[r] - 1.0);
-    largest = std::max(largest, err);
-    if (quantised ? s[r] == 1.0 : err <= check->tolerance) {
-      s[r] = 1.0 / s[r];
-      continue;
+  double largest = check->largestError; // in a register: the loop runs over every cell of every frame
+  for (size_t j = 0; j < batch->size() && why.empty(); ++j)
+    for (PetscInt r = 0; r < n; ++r) {
+      double &sum = s[j * n + r];
+      const double err = std::fabs(sum - 1.0);
+      largest = std::max(largest, err);
+      if (quantised ? sum == 1.0 : err <= check->tolerance) {
+        sum = 1.0 / sum;
+        continue;
+      }
+      why = refusal(L, *check, where[j], r, sum);
+      break;
     }
-    char text[512];
-    if (quantised) {
-      bad = true;
-      std::snprintf(text, sizeof text,
-                    "%s: shift column of cell %d sums to %.17g, but the database says its weights are quantised "
-                    "to multiples of 2^-%d (/metadata weight_bits) with every column summing to exactly 1",
-                    check->where.c_str(), (int)L.ownedNatural()[r], s[r], check->weightBits);
-      why = text;
-    } else {
-      bad = true;
-      std::snprintf(text, sizeof text,
-                    "%s: shift column of cell %d sums to %.12g, expected 1 within %g (-db_column_tolerance)",
-                    check->where.c_str(), (int)L.ownedNatural()[r], s[r], check->tolerance);
-      why = text;
-    }
-  }
   check->largestError = largest;
   PetscCall(VecRestoreArray(sums, &s));
-  PetscCall(agreeOnFailure(comm, bad, why));
-  if (toGhosts) {
-    PetscCall(VecScatterBegin(toGhosts, sums, partial, INSERT_VALUES, SCATTER_FORWARD));
-    PetscCall(VecScatterEnd(toGhosts, sums, partial, INSERT_VALUES, SCATTER_FORWARD));
+  PetscCall(agreeOnFailure(comm, !why.empty(), why));
+  if (size > 1) {
+    PetscCall(VecScatterBegin(check->toGhosts, sums, partial, INSERT_VALUES, SCATTER_FORWARD));
+    PetscCall(VecScatterEnd(check->toGhosts, sums, partial, INSERT_VALUES, SCATTER_FORWARD));
   }
   const PetscScalar *inv, *ginv = nullptr;
   PetscCall(VecGetArrayRead(sums, &inv));
   if (partial) PetscCall(VecGetArrayRead(partial, &ginv));
-  for (size_t e = 0; e < rows->col.size(); ++e) { // as MatDiagonalScale(T, NULL, 1 / sums)
-    const PetscInt c = rows->col[e];
-    rows->val[e] *= c >= rstart && c < rend ? inv[c - rstart] : ginv[ghostOf(c)];
+  for (size_t j = 0; j < batch->size(); ++j) {
+    LocalShiftRows &rows = (*batch)[j];
+    for (size_t e = 0; e < rows.col.size(); ++e) { // as MatDiagonalScale(T, NULL, 1 / sums)
+      const PetscInt c = rows.col[e];
+      rows.val[e] *= c >= rstart && c < rend ? inv[j * n + c - rstart] : ginv[j * G + ghostOf(c)];
+    }
+    if (rows.impliedIdentity) materialiseRescaledIdentities(inv + j * n, rstart, n, &rows);
   }
-  if (rows->impliedIdentity) materialiseRescaledIdentities(inv, rstart, n, rows);
   PetscCall(VecRestoreArrayRead(sums, &inv));
   if (partial) PetscCall(VecRestoreArrayRead(partial, &ginv));
   PetscFunctionReturn(PETSC_SUCCESS);

@@ -592,27 +592,48 @@ PetscErrorCode Database::load(MPI_Comm comm, const std::string &path,
   const Layout &L = db->layout_;
   for (PetscInt c : L.ownedNatural()) db->volumes.push_back(db->mesh_.cellVolume[c]);
 
+  // The frames in batches: each rank reads its rows of a batch on its own,
+  // then the ranks meet once to agree that every rank read them, once to sum
+  // their columns and once to agree that they were compacted (a rank that
+  // fails still comes to every meeting, so no rank waits for ever).
   ColumnCheck check;
   check.tolerance = options.columnTolerance;
   check.weightBits = db->meta.weightBits;
-  for (int k = first; k <= last; ++k) {
-    LocalFrame fr;
-    PetscCall(collectively(comm, [&] { fr = readLocalFrame(file, header.formatVersion, db->meta.weightBits, k, L, options.loadShifts); }));
-    OwnedVec a;
-    PetscCall(VecCreateMPI(comm, L.numLocal(), L.numCells(), a.put()));
-    PetscScalar *pa;
-    PetscCall(VecGetArrayWrite(a, &pa));
-    std::copy(fr.alpha.begin(), fr.alpha.end(), pa);
-    PetscCall(VecRestoreArrayWrite(a, &pa));
-    db->alpha.push_back(std::move(a));
-    if (!options.loadShifts) continue;
-    check.where = "database '" + path + "', frame " + std::to_string(k);
-    PetscCall(rescaleColumns(L, &fr.shift, &check));
+  check.batch = batchFor(L);
+  OwnedVec alphaLike; // a vector of the layout: its copies need no communication
+  PetscCall(VecCreateMPI(comm, L.numLocal(), L.numCells(), alphaLike.put()));
+  for (int batchFirst = first; batchFirst <= last; batchFirst += check.batch) {
+    const int batchLast = std::min(last, batchFirst + check.batch - 1);
+    std::vector<LocalFrame> frames;
+    std::vector<std::string> where;
     PetscCall(collectively(comm, [&] {
-      db->frames_.push_back(compactFrame(fr.shift, L.rowStart(), L.numLocal(), check.weightBits, check.where,
-                                         &db->ghostRows_));
+      for (int k = batchFirst; k <= batchLast; ++k) {
+        frames.push_back(readLocalFrame(file, header.formatVersion, db->meta.weightBits, k, L, options.loadShifts));
+        where.push_back("database '" + path + "', frame " + std::to_string(k));
+      }
+    }));
+    for (LocalFrame &fr : frames) {
+      OwnedVec a;
+      PetscCall(VecDuplicate(alphaLike, a.put()));
+      PetscScalar *pa;
+      PetscCall(VecGetArrayWrite(a, &pa));
+      std::copy(fr.alpha.begin(), fr.alpha.end(), pa);
+      PetscCall(VecRestoreArrayWrite(a, &pa));
+      db->alpha.push_back(std::move(a));
+    }
+    if (!options.loadShifts) continue;
+    std::vector<LocalShiftRows> shifts;
+    for (LocalFrame &fr : frames) shifts.push_back(std::move(fr.shift));
+    frames.clear();
+    PetscCall(rescaleColumns(L, &shifts, where, &check));
+    PetscCall(collectively(comm, [&] {
+      for (size_t j = 0; j < shifts.size(); ++j)
+        db->frames_.push_back(
+            compactFrame(shifts[j], L.rowStart(), L.numLocal(), check.weightBits, where[j], &db->ghostRows_));
     }));
   }
+  PetscCall(PetscInfo(nullptr, "%s: %d frames, column-sum scatter built %d times over %zu ghost columns\n",
+                      path.c_str(), last - first + 1, check.scattersBuilt, check.ghosts.size()));
   db->maxColumnError = check.largestError;
   db->numberGhostRows();
   *out = std::move(db);
