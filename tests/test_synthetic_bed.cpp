@@ -7,7 +7,7 @@
 #include "check.hpp"
 #include "analysis/bed_dynamics.hpp"
 #include "base/random.hpp"
-#include "builders/synthetic/span_statistics.hpp"
+#include "analysis/span_statistics.hpp"
 #include "builders/synthetic/synthetic_bed.hpp"
 #include "builders/synthetic/two_phase_scaling.hpp"
 #include "path/frame_path.hpp"

@@ -2,7 +2,7 @@
 #include "base/checked_options.hpp"
 #include "base/petsc_compat.hpp"
 
-#include "builders/synthetic/span_statistics.hpp"
+#include "analysis/span_statistics.hpp"
 #include "builders/synthetic/synthetic_bed.hpp"
 #include "builders/synthetic/two_phase_scaling.hpp"
 #include "observable/min_fluidization.hpp"

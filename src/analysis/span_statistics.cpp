@@ -1,4 +1,4 @@
-#include "builders/synthetic/span_statistics.hpp"
+#include "analysis/span_statistics.hpp"
 
 #include "analysis/bed_dynamics.hpp"
 
