@@ -111,8 +111,7 @@ PetscErrorCode DatabaseSwitcher::measure(long step, double time, const FractionS
   }
   s->inventoryD32 = mass > 0 ? mass / massOverD : std::numeric_limits<double>::quiet_NaN();
   s->bottomD32 = layers::sauterDiameter(perLayer, 0, *fractions);
-  const double usup = std::isfinite(rule_->superficialVelocity(time)) ? rule_->superficialVelocity(time)
-                                                                       : activeConditions_.superficialVelocity;
+  const double usup = superficialVelocityAt(time);
   GasProperties gas; // of the database in use, else air
   if (std::isfinite(activeConditions_.gasDensity)) gas.density = activeConditions_.gasDensity;
   if (std::isfinite(activeConditions_.gasKinematicViscosity))
@@ -120,6 +119,12 @@ PetscErrorCode DatabaseSwitcher::measure(long step, double time, const FractionS
   if (std::isfinite(s->bottomD32) && std::isfinite(usup) && rho > gas.density)
     s->umfOverUsup = minFluidizationVelocity(findUmfCorrelation("wen-yu"), s->bottomD32, rho, gas, gravity) / usup;
   PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+// The rule's u_sup at `time` (a schedule's), else that of the databases in use.
+double DatabaseSwitcher::superficialVelocityAt(double time) const {
+  const double scheduled = rule_->superficialVelocity(time);
+  return std::isfinite(scheduled) ? scheduled : activeConditions_.superficialVelocity;
 }
 
 // A blend stands for the conditions between its two databases' at its weight
@@ -188,8 +193,7 @@ PetscErrorCode DatabaseSwitcher::decide(long step, double time, const FractionSt
   s.step = step;
   s.time = time;
   PetscCall(measure(step, time, state, &s)); // also for the validity warning
-  const double usup = std::isfinite(rule_->superficialVelocity(time)) ? rule_->superficialVelocity(time)
-                                                                       : activeConditions_.superficialVelocity;
+  const double usup = superficialVelocityAt(time);
   PetscCall(warnIfOutside(s, usup));
   SwitchDecision d;
   PetscCall(collectively(comm, [&] { d = rule_->decide(active_, s); }));

@@ -66,6 +66,7 @@ private:
   PetscErrorCode measure(long step, double time, const FractionState &state, SwitchSignals *s) const;
   PetscErrorCode warnIfOutside(const SwitchSignals &s, double usup);
   OperatingConditions conditionsOf(const SwitchDecision &choice) const;
+  double superficialVelocityAt(double time) const;
   static constexpr std::size_t kSaved = 7; // words before the rule's own
   MPI_Comm comm = MPI_COMM_NULL;
   std::vector<double> conditionVelocities; // -db_conditions
