@@ -83,6 +83,10 @@ private:
   std::vector<CellSums> cellSums;
   std::vector<unsigned char> live;
   std::vector<double> cellUp, cellDown; // nf per gathered cell, -drift_local_d32 only
+  // One past the last own cell that may hold mass: the state's bound before
+  // a sweep, the last cell found holding any after it (a swap only moves
+  // mass between two cells that hold some).
+  PetscInt occupiedEnd = 0;
 
   Model model = Model::B;
   double kd = 5e3, d32Override = -1.0, alphaMax = 0.65, alphaMin = 1e-3, maxShare = 0.5;

@@ -60,10 +60,26 @@ public:
   /// Smallest mass in any cell and fraction (collective).
   PetscErrorCode minimum(double *value) const;
 
+  /// Not collective.  One past the last own cell (local index) that may hold
+  /// mass: every cell at or above it is empty.  The number of own cells when
+  /// nobody said, or when the masses were written since (any write raises the
+  /// Vec's PETSc state, so a bound is never trusted after a write that did
+  /// not renew it).  Lets a pass over the cells leave out a bed's freeboard.
+  PetscErrorCode occupiedEnd(PetscInt *end) const;
+  /// Not collective.  Says, right after writing masses(), that every own cell
+  /// at or above `end` is empty (an operator that knows where it put mass).
+  PetscErrorCode setOccupiedEnd(PetscInt end);
+
 private:
   int nf = 0;
+  PetscInt nlocal = 0;
   OwnedVec a, b;
   Vec current = nullptr, spare = nullptr;
+  struct Occupied { // the bound, valid for one Vec in one state
+    Vec of = nullptr;
+    PetscObjectState state = 0;
+    PetscInt end = 0;
+  } occupied;
 };
 
 } // namespace rcfd

@@ -106,7 +106,12 @@ PetscErrorCode MovingRows::setUp(const Database &database, int numFractions) {
   db = &database;
   nlocal = L.numLocal();
   size_t mostRows = 0;
-  for (int k = 0; k < db->numFrames(); ++k) mostRows = std::max(mostRows, db->frame(k).numRows());
+  writtenEnds.assign(db->numFrames(), 0);
+  for (int k = 0; k < db->numFrames(); ++k) {
+    const CompactFrame &f = db->frame(k);
+    mostRows = std::max(mostRows, f.numRows());
+    for (int32_t row : f.rows) writtenEnds[k] = std::max<PetscInt>(writtenEnds[k], row + 1);
+  }
   buffer.assign(mostRows * nf, 0.0);
   // Ghost values arrive through one scatter of the union of all frames'
   // off-rank sources (about a thousand cells on two ranks of the default bed).

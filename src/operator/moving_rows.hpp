@@ -31,6 +31,9 @@ public:
   PetscErrorCode setUp(const Database &db, int nf);
   /// Collective.  masses <- T_k masses for all nf fractions, in place.
   PetscErrorCode apply(int k, Vec masses);
+  /// One past the last own cell (local index) whose masses frame k writes:
+  /// an empty cell at or above it stays empty.
+  PetscInt writtenEnd(int k) const { return writtenEnds[k]; }
   /// Bytes of the compact frames it reads (this rank), and its own buffers'.
   size_t frameBytes() const;
   size_t bufferBytes() const;
@@ -44,6 +47,7 @@ private:
   template <int NF> void move(const CompactFrame &f, double *x, const double *ghost, double *out) const;
   const Database *db = nullptr;
   std::vector<double> buffer; // new masses of the moving rows
+  std::vector<PetscInt> writtenEnds; // per frame
   OwnedVec ghosts;
   OwnedScatter toGhosts;
   PetscInt nlocal = 0;

@@ -3,6 +3,8 @@
 
 #include "operator/moving_rows.hpp"
 
+#include <algorithm>
+
 namespace rcfd {
 
 ShiftOperator::ShiftOperator() = default;
@@ -47,7 +49,12 @@ PetscErrorCode ShiftOperator::setUp(const RunContext &ctx) {
 PetscErrorCode ShiftOperator::apply(const StepInfo &step, FractionState &state) {
   PetscFunctionBeginUser;
   if (moving) {
+    PetscInt occupied;
+    PetscCall(state.occupiedEnd(&occupied));
     PetscCall(moving->apply(step.frame, state.masses()));
+    // Only the frame's moving rows were written: a cell that was empty and
+    // is none of them is empty still.
+    PetscCall(state.setOccupiedEnd(std::max(occupied, moving->writtenEnd(step.frame))));
     PetscFunctionReturn(PETSC_SUCCESS);
   }
   PetscCall(MatMult(perFrame[step.frame], state.masses(), state.scratch()));

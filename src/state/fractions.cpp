@@ -114,6 +114,8 @@ PetscErrorCode FractionSet::view(PetscViewer viewer) const {
 PetscErrorCode FractionState::create(const Layout &layout, int numFractions) {
   PetscFunctionBeginUser;
   nf = numFractions;
+  nlocal = layout.numLocal();
+  occupied = Occupied{};
   PetscCall(VecCreate(layout.comm(), a.put()));
   PetscCall(VecSetSizes(a, layout.numLocal() * nf, layout.numCells() * nf));
   PetscCall(VecSetBlockSize(a, nf));
@@ -126,10 +128,38 @@ PetscErrorCode FractionState::create(const Layout &layout, int numFractions) {
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
+// In the order VecStrideSumAll adds (cell by cell, from the first), over the
+// cells that may hold mass only: the empty ones add nothing.
 PetscErrorCode FractionState::totals(std::vector<double> *perFraction) const {
+  PetscInt end;
+  const PetscScalar *m;
   PetscFunctionBeginUser;
+  PetscCall(occupiedEnd(&end));
   perFraction->assign(nf, 0.0);
-  PetscCall(VecStrideSumAll(current, perFraction->data()));
+  double *sum = perFraction->data();
+  PetscCall(VecGetArrayRead(current, &m));
+  for (PetscInt c = 0; c < end; ++c, m += nf)
+    for (int i = 0; i < nf; ++i) sum[i] += m[i];
+  PetscCall(VecRestoreArrayRead(current, &m));
+  PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, sum, nf, MPI_DOUBLE, MPI_SUM, PetscObjectComm((PetscObject)current)));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode FractionState::occupiedEnd(PetscInt *end) const {
+  PetscObjectState now = 0;
+  PetscFunctionBeginUser;
+  *end = nlocal;
+  if (occupied.of != current) PetscFunctionReturn(PETSC_SUCCESS);
+  PetscCall(PetscObjectStateGet((PetscObject)current, &now));
+  if (now == occupied.state) *end = occupied.end;
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode FractionState::setOccupiedEnd(PetscInt end) {
+  PetscFunctionBeginUser;
+  occupied.of = current;
+  occupied.end = std::clamp<PetscInt>(end, 0, nlocal);
+  PetscCall(PetscObjectStateGet((PetscObject)current, &occupied.state));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 

@@ -67,12 +67,13 @@ PetscErrorCode MassLedger::check(long step, FractionState &state, bool endOfRun,
   if (!regular) PetscFunctionReturn(PETSC_SUCCESS); // verified only: see the header
   if (std::any_of(factor.begin(), factor.end(), [](double f) { return f != 1.0; })) {
     PetscScalar *m;
-    PetscInt n;
-    PetscCall(VecGetLocalSize(state.masses(), &n));
+    PetscInt occupied;
+    PetscCall(state.occupiedEnd(&occupied));
     PetscCall(VecGetArray(state.masses(), &m));
-    for (PetscInt c = 0; c < n; c += nf)
-      for (int i = 0; i < nf; ++i) m[c + i] *= factor[i];
+    for (PetscInt k = 0; k < occupied * nf; k += nf)
+      for (int i = 0; i < nf; ++i) m[k + i] *= factor[i];
     PetscCall(VecRestoreArray(state.masses(), &m));
+    PetscCall(state.setOccupiedEnd(occupied)); // an empty cell stays empty
   }
   lastStep = step;
   PetscFunctionReturn(PETSC_SUCCESS);

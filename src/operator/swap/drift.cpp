@@ -262,6 +262,7 @@ PetscErrorCode DriftOperator::apply(const StepInfo &step, FractionState &state) 
 // top-ups at most (1 - maxShare) together.
 PetscErrorCode DriftOperator::substep(double dt, const double *scale, FractionState &state) {
   PetscFunctionBeginUser;
+  PetscCall(state.occupiedEnd(&occupiedEnd));
   PetscCall(exchange().sweep(state.masses(), [&] {
     switch (nf) { // the common inventories get loops the compiler unrolls
     case 2: sweep<2>(dt, scale); break;
@@ -271,6 +272,7 @@ PetscErrorCode DriftOperator::substep(double dt, const double *scale, FractionSt
     default: sweep<0>(dt, scale); break;
     }
   }));
+  PetscCall(state.setOccupiedEnd(occupiedEnd));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
@@ -281,10 +283,10 @@ PetscErrorCode DriftOperator::substep(double dt, const double *scale, FractionSt
 // side of another, so this halves that work, and a face is then a few
 // products of its cells' numbers, without a division unless its limiter
 // acts.  The own cells above the last one holding any mass (the freeboard,
-// most of the cells of an upper rank) are found first, from the top in
-// blocks, by the bits of their masses (a zero mass is all zero bits; a -0.0
-// only makes its block go through the cell loop), and skipped with their
-// faces.
+// most of the cells of an upper rank) are found first, from the state's
+// bound down in blocks, by the bits of their masses (a zero mass is all zero
+// bits; a -0.0 only makes its block go through the cell loop), and skipped
+// with their faces.
 template <int NF> void DriftOperator::sweep(double dt, const double *scale) {
   const int n = NF > 0 ? NF : nf;
   constexpr int cap = NF > 0 ? NF : kMaxFractions;
@@ -302,7 +304,7 @@ template <int NF> void DriftOperator::sweep(double dt, const double *scale) {
   const PetscScalar *ownMasses = x.massAt(0), *ghostMasses = x.massAt(own);
   PetscScalar *ownChanges = x.changeInMarked(0), *ghostChanges = x.changeInMarked(own);
 
-  PetscInt top = own;
+  PetscInt top = std::min(own, occupiedEnd);
   for (constexpr PetscInt block = 64; top > 0;) {
     const PetscInt from = std::max<PetscInt>(0, top - block);
     std::uint64_t bits = 0;
@@ -315,6 +317,7 @@ template <int NF> void DriftOperator::sweep(double dt, const double *scale) {
     top = from;
   }
   std::fill(swaps + top, swaps + own, 0);
+  occupiedEnd = top;
 
   PetscInt first = own, last = -1; // the own cells that swap
   auto sumCells = [&](const PetscScalar *m, PetscInt from, PetscInt to) { // m: the masses of cell `from`
