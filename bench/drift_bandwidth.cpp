@@ -10,8 +10,8 @@
 // numbers read and written), one face record (two 4-byte cell indices and
 // the two area/volume coefficients, 24 bytes) per face normal to gravity
 // with solid on at least one side, a factor per solid cell when the drift
-// is scaled by agitation, and the ghost cells' masses in and their changes
-// back (nf numbers each way).
+// is scaled by agitation, and the ghost cells' masses in (nf numbers each;
+// a face between two ranks is computed on both, so no change goes back).
 // usage: mpiexec -n P drift_bandwidth DB.h5 NF [STEPS] [-drift_... options]   (NF 2 or 5)
 #include "rcfd/database.hpp"
 #include "rcfd/drift.hpp"
@@ -40,7 +40,8 @@ double cpuSeconds() {
 // Bytes the drift of one step must move on this rank (see the file comment).
 PetscErrorCode bytesOfStep(FaceExchange &x, Vec masses, int nf, bool scaled, double *bytes, double *touching, double *both) {
   PetscFunctionBeginUser;
-  PetscCall(x.gather(masses));
+  PetscCall(x.gatherBegin(masses));
+  PetscCall(x.gatherEnd());
   PetscInt nlocal;
   PetscCall(VecGetLocalSize(masses, &nlocal));
   nlocal /= nf;
@@ -59,7 +60,7 @@ PetscErrorCode bytesOfStep(FaceExchange &x, Vec masses, int nf, bool scaled, dou
   *touching += faces;
   PetscCall(x.endKernel());
   const double ghosts = x.numGathered() - nlocal;
-  *bytes = cells * nf * 16.0 + faces * 24.0 + (scaled ? cells * 8.0 : 0.0) + ghosts * nf * 16.0;
+  *bytes = cells * nf * 16.0 + faces * 24.0 + (scaled ? cells * 8.0 : 0.0) + ghosts * nf * 8.0;
   PetscFunctionReturn(0);
 }
 

@@ -57,7 +57,7 @@ private:
   PetscErrorCode substepsFor(double dt, double largestScale, int *n) const;
   PetscErrorCode setUpScaling(const RunContext &ctx);
   void setUpTables();
-  template <int NF> void sweep(double dt, const double *scale); // NF = 0: nf read at run time
+  template <int NF> PetscErrorCode sweep(double dt, const double *scale); // NF = 0: nf read at run time
 
   // The sweep's tables, made once (setUpSwap): each face's two cells and
   // area / volume on each side; each gathered cell's masses at alpha_min and

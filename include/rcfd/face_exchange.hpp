@@ -6,10 +6,12 @@
 // each face and accumulates a change on both sides (what one side loses the
 // other gains, so the exchange conserves every fraction by construction).
 // FaceExchange hides where the cells live: this rank's own cells are read in
-// place from the state, the cells of other ranks that touch this rank's faces
-// ("ghosts") arrive by one PETSc scatter, and their changes go back by the
-// reverse scatter.  A face is handled by the rank owning its owner cell, so
-// partition boundaries need no special case in a kernel.
+// place from the state, and the cells of other ranks that touch this rank's
+// faces ("ghosts") arrive by one PETSc scatter.  A face between two ranks is
+// on both, each computes it from the same masses and keeps the change of its
+// own cell (a ghost's change is written and dropped), so partition
+// boundaries need no special case in a kernel and a sweep meets the
+// neighbouring ranks once.
 //
 //   FaceExchange exchange;
 //   PetscCall(exchange.setUp(db, nf, {0, 0, 0}, 0.0)); // all internal faces
@@ -62,7 +64,7 @@ public:
   /// 2 nf per ghost cell.
   PetscErrorCode setUp(const Database &db, int numFractions, const Vec3 &direction, double minShare);
 
-  /// This rank's faces (not collective).
+  /// This rank's faces: every chosen face of an own cell (not collective).
   const std::vector<SwapFace> &faces() const;
   /// Most faces any cell has, over all ranks (for per-face limits).
   int maxFacesPerCell() const;
@@ -75,29 +77,37 @@ public:
   /// This rank's own cells (the first numOwn() gathered cells).
   PetscInt numOwn() const { return open.nlocal; }
 
-  /// Collective.  One sweep: gather(masses), kernel(), endKernel(), then
-  /// scatterAdd(into), where `into` defaults to `masses`.  Cost: one scatter
-  /// of nf numbers per ghost cell each way (messages to neighbouring ranks
-  /// only) and one pass over the own cells that changed; nothing is copied.
+  /// Collective.  One sweep: gatherBegin(masses), gatherEnd(), kernel(),
+  /// endKernel(), then addChanges(into), where `into` defaults to `masses`.
+  /// Cost: one scatter of nf numbers per ghost cell (messages to
+  /// neighbouring ranks only) and one pass over the own cells that changed;
+  /// nothing is copied.
   template <typename Kernel> PetscErrorCode sweep(Vec masses, Kernel &&kernel, Vec into = nullptr) {
     PetscFunctionBeginUser;
-    PetscCall(gather(masses));
+    PetscCall(gatherBegin(masses));
+    PetscCall(gatherEnd());
     kernel();
     PetscCall(endKernel());
-    PetscCall(scatterAdd(into ? into : masses));
+    PetscCall(addChanges(into ? into : masses));
     PetscFunctionReturn(0);
   }
 
-  /// Collective.  Brings the ghost cells' masses and opens `masses` for
-  /// reading through massAt() until endKernel().  The changes start at zero.
-  PetscErrorCode gather(Vec masses);
-  /// Not collective.  Closes what gather() opened (before scatterAdd()).
+  /// Collective.  Starts bringing the ghost cells' masses and opens
+  /// `masses`: massAt() of an own cell may be read from here on (a kernel
+  /// may work on its own cells while the ghosts travel).  The changes start
+  /// at zero.
+  PetscErrorCode gatherBegin(Vec masses);
+  /// Collective.  The ghost cells' masses have arrived: massAt() of any
+  /// gathered cell until endKernel().
+  PetscErrorCode gatherEnd();
+  /// Not collective.  Closes what gatherBegin() opened (before addChanges()).
   PetscErrorCode endKernel();
-  /// Collective.  Adds the accumulated changes to `masses` (own cells in
-  /// place, ghost cells on the ranks that own them) and zeroes them.
-  PetscErrorCode scatterAdd(Vec masses);
+  /// Not collective.  Adds the own cells' accumulated changes to `masses`
+  /// and zeroes them.
+  PetscErrorCode addChanges(Vec masses);
 
-  /// The nf masses of gathered cell i (between gather() and endKernel()).
+  /// The nf masses of gathered cell i (between gatherEnd() and endKernel();
+  /// an own cell's from gatherBegin()).
   const PetscScalar *massAt(PetscInt i) const {
     return i < open.nlocal ? open.own + i * open.nf : open.ghost + (i - open.nlocal) * open.nf;
   }
@@ -107,8 +117,9 @@ public:
     return changeInMarked(i);
   }
   /// For a kernel that knows which own cells it may change: mark them once
-  /// (own cells from..to-1; scatterAdd() visits only the marked range) and
+  /// (own cells from..to-1; addChanges() visits only the marked range) and
   /// then reach their changes through changeInMarked(), which marks nothing.
+  /// (Marking a ghost is not needed: its changes are dropped.)
   void markChanged(PetscInt from, PetscInt to) {
     open.changedFrom = std::min(open.changedFrom, from);
     open.changedTo = std::max(open.changedTo, to);
@@ -124,7 +135,7 @@ public:
 private:
   struct Impl; // faces, scatters, ghost vectors (face_exchange.cpp)
   std::unique_ptr<Impl> impl;
-  // The arrays gather() opens, held here only so that massAt() and
+  // The arrays gatherBegin() opens, held here only so that massAt() and
   // changeAt() inline into the kernels' loops.
   struct Window {
     const PetscScalar *own = nullptr, *ghost = nullptr;

@@ -261,17 +261,19 @@ PetscErrorCode DriftOperator::apply(const StepInfo &step, FractionState &state) 
 // entirely: per cell the drift part is at most maxShare and the faces'
 // top-ups at most (1 - maxShare) together.
 PetscErrorCode DriftOperator::substep(double dt, const double *scale, FractionState &state) {
+  FaceExchange &x = exchange();
   PetscFunctionBeginUser;
   PetscCall(state.occupiedEnd(&occupiedEnd));
-  PetscCall(exchange().sweep(state.masses(), [&] {
-    switch (nf) { // the common inventories get loops the compiler unrolls
-    case 2: sweep<2>(dt, scale); break;
-    case 3: sweep<3>(dt, scale); break;
-    case 4: sweep<4>(dt, scale); break;
-    case 5: sweep<5>(dt, scale); break;
-    default: sweep<0>(dt, scale); break;
-    }
-  }));
+  PetscCall(x.gatherBegin(state.masses()));
+  switch (nf) { // the common inventories get loops the compiler unrolls
+  case 2: PetscCall(sweep<2>(dt, scale)); break;
+  case 3: PetscCall(sweep<3>(dt, scale)); break;
+  case 4: PetscCall(sweep<4>(dt, scale)); break;
+  case 5: PetscCall(sweep<5>(dt, scale)); break;
+  default: PetscCall(sweep<0>(dt, scale)); break;
+  }
+  PetscCall(x.endKernel());
+  PetscCall(x.addChanges(state.masses()));
   PetscCall(state.setOccupiedEnd(occupiedEnd));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
@@ -287,7 +289,8 @@ PetscErrorCode DriftOperator::substep(double dt, const double *scale, FractionSt
 // bound down in blocks, by the bits of their masses (a zero mass is all zero
 // bits; a -0.0 only makes its block go through the cell loop), and skipped
 // with their faces.
-template <int NF> void DriftOperator::sweep(double dt, const double *scale) {
+template <int NF> PetscErrorCode DriftOperator::sweep(double dt, const double *scale) {
+  PetscFunctionBeginUser;
   const int n = NF > 0 ? NF : nf;
   constexpr int cap = NF > 0 ? NF : kMaxFractions;
   FaceExchange &x = exchange();
@@ -301,7 +304,7 @@ template <int NF> void DriftOperator::sweep(double dt, const double *scale) {
   const double *upFixed = fixedUp.data(), *downFixed = fixedDown.data();
   double *upLocal = cellUp.data(), *downLocal = cellDown.data();
   const bool hinder = hindered, local = localD32;
-  const PetscScalar *ownMasses = x.massAt(0), *ghostMasses = x.massAt(own);
+  const PetscScalar *ownMasses = x.massAt(0), *ghostMasses = nullptr; // the ghosts' after gatherEnd()
   PetscScalar *ownChanges = x.changeInMarked(0), *ghostChanges = x.changeInMarked(own);
 
   PetscInt top = std::min(own, occupiedEnd);
@@ -379,8 +382,10 @@ template <int NF> void DriftOperator::sweep(double dt, const double *scale) {
       for (int i = 0; i < n; ++i) dU[i] += net[i];
     }
   };
+  sumCells(ownMasses, 0, top); // while the ghosts' masses travel
+  PetscCall(x.gatherEnd());
+  ghostMasses = x.massAt(own);
   if (gathered > own) sumCells(ghostMasses, own, gathered);
-  sumCells(ownMasses, 0, top);
   // The faces whose last own cell lies below the freeboard (the others do not swap).
   const auto end = std::partition_point(driftFaces.begin(), driftFaces.end(),
                                         [&](const DriftFace &f) { return lastOwnCell(f, own) < top; });
@@ -389,6 +394,7 @@ template <int NF> void DriftOperator::sweep(double dt, const double *scale) {
   else swapFaces(std::false_type{}, faces, below);
   // Both cells of a face that swaps are cells that swap.
   if (first <= last) x.markChanged(first, last + 1);
+  PetscFunctionReturn(PETSC_SUCCESS);
 }
 
 PetscErrorCode DriftOperator::view(PetscViewer viewer) const {

@@ -9,11 +9,11 @@ namespace rcfd {
 
 struct FaceExchange::Impl {
   std::vector<SwapFace> swapFaces;
-  OwnedVec ghostMasses, ghostChanges; // nf per ghost cell
+  OwnedVec ghostMasses; // nf per ghost cell
   OwnedScatter ghostScatter, scalarScatter;
   OwnedVec scalarLocal;
   std::vector<PetscInt> rows; // PETSc row of each gathered cell (own, then ghosts)
-  std::vector<PetscScalar> ownChanges;
+  std::vector<PetscScalar> ownChanges, ghostChanges; // a ghost's changes are written and never read
   Vec openMasses = nullptr;
   const Layout *layout = nullptr;
   PetscInt gathered = 0;
@@ -44,16 +44,17 @@ PetscErrorCode FaceExchange::setUp(const Database &db, int numFractions, const V
   impl->layout = &L;
   rows.resize(nlocal);
   for (PetscInt r = 0; r < nlocal; ++r) rows[r] = L.rowStart() + r;
+  auto owned = [&](PetscInt row) { return row >= L.rowStart() && row < L.rowEnd(); };
   std::map<PetscInt, PetscInt> ghostIndex; // PETSc row -> local index of a ghost cell
   auto index = [&](PetscInt row) {
-    if (row >= L.rowStart() && row < L.rowEnd()) return row - L.rowStart();
+    if (owned(row)) return row - L.rowStart();
     auto [it, inserted] = ghostIndex.emplace(row, static_cast<PetscInt>(rows.size()));
     if (inserted) rows.push_back(row);
     return it->second;
   };
   for (int f = 0; f < mesh.numFaces(); ++f) {
-    const PetscInt owner = L.petscRow(mesh.faceOwner[f]);
-    if (owner < L.rowStart() || owner >= L.rowEnd()) continue; // another rank's face
+    if (!owned(L.petscRow(mesh.faceOwner[f])) && !owned(L.petscRow(mesh.faceNeighbour[f])))
+      continue; // between two other ranks' cells
     const Vec3 &S = mesh.faceArea[f];
     const double area = std::hypot(S[0], S[1], S[2]);
     double along = area; // dispersion: the whole face, owner as "lower"
@@ -71,58 +72,48 @@ PetscErrorCode FaceExchange::setUp(const Database &db, int numFractions, const V
   }
   const PetscInt gathered = impl->gathered = static_cast<PetscInt>(rows.size());
 
-  // Area over volume sent through in each direction, and faces, per cell.
-  // A cell's faces may be handled by several ranks: the per-cell sums are
-  // added up on the owning rank through a reverse scatter before the maxima.
-  OwnedVec sums;
-  OwnedScatter add;
-  PetscCall(L.rowsScatter(3, gathered, rows.data(), sums.put(), add.put()));
-  PetscScalar *s3;
-  PetscCall(VecGetArrayWrite(sums, &s3));
-  std::fill(s3, s3 + 3 * gathered, 0.0);
+  // Area over volume sent through in each direction, and faces, per own
+  // cell: every face of an own cell is on this rank.
+  std::vector<double> sendsUp(nlocal, 0.0), sendsDown(nlocal, 0.0);
+  std::vector<int> perCell(nlocal, 0);
   for (const auto &f : swapFaces) {
-    s3[3 * f.lower] += f.area / f.volumeLower;
-    s3[3 * f.upper + 1] += f.area / f.volumeUpper;
-    s3[3 * f.lower + 2] += 1.0;
-    s3[3 * f.upper + 2] += 1.0;
+    if (f.lower < nlocal) sendsUp[f.lower] += f.area / f.volumeLower, ++perCell[f.lower];
+    if (f.upper < nlocal) sendsDown[f.upper] += f.area / f.volumeUpper, ++perCell[f.upper];
   }
-  PetscCall(VecRestoreArrayWrite(sums, &s3));
-  FractionState perCell;
-  PetscCall(perCell.create(L, 3));
-  PetscCall(VecScatterBegin(add, sums, perCell.masses(), ADD_VALUES, SCATTER_REVERSE));
-  PetscCall(VecScatterEnd(add, sums, perCell.masses(), ADD_VALUES, SCATTER_REVERSE));
-  const PetscScalar *t;
   double localMax = 0.0;
   int localFaces = 0;
-  PetscCall(VecGetArrayRead(perCell.masses(), &t));
-  for (PetscInt c = 0; c < L.numLocal(); ++c) {
-    localMax = std::max({localMax, t[3 * c], t[3 * c + 1]});
-    localFaces = std::max(localFaces, static_cast<int>(t[3 * c + 2] + 0.5));
+  for (PetscInt c = 0; c < nlocal; ++c) {
+    localMax = std::max({localMax, sendsUp[c], sendsDown[c]});
+    localFaces = std::max(localFaces, perCell[c]);
   }
-  PetscCall(VecRestoreArrayRead(perCell.masses(), &t));
   PetscCallMPI(MPI_Allreduce(&localMax, &impl->maxAoverV, 1, MPI_DOUBLE, MPI_MAX, L.comm()));
   PetscCallMPI(MPI_Allreduce(&localFaces, &impl->maxPerCell, 1, MPI_INT, MPI_MAX, L.comm()));
 
   impl->ownChanges.assign(static_cast<size_t>(nlocal) * nf, 0.0);
+  impl->ghostChanges.assign(static_cast<size_t>(gathered - nlocal) * nf, 0.0);
   PetscCall(L.rowsScatter(nf, gathered - nlocal, rows.data() + nlocal, impl->ghostMasses.put(),
                           impl->ghostScatter.put()));
-  PetscCall(VecDuplicate(impl->ghostMasses, impl->ghostChanges.put()));
-  PetscCall(VecZeroEntries(impl->ghostChanges));
   open.nf = nf;
   open.nlocal = nlocal;
   open.ownChange = impl->ownChanges.data();
+  open.ghostChange = impl->ghostChanges.data();
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
-PetscErrorCode FaceExchange::gather(Vec masses) {
+PetscErrorCode FaceExchange::gatherBegin(Vec masses) {
   PetscFunctionBeginUser;
   Impl &x = *impl;
   PetscCall(VecScatterBegin(x.ghostScatter, masses, x.ghostMasses, INSERT_VALUES, SCATTER_FORWARD));
-  PetscCall(VecScatterEnd(x.ghostScatter, masses, x.ghostMasses, INSERT_VALUES, SCATTER_FORWARD));
   x.openMasses = masses;
   PetscCall(VecGetArrayRead(masses, &open.own));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode FaceExchange::gatherEnd() {
+  PetscFunctionBeginUser;
+  Impl &x = *impl;
+  PetscCall(VecScatterEnd(x.ghostScatter, x.openMasses, x.ghostMasses, INSERT_VALUES, SCATTER_FORWARD));
   PetscCall(VecGetArrayRead(x.ghostMasses, &open.ghost));
-  PetscCall(VecGetArray(x.ghostChanges, &open.ghostChange));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
@@ -145,12 +136,11 @@ PetscErrorCode FaceExchange::endKernel() {
   Impl &x = *impl;
   PetscCall(VecRestoreArrayRead(x.openMasses, &open.own));
   PetscCall(VecRestoreArrayRead(x.ghostMasses, &open.ghost));
-  PetscCall(VecRestoreArray(x.ghostChanges, &open.ghostChange));
   x.openMasses = nullptr;
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
-PetscErrorCode FaceExchange::scatterAdd(Vec masses) {
+PetscErrorCode FaceExchange::addChanges(Vec masses) {
   PetscFunctionBeginUser;
   Impl &x = *impl;
   const size_t nf = static_cast<size_t>(open.nf);
@@ -165,9 +155,6 @@ PetscErrorCode FaceExchange::scatterAdd(Vec masses) {
   open.changedFrom = PETSC_MAX_INT;
   open.changedTo = 0;
   PetscCall(VecRestoreArray(masses, &m));
-  PetscCall(VecScatterBegin(x.ghostScatter, x.ghostChanges, masses, ADD_VALUES, SCATTER_REVERSE));
-  PetscCall(VecScatterEnd(x.ghostScatter, x.ghostChanges, masses, ADD_VALUES, SCATTER_REVERSE));
-  PetscCall(VecZeroEntries(x.ghostChanges));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
