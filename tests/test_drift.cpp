@@ -9,7 +9,8 @@
 // (exponent 0 equal to the unscaled drift bit for bit, a uniform field to
 // round-off, the factor of the frame being applied), and the operator
 // against a straightforward implementation written here, along the frames of
-// small.h5 with each option that changes the kernel's path.
+// small.h5 with each option that changes the kernel's path, and the state's
+// bound on where mass can be as the shift and the drift keep it.
 // Runs at 1 and 2 ranks.  Every PETSc call is checked with PetscCallAbort:
 // an error (a database that does not load, a set-up or step that fails)
 // stops the test with PETSc's message and a non-zero exit, never a silent pass.
@@ -691,6 +692,89 @@ void againstReference() {
   RCFD_CHECK(checked == 8);
 }
 
+// The state's bound on where mass can be (FractionState::occupiedEnd): after
+// every shift (given the exact bound before it) and every drift of 90 frames
+// of small.h5 no own cell at or above it holds mass, the bound leaves cells
+// out on some rank, a write that does not
+// renew it (or a swap of the vectors) makes it unknown, and the run gives
+// the same bits as one whose bound is made unknown after every operator.
+void occupiedBound() {
+  std::unique_ptr<Database> db;
+  PetscCallAbort(PETSC_COMM_WORLD,
+                 Database::load(PETSC_COMM_WORLD, dataDir + "/small.h5", DatabaseLoadOptions{}, &db));
+  const FractionSet set({1.783e-3, 1.998e-3, 2.284e-3, 2.855e-3, 3.426e-3}, {0.100, 0.205, 0.445, 0.150, 0.100});
+  const int nf = set.size();
+  const PetscInt nlocal = db->layout().numLocal();
+  std::vector<double> alpha;
+  db->layout().gatherToAll(1, db->alphaS(0), &alpha);
+  const RunContext ctx{*db, set, 1440.0};
+  long leftOut = 0, wrong = 0;
+  auto boundHolds = [&](const FractionState &st) {
+    PetscInt end;
+    const PetscScalar *m;
+    PetscCallAbort(PETSC_COMM_WORLD, st.occupiedEnd(&end));
+    PetscCallAbort(PETSC_COMM_WORLD, VecGetArrayRead(st.masses(), &m));
+    for (PetscInt k = end * nf; k < nlocal * nf; ++k) wrong += m[k] != 0.0;
+    PetscCallAbort(PETSC_COMM_WORLD, VecRestoreArrayRead(st.masses(), &m));
+    leftOut += nlocal - end;
+  };
+  auto exactly = [&](FractionState &st) { // the bound right above the last own cell holding mass
+    const PetscScalar *m;
+    PetscInt end = 0;
+    PetscCallAbort(PETSC_COMM_WORLD, VecGetArrayRead(st.masses(), &m));
+    for (PetscInt k = 0; k < nlocal * nf; ++k)
+      if (m[k] != 0.0) end = k / nf + 1;
+    PetscCallAbort(PETSC_COMM_WORLD, VecRestoreArrayRead(st.masses(), &m));
+    PetscCallAbort(PETSC_COMM_WORLD, st.setOccupiedEnd(end));
+  };
+  auto forget = [&](FractionState &st) { // a write that says nothing of where the mass is
+    PetscScalar *m;
+    PetscCallAbort(PETSC_COMM_WORLD, VecGetArray(st.masses(), &m));
+    PetscCallAbort(PETSC_COMM_WORLD, VecRestoreArray(st.masses(), &m));
+    PetscInt end;
+    PetscCallAbort(PETSC_COMM_WORLD, st.occupiedEnd(&end));
+    RCFD_CHECK(end == nlocal);
+  };
+  auto run = [&](bool renew) {
+    FractionState st;
+    PetscCallAbort(PETSC_COMM_WORLD, st.create(db->layout(), nf));
+    setNatural(*db, st, uniformState(db->mesh(), alpha, set));
+    ShiftOperator shift;
+    PetscCallAbort(PETSC_COMM_WORLD, shift.setUp(ctx));
+    auto drift = makeOperator<DriftOperator>("-model B -kd 5e4");
+    PetscCallAbort(PETSC_COMM_WORLD, drift->setUp(ctx));
+    for (int k = 0; k < 90; ++k) {
+      StepInfo info;
+      info.step = k;
+      info.dt = db->metadata().dtRec;
+      info.frame = k % db->numFrames();
+      info.nextFrame = (k + 1) % db->numFrames();
+      if (renew) exactly(st); // so that the shift's own rows decide
+      PetscCallAbort(PETSC_COMM_WORLD, shift.apply(info, st));
+      if (renew) boundHolds(st);
+      else forget(st);
+      PetscCallAbort(PETSC_COMM_WORLD, drift->apply(info, st));
+      if (renew) boundHolds(st);
+      else forget(st);
+    }
+    PetscCallAbort(PETSC_COMM_WORLD, st.setOccupiedEnd(0));
+    st.swap();
+    PetscInt end;
+    PetscCallAbort(PETSC_COMM_WORLD, st.occupiedEnd(&end));
+    RCFD_CHECK(end == nlocal);
+    st.swap();
+    return gatherNatural(*db, st.masses(), nf);
+  };
+  const auto bounded = run(true), unknown = run(false);
+  MPI_Allreduce(MPI_IN_PLACE, &leftOut, 1, MPI_LONG, MPI_SUM, PETSC_COMM_WORLD);
+  MPI_Allreduce(MPI_IN_PLACE, &wrong, 1, MPI_LONG, MPI_SUM, PETSC_COMM_WORLD);
+  PetscPrintf(PETSC_COMM_WORLD, "occupied bound: %ld cell-steps left out, %ld masses above it, runs %s\n", leftOut,
+              wrong, bounded == unknown ? "the same bits" : "DIFFERENT");
+  RCFD_CHECK(leftOut > 90 * 20);
+  RCFD_CHECK(wrong == 0);
+  RCFD_CHECK(bounded == unknown);
+}
+
 void leftOutWhenNotNeeded() {
   auto db = identityDb(column(2, 4, 0.04), std::vector<double>(4, 0.5), {0, 0, -9.81});
   FractionSet one({2e-3}, {1.0}), two({1e-3, 2e-3}, {0.5, 0.5});
@@ -729,6 +813,7 @@ int main(int argc, char **argv) {
   agitationOfTheSendingCell();
   agitationFollowsTheDatabase();
   againstReference();
+  occupiedBound();
   const int total = rcfd::test::globalFailures();
   PetscCall(PetscFinalize());
   return total == 0 ? 0 : 1;
