@@ -36,7 +36,7 @@ PetscErrorCode RemapCarry::remap(const CarryContext &ctx, Vec targetAlpha, Fract
   const int nf = ctx.numFractions;
   const double rho = ctx.solidDensity;
   // Neighbour masses summed per owned cell: gather, add each face's other
-  // side, and scatter-add into a zeroed work state.
+  // side, and add the sums into a zeroed work state.
   FractionState neighbours;
   PetscCall(neighbours.create(ctx.db.layout(), nf));
   PetscCall(x.sweep(
