@@ -58,10 +58,9 @@ public:
   /// Collective.  Chooses the faces whose area vector has a component along
   /// `direction` above `minShare` of its area (all internal faces when the
   /// direction is zero) and builds the ghost scatter for states of
-  /// `numFractions` masses per cell.  Cost: one pass over the mesh's faces,
-  /// one scatter of three numbers per cell and two reductions; memory per
-  /// rank one SwapFace (56 bytes with 32-bit PetscInt) per face, nf numbers per own cell and
-  /// 2 nf per ghost cell.
+  /// `numFractions` masses per cell.  Cost: one pass over the mesh's faces
+  /// and two reductions; memory per rank one SwapFace (56 bytes with 32-bit
+  /// PetscInt) per face, nf numbers per own cell and 2 nf per ghost cell.
   PetscErrorCode setUp(const Database &db, int numFractions, const Vec3 &direction, double minShare);
 
   /// This rank's faces: every chosen face of an own cell (not collective).

@@ -13,7 +13,7 @@ struct FaceExchange::Impl {
   OwnedScatter ghostScatter, scalarScatter;
   OwnedVec scalarLocal;
   std::vector<PetscInt> rows; // PETSc row of each gathered cell (own, then ghosts)
-  std::vector<PetscScalar> ownChanges, ghostChanges; // a ghost's changes are written and never read
+  std::vector<PetscScalar> ownChanges, ghostChanges; // a ghost's changes are its own rank's to make
   Vec openMasses = nullptr;
   const Layout *layout = nullptr;
   PetscInt gathered = 0;
@@ -104,6 +104,7 @@ PetscErrorCode FaceExchange::gatherBegin(Vec masses) {
   PetscFunctionBeginUser;
   Impl &x = *impl;
   PetscCall(VecScatterBegin(x.ghostScatter, masses, x.ghostMasses, INSERT_VALUES, SCATTER_FORWARD));
+  std::fill(x.ghostChanges.begin(), x.ghostChanges.end(), 0.0); // as documented, though never read
   x.openMasses = masses;
   PetscCall(VecGetArrayRead(masses, &open.own));
   PetscFunctionReturn(PETSC_SUCCESS);
