@@ -12,6 +12,8 @@
 #include "rcfd/database.hpp"
 
 #include <cstdio>
+#include <cstdlib>
+#include <optional>
 #include <stdexcept>
 
 namespace rcfd::cli {
@@ -40,13 +42,24 @@ void coarsenInitialMasses(const std::string &in, const std::string &out, const C
   file.commit();
 }
 
+// The precision -weights asks for: "full" (or 0, its first spelling) gives 0,
+// B in 1..kMaxWeightBits quantised weights of B bits; nothing for any other text.
+std::optional<int> requestedWeightBits(const std::string &given) {
+  if (given == "full") return 0;
+  char *end = nullptr;
+  const long bits = std::strtol(given.c_str(), &end, 10);
+  if (given.empty() || *end != '\0' || bits < 0 || bits > kMaxWeightBits) return std::nullopt;
+  return static_cast<int>(bits);
+}
+
 } // namespace
 
 PetscErrorCode coarsenCommand(MPI_Comm comm, const char *positional) {
   char in[PETSC_MAX_PATH_LEN] = "", out[PETSC_MAX_PATH_LEN] = "", initIn[PETSC_MAX_PATH_LEN] = "",
-       initOut[PETSC_MAX_PATH_LEN] = "";
-  PetscInt factor[3] = {1, 1, 1}, nfactor = 3, timeFactor = 1, weightBits = 0;
-  PetscBool setIn = PETSC_FALSE, setOut = PETSC_FALSE, setFactor = PETSC_FALSE, quiet = PETSC_FALSE;
+       initOut[PETSC_MAX_PATH_LEN] = "", weights[16] = "";
+  PetscInt factor[3] = {1, 1, 1}, nfactor = 3, timeFactor = 1;
+  PetscBool setIn = PETSC_FALSE, setOut = PETSC_FALSE, setFactor = PETSC_FALSE, setWeights = PETSC_FALSE,
+            quiet = PETSC_FALSE;
   PetscMPIInt size;
   PetscFunctionBeginUser;
   PetscOptionsBegin(comm, nullptr, "rcfd coarsen: an exactly coarsened copy of a database", "rcfd");
@@ -62,8 +75,9 @@ PetscErrorCode coarsenCommand(MPI_Comm comm, const char *positional) {
                                "", "", initIn, sizeof initIn, nullptr));
   PetscCall(PetscOptionsString("-init_out", "Where the coarsened initial composition goes", "", "", initOut,
                                sizeof initOut, nullptr));
-  PetscCall(PetscOptionsInt("-weights", "Quantise the shift weights to multiples of 2^-B with exact column sums (0: full precision)",
-                            "", weightBits, &weightBits, nullptr));
+  PetscCall(PetscOptionsString("-weights",
+                               "Shift weights: B (multiples of 2^-B with exact column sums) or full; default: the input's",
+                               "", "", weights, sizeof weights, &setWeights));
   PetscCall(PetscOptionsBool("-quiet", "No report", "", quiet, &quiet, nullptr));
   PetscOptionsEnd();
   if (helpRequested()) PetscFunctionReturn(PETSC_SUCCESS);
@@ -76,9 +90,9 @@ PetscErrorCode coarsenCommand(MPI_Comm comm, const char *positional) {
   PetscCheck(!setFactor || nfactor == 3, comm, PETSC_ERR_USER_INPUT, "-factor takes three counts fx,fy,fz");
   PetscCheck(timeFactor == 1 || timeFactor == 2, comm, PETSC_ERR_USER_INPUT,
              "-time_factor %d: expected 1 or 2 (compose twice for 4)", (int)timeFactor);
-  PetscCheck(weightBits >= 0 && weightBits <= kMaxWeightBits, comm, PETSC_ERR_USER_INPUT,
-             "-weights %d: expected the bits of the quantised weights, 1 to %d (0: full precision)", (int)weightBits,
-             kMaxWeightBits);
+  const std::optional<int> requestedBits = setWeights ? requestedWeightBits(weights) : std::nullopt;
+  PetscCheck(!setWeights || requestedBits, comm, PETSC_ERR_USER_INPUT,
+             "-weights '%s': expected the bits of the quantised weights, 1 to %d, or full", weights, kMaxWeightBits);
   PetscCheck(!initIn[0] == !initOut[0], comm, PETSC_ERR_USER_INPUT, "-init_file and -init_out go together");
   PetscCheck(file != out, comm, PETSC_ERR_USER_INPUT, "-o names the input database; give another file");
   // The loader checks the file's format and sizes and gives mesh and metadata;
@@ -97,12 +111,18 @@ PetscErrorCode coarsenCommand(MPI_Comm comm, const char *positional) {
     coarse = coarsenBox(db->mesh().boxSpec(), {(int)factor[0], (int)factor[1], (int)factor[2]});
   }, PETSC_ERR_USER_INPUT));
   DatabaseMetadata meta = db->metadata();
+  // Unless asked otherwise the output keeps the input's precision: a quantised
+  // input's coarse frames are quantised again to its bits (for factor 1 that
+  // is exact: weights already quantised to B bits come back unchanged).
+  const int weightBits = requestedBits.value_or(meta.weightBits);
+  const std::string precision = weightBits > 0       ? " -weights " + std::to_string(weightBits)
+                                : meta.weightBits > 0 ? " -weights full"
+                                                      : "";
   meta.dtRec *= static_cast<double>(timeFactor);
   meta.source = "rcfd coarsen " + file + " -factor " + std::to_string(factor[0]) + "," + std::to_string(factor[1]) +
-                "," + std::to_string(factor[2]) + " -time_factor " + std::to_string(timeFactor) +
-                (weightBits > 0 ? " -weights " + std::to_string(weightBits) : std::string()) + " (" +
+                "," + std::to_string(factor[2]) + " -time_factor " + std::to_string(timeFactor) + precision + " (" +
                 db->metadata().source + ")";
-  meta.weightBits = static_cast<int>(weightBits); // the input's quantisation does not survive coarsening
+  meta.weightBits = weightBits;
   std::unique_ptr<DatabaseWriter> writer;
   PetscCall(collectively(comm, [&] { writer = std::make_unique<DatabaseWriter>(out, Mesh::box(coarse.box), meta); }));
   const std::vector<double> &volume = db->mesh().cellVolume;
@@ -113,7 +133,7 @@ PetscErrorCode coarsenCommand(MPI_Comm comm, const char *positional) {
       FrameRecord a = readStoredFrame(f, static_cast<int>(timeFactor) * k, cells);
       if (timeFactor == 2) a = composeFrames(a, readStoredFrame(f, 2 * k + 1, cells));
       FrameRecord c = coarsenFrame(a, volume, coarse);
-      if (weightBits > 0) quantiseWeights(&c.shift, static_cast<int>(weightBits));
+      if (weightBits > 0) quantiseWeights(&c.shift, weightBits);
       nnz += c.shift.nnz();
       writer->append(c);
     }
