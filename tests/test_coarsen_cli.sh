@@ -96,7 +96,7 @@ expect_error "the coarsening factor along x is 3" coarsen "$db" -factor 3,1,1 -o
 expect_error "-time_factor 3: expected 1 or 2" coarsen "$db" -time_factor 3 -o "$work/x.h5"
 expect_error "rcfd coarsen needs -o FILE" coarsen "$db" -factor 2,1,2
 for bad in half 17 -1; do
-  expect_error "-weights '$bad': expected the bits of the quantised weights, 1 to 16, or full" \
+  expect_error "-weights '$bad': expected the bits of the quantised weights, 1 to 16, full, or input" \
     coarsen "$db" -weights "$bad" -o "$work/x.h5"
 done
 [ ! -e "$work/x.h5" ] && ok || fail "a refused coarsening left a file"

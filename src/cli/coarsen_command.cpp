@@ -56,10 +56,9 @@ std::optional<int> requestedWeightBits(const std::string &given) {
 
 PetscErrorCode coarsenCommand(MPI_Comm comm, const char *positional) {
   char in[PETSC_MAX_PATH_LEN] = "", out[PETSC_MAX_PATH_LEN] = "", initIn[PETSC_MAX_PATH_LEN] = "",
-       initOut[PETSC_MAX_PATH_LEN] = "", weights[16] = "";
+       initOut[PETSC_MAX_PATH_LEN] = "", weights[16] = "input";
   PetscInt factor[3] = {1, 1, 1}, nfactor = 3, timeFactor = 1;
-  PetscBool setIn = PETSC_FALSE, setOut = PETSC_FALSE, setFactor = PETSC_FALSE, setWeights = PETSC_FALSE,
-            quiet = PETSC_FALSE;
+  PetscBool setIn = PETSC_FALSE, setOut = PETSC_FALSE, setFactor = PETSC_FALSE, quiet = PETSC_FALSE;
   PetscMPIInt size;
   PetscFunctionBeginUser;
   PetscOptionsBegin(comm, nullptr, "rcfd coarsen: an exactly coarsened copy of a database", "rcfd");
@@ -76,8 +75,8 @@ PetscErrorCode coarsenCommand(MPI_Comm comm, const char *positional) {
   PetscCall(PetscOptionsString("-init_out", "Where the coarsened initial composition goes", "", "", initOut,
                                sizeof initOut, nullptr));
   PetscCall(PetscOptionsString("-weights",
-                               "Shift weights: B (multiples of 2^-B with exact column sums) or full; default: the input's",
-                               "", "", weights, sizeof weights, &setWeights));
+                               "Shift weights: B (multiples of 2^-B with exact column sums), full, or input (the input's precision)",
+                               "", weights, weights, sizeof weights, nullptr));
   PetscCall(PetscOptionsBool("-quiet", "No report", "", quiet, &quiet, nullptr));
   PetscOptionsEnd();
   if (helpRequested()) PetscFunctionReturn(PETSC_SUCCESS);
@@ -90,9 +89,11 @@ PetscErrorCode coarsenCommand(MPI_Comm comm, const char *positional) {
   PetscCheck(!setFactor || nfactor == 3, comm, PETSC_ERR_USER_INPUT, "-factor takes three counts fx,fy,fz");
   PetscCheck(timeFactor == 1 || timeFactor == 2, comm, PETSC_ERR_USER_INPUT,
              "-time_factor %d: expected 1 or 2 (compose twice for 4)", (int)timeFactor);
-  const std::optional<int> requestedBits = setWeights ? requestedWeightBits(weights) : std::nullopt;
-  PetscCheck(!setWeights || requestedBits, comm, PETSC_ERR_USER_INPUT,
-             "-weights '%s': expected the bits of the quantised weights, 1 to %d, or full", weights, kMaxWeightBits);
+  const bool keepPrecision = std::string(weights) == "input";
+  const std::optional<int> requestedBits = keepPrecision ? std::nullopt : requestedWeightBits(weights);
+  PetscCheck(keepPrecision || requestedBits, comm, PETSC_ERR_USER_INPUT,
+             "-weights '%s': expected the bits of the quantised weights, 1 to %d, full, or input", weights,
+             kMaxWeightBits);
   PetscCheck(!initIn[0] == !initOut[0], comm, PETSC_ERR_USER_INPUT, "-init_file and -init_out go together");
   PetscCheck(file != out, comm, PETSC_ERR_USER_INPUT, "-o names the input database; give another file");
   // The loader checks the file's format and sizes and gives mesh and metadata;
