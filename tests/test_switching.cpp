@@ -4,7 +4,8 @@
 // database blended with itself its own shifts; the hysteresis band rule on a
 // constructed signal; the schedule, blend and markov rules' choices, and the
 // markov rule continued from its saved state; databases of different lengths
-// (a blend with a truncated copy); the monitors following a switch.
+// (a blend with a truncated copy); the monitors following a switch; the
+// umf_usup signal the same number as bottom.csv's u_mf/u_sup.
 #include "check.hpp"
 #include "base/petsc_compat.hpp"
 #include "scoped_options.hpp"
@@ -18,12 +19,15 @@
 #include "rcfd/switching.hpp"
 
 #include <cmath>
+#include <cstdio>
+#include <map>
 
 using namespace rcfd;
 
 namespace {
 
-void writeBed(const std::string &path, int nz, double rate, std::uint64_t seed, int frames = 12) {
+void writeBed(const std::string &path, int nz, double rate, std::uint64_t seed, int frames = 12,
+              const OperatingConditions &recorded = {}) {
   int rank;
   MPI_Comm_rank(PETSC_COMM_WORLD, &rank);
   if (rank == 0) {
@@ -35,7 +39,9 @@ void writeBed(const std::string &path, int nz, double rate, std::uint64_t seed, 
     o.warmUpTime = 0.1;
     o.nucleationRate = rate;
     o.seed = seed;
-    DatabaseWriter w(path, Mesh::box(o.box), DatabaseMetadata{});
+    DatabaseMetadata metadata;
+    metadata.conditions = recorded;
+    DatabaseWriter w(path, Mesh::box(o.box), metadata);
     generateSyntheticBed(o, [&](const FrameRecord &f) { w.append(f); });
     w.finish();
   }
@@ -348,10 +354,96 @@ PetscErrorCode monitorsFollow(const std::string &dir) {
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
+// Keeps every umf_usup the switcher hands it (the switcher's sample of its
+// signal); starts on database 1 and moves to database 0 after step `at`.
+class SignalRecorder final : public SwitchRule {
+public:
+  SignalRecorder(std::map<long, double> *seen, long at) : seen(seen), at(at) {}
+  std::string kind() const override { return "recorder"; }
+  std::string describe() const override { return "umf_usup recorded"; }
+  bool needsSignals() const override { return true; }
+  std::vector<std::string> signalsUsed() const override { return {"umf_usup"}; }
+  SwitchDecision initial() const override { return {1}; }
+  SwitchDecision decide(const SwitchDecision &active, const SwitchSignals &s) override {
+    (*seen)[s.step] = s.named("umf_usup");
+    return {s.step == at ? 0 : active.database, s.named("umf_usup")};
+  }
+
+private:
+  std::map<long, double> *seen;
+  long at;
+};
+
+// The switcher's umf_usup is bottom.csv's u_mf/u_sup: the case's gas
+// (-gas_density 0.8, -gas_kinematic_viscosity 3e-5) over the gases the
+// databases recorded (1.2 and 1.0 kg/m^3), and the case's -umf_correlation
+// over Wen-Yu.  A run on database 1 (1.3 m/s: u_mf/u_sup 0.95) that moves to
+// database 0 (1.1 m/s: 1.13, de-fluidized) after step 20: at every step but
+// the switch's (bottom.csv is written after a switch: the remapped state, the
+// new database's u_sup) the signal equals bottom.csv's u_mf/u_sup to the 10
+// digits the file holds, on both databases; switches.csv's trigger is the signal, and its
+// validity warning comes at the first decision on database 0 with bottom.csv's
+// value there (the bottom layer warned at the switch's own sample).
+PetscErrorCode signalAgrees(const std::string &dir) {
+  PetscMPIInt size;
+  PetscFunctionBeginUser;
+  PetscCallMPI(MPI_Comm_size(PETSC_COMM_WORLD, &size));
+  const std::string g0 = dir + "/gas0.h5", g1 = dir + "/gas1.h5", out = dir + "/signal-np" + std::to_string(size);
+  writeBed(g0, 20, 1500.0, 1, 12, OperatingConditions{1.1, 1.2, 1.5e-5});
+  writeBed(g1, 20, 4000.0, 2, 12, OperatingConditions{1.3, 1.0, 1.8e-5});
+  const long switchedAt = 20;
+  std::map<long, double> seen; // step -> umf_usup
+  SwitchRuleRegistry rules = SwitchRuleRegistry::withBuiltins();
+  rules.add("recorder", [&] { return std::make_unique<SignalRecorder>(&seen, switchedAt); }, "records umf_usup");
+  {
+    ScopedOptions o("-db " + g0 + "," + g1 + " -db_switch_type recorder -gas_density 0.8 "
+                    "-gas_kinematic_viscosity 3e-5 -umf_correlation saxena-vogel -bottom_layer -t_end 0.3");
+    const OperatorRegistry registry = OperatorRegistry::withBuiltins();
+    Run run(PETSC_COMM_WORLD, registry);
+    run.useSwitchRules(rules);
+    PetscCall(run.setFromOptions());
+    run.setQuiet(true);
+    run.setOutputDirectory(out);
+    PetscCall(run.setUp());
+    PetscCall(run.solve());
+  }
+  const auto stepAt = [](double time) { return std::lround(time / DatabaseMetadata{}.dtRec); };
+  const csv::Table switches = csv::Table::read(out + "/switches.csv");
+  std::map<std::string, std::pair<long, double>> event; // switch / extrapolating -> step, value
+  for (std::size_t r = 0; r < switches.numRows(); ++r)
+    event[std::string(switches.field(r, switches.find({"event"})))] = {
+        stepAt(switches.number(r, switches.find({"time_s"}))), switches.number(r, switches.find({"trigger"}))};
+  RCFD_CHECK(switches.numRows() == 2 && event["switch"].first == switchedAt &&
+             std::fabs(event["switch"].second / seen[switchedAt] - 1) < 1e-9); // written with %.10g
+  const long warnedAt = event["extrapolating"].first;
+  const csv::Table bottom = csv::Table::read(out + "/bottom.csv");
+  const int t = bottom.find({"time_s"}), umf = bottom.find({"umf_m_s"}), usup = bottom.find({"usup_m_s"}),
+            flag = bottom.find({"defluidized"});
+  int compared = 0;
+  long firstDefluidized = -1;
+  double worst = 0.0;
+  for (std::size_t r = 0; r < bottom.numRows(); ++r) {
+    const long step = stepAt(bottom.number(r, t));
+    const double ratio = bottom.numberOrNan(r, umf) / bottom.number(r, usup);
+    if (firstDefluidized < 0 && bottom.number(r, flag) == 1) firstDefluidized = step;
+    if (step == warnedAt) RCFD_CHECK(std::fabs(event["extrapolating"].second / ratio - 1) < 1e-9);
+    if (!seen.count(step) || step == switchedAt) continue; // step 0: no decision
+    const double difference = std::fabs(seen[step] / ratio - 1);
+    if (!(difference <= worst)) worst = difference; // NaN on either side too
+    compared += (step < switchedAt ? 0.9 < ratio && ratio < 1 : 1.1 < ratio && ratio < 1.2);
+  }
+  if (!(worst < 1e-9)) std::printf("umf_usup differs from bottom.csv's u_mf/u_sup by %.3g (relative)\n", worst);
+  RCFD_CHECK(compared == 59);
+  RCFD_CHECK(worst < 1e-9); // bottom.csv holds 10 digits
+  RCFD_CHECK(firstDefluidized == switchedAt && warnedAt == switchedAt + 1);
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
 PetscErrorCode run(const std::string &dir) {
   PetscFunctionBeginUser;
   PetscCall(blends(dir));
   PetscCall(monitorsFollow(dir));
+  PetscCall(signalAgrees(dir));
   hysteresis();
   PetscCall(rules());
   PetscFunctionReturn(PETSC_SUCCESS);

@@ -64,6 +64,7 @@ PetscErrorCode windowOption(PetscOptionItems *PetscOptionsObject, MPI_Comm comm,
 PetscErrorCode Answers::setFromOptions(MPI_Comm c) {
   char text[PETSC_MAX_PATH_LEN];
   PetscBool set = PETSC_FALSE;
+  std::string correlation = fluidization_.correlation.name; // -umf_correlation
   PetscFunctionBeginUser;
   comm = c;
   PetscOptionsBegin(comm, nullptr, "Answers: profiles, halves, bottom layer, mixing, bed dynamics (docs/answers.md)",
@@ -105,33 +106,19 @@ PetscErrorCode Answers::setFromOptions(MPI_Comm c) {
   PetscOptionsEnd();
   PetscCheck(every >= 1, comm, PETSC_ERR_USER_INPUT, "-observables_every must be at least 1 step, got %d",
              (int)every);
-  PetscCall(collectively(comm, [&] { findUmfCorrelation(correlation); }, PETSC_ERR_USER_INPUT));
+  PetscCall(collectively(comm, [&] { fluidization_.correlation = findUmfCorrelation(correlation); },
+                         PETSC_ERR_USER_INPUT));
   for (double t : snapshotTimes)
     PetscCheck(t >= 0, comm, PETSC_ERR_USER_INPUT, "-snapshots_times: %g s is before the start of the run", t);
-  PetscCall(OperatingConditions::fromOptions(comm, &given));
+  PetscCall(OperatingConditions::fromOptions(comm, &fluidization_.given));
   PetscCall(zones.setFromOptions(comm));
   PetscFunctionReturn(PETSC_SUCCESS);
-}
-
-OperatingConditions resolveConditions(const OperatingConditions &given, const OperatingConditions &recorded,
-                                      std::string *sources) {
-  const GasProperties air;
-  const double defaults[3] = {1.1, air.density, air.kinematicViscosity};
-  const double caseValue[3] = {given.superficialVelocity, given.gasDensity, given.gasKinematicViscosity};
-  const double dbValue[3] = {recorded.superficialVelocity, recorded.gasDensity, recorded.gasKinematicViscosity};
-  double value[3];
-  for (int i = 0; i < 3; ++i) {
-    const bool fromCase = std::isfinite(caseValue[i]), fromDb = std::isfinite(dbValue[i]);
-    value[i] = fromCase ? caseValue[i] : fromDb ? dbValue[i] : defaults[i];
-    if (sources) sources[i] = fromCase ? "case" : fromDb ? "database" : "default";
-  }
-  return OperatingConditions{value[0], value[1], value[2]};
 }
 
 PetscErrorCode Answers::createMonitors(const RunContext &run, double tEnd, bool quiet, std::vector<Named> *out) {
   PetscFunctionBeginUser;
   // Conditions: the case's value, else the database's (the one in use), else the default.
-  used = resolveConditions(given, run.recordedAt(), sources);
+  used = fluidization_.resolve(run.recordedAt(), sources);
   const double value[3] = {used.superficialVelocity, used.gasDensity, used.gasKinematicViscosity};
 
   for (TimeWindow *w : {&profilesWindow, &halvesWindow}) {
@@ -161,13 +148,11 @@ PetscErrorCode Answers::createMonitors(const RunContext &run, double tEnd, bool 
                             "Operating conditions: u_sup = %g m/s (%s), gas density %g kg/m^3 (%s), gas kinematic "
                             "viscosity %g m^2/s (%s); u_mf by %s\n",
                             value[0], sources[0].c_str(), value[1], sources[1].c_str(), value[2],
-                            sources[2].c_str(), findUmfCorrelation(correlation).citation.c_str()));
+                            sources[2].c_str(), fluidization_.correlation.citation.c_str()));
     PetscCheck(run.solidDensity > value[1], comm, PETSC_ERR_USER_INPUT,
                "u_mf needs a particle density (%s kg/m^3) above the gas density (%s kg/m^3, -gas_density)",
                plain(run.solidDensity).c_str(), plain(value[1]).c_str());
-    out->push_back({std::make_unique<BottomLayerMonitor>(sampler, findUmfCorrelation(correlation), given, &zones,
-                                                         quiet),
-                    every, "bottom.csv"});
+    out->push_back({std::make_unique<BottomLayerMonitor>(sampler, fluidization_, &zones, quiet), every, "bottom.csv"});
   }
   if (mixing) out->push_back({std::make_unique<MixingMonitor>(), every, "mixing.csv"});
   if (dynamics) out->push_back({std::make_unique<BedDynamicsMonitor>(sampler, quiet), every, "bed_dynamics.csv"});
@@ -183,7 +168,7 @@ PetscErrorCode Answers::view(PetscViewer viewer) const {
                                      "(%s); u_mf correlation %s\n",
                                      used.superficialVelocity, sources[0].c_str(), used.gasDensity,
                                      sources[1].c_str(), used.gasKinematicViscosity, sources[2].c_str(),
-                                     correlation.c_str()));
+                                     fluidization_.correlation.name.c_str()));
   if (profiles)
     PetscCall(PetscViewerASCIIPrintf(viewer, "Profiles over %g to %g s\n", profilesWindow.begin, profilesWindow.end));
   if (halves)

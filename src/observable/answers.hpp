@@ -18,8 +18,8 @@
 //   -snapshots_times t1,t2,...  snapshot_<t>s.csv: each fraction's alpha in the mid-plane
 #pragma once
 
+#include "observable/fluidization_model.hpp"
 #include "observable/layer_masses.hpp"
-#include "observable/min_fluidization.hpp"
 #include "rcfd/observables.hpp"
 #include "rcfd/zone.hpp"
 
@@ -107,28 +107,24 @@ private:
   std::vector<double> bottomSum, topSum;
 };
 
-/// The operating conditions a monitor uses: each quantity the case's (`given`),
-/// else the database's (`recorded`), else the default (u_sup 1.1 m/s, air);
-/// `sources`, when given, says which for each of u_sup, rho_g, nu.
-OperatingConditions resolveConditions(const OperatingConditions &given, const OperatingConditions &recorded,
-                                      std::string *sources = nullptr);
-
 /// bottom.csv: time_s,d32_bottom_m,umf_m_s,usup_m_s,defluidized[,d32_<zone>_m...]
 /// The warning is printed once, on rank 0, the first time u_mf of the bottom
 /// layer reaches u_sup; `defluidized` is 1 in every row where it has.  The
 /// conditions are resolved at every sample against the database in use
-/// (RunContext::recordedAt), so they follow a run's switches (docs/databases.md).
+/// (RunContext::recordedAt) by `model`, so they follow a run's switches
+/// (docs/databases.md) and agree with the switcher's umf_usup.
 class BottomLayerMonitor final : public Monitor {
 public:
-  BottomLayerMonitor(std::shared_ptr<LayerSampler> sampler, UmfCorrelation correlation,
-                     const OperatingConditions &given, const ZoneSet *zones, bool quiet)
-      : sampler(std::move(sampler)), correlation(std::move(correlation)), given(given), zones(zones), quiet(quiet) {}
+  BottomLayerMonitor(std::shared_ptr<LayerSampler> sampler, FluidizationModel model, const ZoneSet *zones, bool quiet)
+      : sampler(std::move(sampler)), model(std::move(model)), zones(zones), quiet(quiet) {}
   /// Fixed conditions, whatever the database says.
   BottomLayerMonitor(std::shared_ptr<LayerSampler> sampler, UmfCorrelation correlation, GasProperties gas,
                      double superficialVelocity, const ZoneSet *zones, bool quiet)
-      : BottomLayerMonitor(std::move(sampler), std::move(correlation),
-                           OperatingConditions{superficialVelocity, gas.density, gas.kinematicViscosity}, zones,
-                           quiet) {}
+      : BottomLayerMonitor(std::move(sampler),
+                           FluidizationModel{OperatingConditions{superficialVelocity, gas.density,
+                                                                 gas.kinematicViscosity},
+                                             std::move(correlation)},
+                           zones, quiet) {}
   PetscErrorCode setUp(const RunContext &run, const FractionState &, const std::string &dir) override;
   PetscErrorCode sample(const MonitorContext &ctx) override;
   PetscErrorCode flush() override;
@@ -138,8 +134,7 @@ public:
 
 private:
   std::shared_ptr<LayerSampler> sampler;
-  UmfCorrelation correlation;
-  OperatingConditions given; // the case's; NaN: the database's in use
+  FluidizationModel model; // the case's conditions (NaN: the database's in use) and correlation
   DefluidizationDetector detector;
   const ZoneSet *zones;
   bool quiet;
@@ -226,6 +221,9 @@ public:
   };
   PetscErrorCode createMonitors(const RunContext &run, double tEnd, bool quiet, std::vector<Named> *out);
   PetscErrorCode view(PetscViewer viewer) const;
+  /// The case's conditions and u_mf correlation (after setFromOptions), which
+  /// the switcher's umf_usup uses as the bottom layer does.
+  const FluidizationModel &fluidization() const { return fluidization_; }
 
 private:
   MPI_Comm comm = MPI_COMM_NULL;
@@ -234,9 +232,9 @@ private:
             dynamics = PETSC_FALSE;
   TimeWindow profilesWindow, halvesWindow;
   double splitHeight = std::numeric_limits<double>::quiet_NaN();
-  std::string correlation = "wen-yu";
   std::vector<double> snapshotTimes;
-  OperatingConditions given, used;
+  FluidizationModel fluidization_; // -superficial_velocity, -gas_*, -umf_correlation
+  OperatingConditions used;
   std::string sources[3]; // where u_sup, rho_g, nu came from
   ZoneSet zones;
 };

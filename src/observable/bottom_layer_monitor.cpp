@@ -30,10 +30,7 @@ PetscErrorCode BottomLayerMonitor::sample(const MonitorContext &ctx) {
   const int nf = fractions->size();
   const double d32 = layers::sauterDiameter(*perLayer, 0, *fractions);
   // The conditions of the database in use now: a run on several databases switches.
-  const OperatingConditions now = resolveConditions(given, ctx.run.recordedAt());
-  GasProperties gas;
-  gas.density = now.gasDensity;
-  gas.kinematicViscosity = now.gasKinematicViscosity;
+  const OperatingConditions now = model.resolve(ctx.run.recordedAt());
   if (now.superficialVelocity != detector.superficialVelocity()) { // keeps whether and when it fired
     const std::vector<double> fired = detector.saveState();
     detector = DefluidizationDetector(now.superficialVelocity);
@@ -43,13 +40,13 @@ PetscErrorCode BottomLayerMonitor::sample(const MonitorContext &ctx) {
   double umf = std::numeric_limits<double>::quiet_NaN();
   if (std::isfinite(d32)) // d32 and the conditions are the same on every rank: no reduction
     PetscCall(collectively(
-        PETSC_COMM_SELF, [&] { umf = minFluidizationVelocity(correlation, d32, rhoP, gas, gravity); },
+        PETSC_COMM_SELF, [&] { umf = model.minFluidizationVelocity(d32, rhoP, now, gravity); },
         PETSC_ERR_USER_INPUT));
   if (detector.update(ctx.time, umf))
     PetscCall(PetscPrintf(comm,
                           "WARNING: de-fluidization at t = %.6g s: u_mf of the bottom layer (d32 = %.4g mm, %s) "
                           "= %.4g m/s reached the superficial velocity %.4g m/s\n",
-                          ctx.time, 1e3 * d32, correlation.name.c_str(), umf, detector.superficialVelocity()));
+                          ctx.time, 1e3 * d32, model.correlation.name.c_str(), umf, detector.superficialVelocity()));
   std::vector<double> row{ctx.time, d32, umf, detector.superficialVelocity(), umf >= detector.superficialVelocity() ? 1.0 : 0.0};
   if (!zones->all().empty()) { // each zone's mass per fraction, one reduction for all zones
     std::vector<double> local(zones->all().size() * nf, 0.0), global(local.size());
@@ -67,10 +64,10 @@ PetscErrorCode BottomLayerMonitor::sample(const MonitorContext &ctx) {
   if (ctx.last && !quiet) {
     if (detector.fired())
       PetscCall(PetscPrintf(comm, "  bottom layer: de-fluidized from t = %.6g s on (%s)\n", detector.firstTime(),
-                            correlation.name.c_str()));
+                            model.correlation.name.c_str()));
     else
       PetscCall(PetscPrintf(comm, "  bottom layer: u_mf (%s) stayed below u_sup = %g m/s; last d32 %.4g mm, u_mf %.4g m/s\n",
-                            correlation.name.c_str(), detector.superficialVelocity(), 1e3 * d32, umf));
+                            model.correlation.name.c_str(), detector.superficialVelocity(), 1e3 * d32, umf));
   }
   PetscFunctionReturn(PETSC_SUCCESS);
 }

@@ -253,7 +253,8 @@ PetscErrorCode Run::setUp() {
   if (r.switching) {
     std::vector<const Monitor *> monitors;
     for (const auto &m : r.monitors) monitors.push_back(m.monitor.get());
-    PetscCall(r.switching->setUp(*r.db, r.set, r.solidDensity, r.outputDir, r.quiet == PETSC_TRUE, monitors));
+    PetscCall(r.switching->setUp(*r.db, r.set, r.solidDensity, r.answers.fluidization(), r.outputDir,
+                                 r.quiet == PETSC_TRUE, monitors));
     r.switchCarry = std::make_unique<CarryOperator>();
     PetscCall(r.switchCarry->setKind(r.comm, "remap"));
   }

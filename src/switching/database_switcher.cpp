@@ -59,7 +59,7 @@ PetscErrorCode DatabaseSwitcher::open(MPI_Comm c, const std::vector<std::string>
 }
 
 PetscErrorCode DatabaseSwitcher::setUp(const Database &first, const FractionSet &set, double solidDensity,
-                                       const std::string &directory, bool beQuiet,
+                                       const FluidizationModel &model, const std::string &directory, bool beQuiet,
                                        const std::vector<const Monitor *> &monitors) {
   PetscFunctionBeginUser;
   monitorSignals.clear();
@@ -78,6 +78,7 @@ PetscErrorCode DatabaseSwitcher::setUp(const Database &first, const FractionSet 
   }
   fractions = &set;
   rho = solidDensity;
+  fluidization = model;
   outputDir = directory;
   quiet = beQuiet;
   const Vec3 &g = first.metadata().gravity;
@@ -111,20 +112,19 @@ PetscErrorCode DatabaseSwitcher::measure(long step, double time, const FractionS
   }
   s->inventoryD32 = mass > 0 ? mass / massOverD : std::numeric_limits<double>::quiet_NaN();
   s->bottomD32 = layers::sauterDiameter(perLayer, 0, *fractions);
+  // The bottom layer's gas and correlation: bottom.csv's u_mf/u_sup where the rule sets no u_sup of its own.
+  const OperatingConditions now = fluidization.resolve(activeConditions_);
   const double usup = superficialVelocityAt(time);
-  GasProperties gas; // of the database in use, else air
-  if (std::isfinite(activeConditions_.gasDensity)) gas.density = activeConditions_.gasDensity;
-  if (std::isfinite(activeConditions_.gasKinematicViscosity))
-    gas.kinematicViscosity = activeConditions_.gasKinematicViscosity;
-  if (std::isfinite(s->bottomD32) && std::isfinite(usup) && rho > gas.density)
-    s->umfOverUsup = minFluidizationVelocity(findUmfCorrelation("wen-yu"), s->bottomD32, rho, gas, gravity) / usup;
+  if (std::isfinite(s->bottomD32) && std::isfinite(usup) && rho > now.gasDensity)
+    s->umfOverUsup = fluidization.minFluidizationVelocity(s->bottomD32, rho, now, gravity) / usup;
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
-// The rule's u_sup at `time` (a schedule's), else that of the databases in use.
+// The rule's u_sup at `time` (a schedule's), else the bottom layer's: the
+// case's, else that of the databases in use, else the default.
 double DatabaseSwitcher::superficialVelocityAt(double time) const {
   const double scheduled = rule_->superficialVelocity(time);
-  return std::isfinite(scheduled) ? scheduled : activeConditions_.superficialVelocity;
+  return std::isfinite(scheduled) ? scheduled : fluidization.resolve(activeConditions_).superficialVelocity;
 }
 
 // A blend stands for the conditions between its two databases' at its weight

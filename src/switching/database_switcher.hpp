@@ -9,7 +9,7 @@
 #include "rcfd/switching.hpp"
 
 #include "observable/layer_masses.hpp"
-#include "observable/min_fluidization.hpp"
+#include "observable/fluidization_model.hpp"
 
 #include <limits>
 #include <map>
@@ -28,8 +28,11 @@ public:
   /// Collective, once the run's first database is loaded: the signals' layers,
   /// OUTPUT_DIR/switches.csv (written from the first switch or warning on).
   /// `monitors`: the run's, whose signals a rule may use (checked here).
+  /// `fluidization`: the case's conditions and u_mf correlation, the bottom
+  /// layer's (Answers::fluidization), so that umf_usup is bottom.csv's u_mf/u_sup.
   PetscErrorCode setUp(const Database &first, const FractionSet &fractions, double solidDensity,
-                       const std::string &outputDir, bool quiet, const std::vector<const Monitor *> &monitors);
+                       const FluidizationModel &fluidization, const std::string &outputDir, bool quiet,
+                       const std::vector<const Monitor *> &monitors);
 
   /// Collective.  After the step that ends at `time`: whether the next step
   /// uses other databases (`target`), from the rule and the globally reduced
@@ -80,6 +83,7 @@ private:
   HorizontalLayers layers;
   const FractionSet *fractions = nullptr;
   double rho = 0.0, gravity = 9.81;
+  FluidizationModel fluidization; // the case's conditions over the database's, and the correlation
   std::map<std::string, const Monitor *> monitorSignals; // the signals the rule uses, by who offers them
   bool pairByRecurrence = false;            // -db_blend_pairing recurrence
   std::map<std::pair<int, int>, int> lags;  // blend pairing lag of each pair of databases, once computed
