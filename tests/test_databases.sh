@@ -28,6 +28,8 @@ expect_error "Databases '$a' and '$work/slow.h5' were recorded with different dt
   run -db "$a,$work/slow.h5" -db_switch_schedule 0:1.1 -output_dir "$work/refused"
 expect_error "-db_conditions has 3 superficial velocities for the 2 databases of -db" \
   run -db "$a,$b" -db_conditions 1,2,3 -db_switch_schedule 0:1.1 -output_dir "$work/refused"
+expect_error "-superficial_velocity 1.2 and the schedule rule's -db_switch_schedule both give u_sup; give it once" \
+  run -db "$a,$b" -db_switch_schedule 0:1.1 -superficial_velocity 1.2 -bottom_layer -output_dir "$work/refused"
 
 # A database blended with itself (weight 1/2) is the database.
 "$rcfd" run -db "$a" "${common[@]}" -quiet -output_dir "$work/alone"

@@ -76,6 +76,13 @@ PetscErrorCode DatabaseSwitcher::setUp(const Database &first, const FractionSet 
                "run's monitors' (%s)", rule_->kind().c_str(), name.c_str(), SwitchSignals::names(),
                offered.empty() ? "none" : offered.c_str());
   }
+  // Two answers to "what is u_sup" would give bottom.csv one and the switch
+  // signal the other.
+  PetscCheck(!std::isfinite(model.given.superficialVelocity) || !std::isfinite(rule_->superficialVelocity(0.0)),
+             comm, PETSC_ERR_USER_INPUT,
+             "-superficial_velocity %g and the %s rule's -db_switch_schedule both give u_sup; give it once (the "
+             "schedule sets it over time)",
+             model.given.superficialVelocity, rule_->kind().c_str());
   fractions = &set;
   rho = solidDensity;
   fluidization = model;
