@@ -8,8 +8,10 @@
 # validity warning once, at the step the schedule leaves the databases'
 # range; a blend restarted while active (byte for byte); the state rule
 # switching on the bottom layer's d32; databases of different lengths (masses,
-# 1 and 2 ranks, a restart across a switch); at most one database held by a
-# schedule over four, two by a blend.
+# 1 and 2 ranks, a restart across a switch, every wrap in jumps.csv); a blend
+# paired by recurrence stepping its second database's wrap inside it as a jump
+# (bulk, masses, 1 and 2 ranks); at most one database held by a schedule over
+# four, two by a blend.
 # usage: test_databases.sh RCFD CSV_COMPARE DATA_DIR SOURCE_DIR
 set -eu
 rcfd=$1 compare=$2
@@ -61,19 +63,21 @@ masses_kept() {
 masses_kept "$work/schedule" # switches at rows 21, 41, 51
 
 # alike NAME ARGS...: a run at 1 and at 2 ranks with a checkpoint at 0.2 s, and each again from that
-# checkpoint: switches.csv, cog.csv and path.txt byte for byte after the restart; switches.csv the same and
-# cog.csv within 1e-10 at 2 ranks.
+# checkpoint: switches.csv, cog.csv, path.txt and jumps.csv byte for byte after the restart; switches.csv
+# and jumps.csv the same and cog.csv within 1e-10 at 2 ranks.
 alike() {
   local name=$1
   shift
   for np in 1 2; do
     mpiexec -n $np "$rcfd" run "$@" -checkpoint_every 0.2 -output_dir "$work/$name$np"
     mpiexec -n $np "$rcfd" run "$@" -restart "$work/$name$np/checkpoint.h5" -output_dir "$work/${name}_again$np"
-    for f in switches.csv cog.csv path.txt; do
+    for f in switches.csv cog.csv path.txt jumps.csv; do
       if cmp -s "$work/$name$np/$f" "$work/${name}_again$np/$f"; then ok; else fail "$name, restart at $np ranks: $f differs"; fi
     done
   done
-  if cmp -s "$work/${name}1/switches.csv" "$work/${name}2/switches.csv"; then ok; else fail "$name: switches.csv differs at 2 ranks"; fi
+  for f in switches.csv jumps.csv; do
+    if cmp -s "$work/${name}1/$f" "$work/${name}2/$f"; then ok; else fail "$name: $f differs at 2 ranks"; fi
+  done
   if "$compare" "$work/${name}1/cog.csv" "$work/${name}2/cog.csv" 1e-10 1e-14 >/dev/null; then ok; else
     fail "$name at 2 ranks: $("$compare" "$work/${name}1/cog.csv" "$work/${name}2/cog.csv" 1e-10 1e-14)"; fi
 }
@@ -130,6 +134,29 @@ same "switches between different lengths" "$(awk -F, '/switch$/ {print $1, $2, $
 # the beds' own (4e-7; 0.07 when its wrap is not stepped as a jump).
 worst=$(awk -F, 'NR > 1 && $1 > 0.1 && $1 < 0.35 && $9 > w {w = $9} END {print w + 0}' "$work/lengths1/cog.csv")
 if awk -v w="$worst" 'BEGIN { exit !(w < 1e-5) }'; then ok; else fail "different lengths: the bulk strays $worst from the short bed's frames"; fi
+# jumps.csv lists every step taken as a jump, in the frames of the database in use: the short bed's own wraps
+# (after the path's frames 24 and 64, its frame 24 to 0), the path's wrap while it is in use (its frame 14 to
+# 0) and a's wrap after the switch back (39 to 0).
+same "jumps between different lengths" "$(tail -n +3 "$work/lengths1/jumps.csv" | tr ',' ' ' | paste -sd' ')" \
+  "25 0.125 24 0 1 40 0.2 14 0 1 65 0.325 24 0 1 80 0.4 39 0 0"
+
+# A blend paired by recurrence: a with the same bed recorded from 7 frames later (a7's frame j is a's j + 7)
+# pairs a's frame k with a7's k + 33 (mod 40), a's own for k >= 7, so a7 wraps inside the blend after its
+# frame 6.  The run steps that frame as a jump: the bulk follows the blend's frames there (3e-7; 0.032 from
+# that row to the path's wrap when it is stepped as a shift), every mass is kept and none goes negative, the
+# same at 1 and 2 ranks and across a restart, and jumps.csv lists it.
+"$rcfd" synth -o "$work/a7.h5" "${bed[@]}" -synth_warm_up 0.235 -synth_nucleation_rate 1500 -synth_seed 1 \
+  -superficial_velocity 1.1
+alike lagged -db "$a,$work/a7.h5" -db_conditions 1.0,1.2 -db_switch_type blend -db_switch_schedule 0:1.1 \
+  -db_blend_pairing recurrence -mass_check_every 0 -plot false "${common[@]}" -quiet
+masses_kept "$work/lagged1"
+masses_kept "$work/lagged2"
+same "jumps of a lagged blend" "$(tail -n +3 "$work/lagged1/jumps.csv" | cut -d, -f1,3,4 | tr ',' ' ' | paste -sd' ')" \
+  "7 6 7 40 39 0 47 6 7 80 39 0 87 6 7"
+for np in 1 2; do
+  worst=$(awk -F, 'NR > 1 && $9 > w {w = $9} END {print w + 0}' "$work/lagged$np/cog.csv")
+  if awk -v w="$worst" 'BEGIN { exit !(w < 1e-5) }'; then ok; else fail "lagged blend at $np ranks: the bulk strays $worst from the blend's frames"; fi
+done
 
 # Memory: a schedule over four databases reads each when it is switched to and holds one at a time (the
 # summary's count of the set); a blend holds its two while it is made, and keeps neither: a+b, then b+c

@@ -3,9 +3,11 @@
 // consistent (T alpha_k V = alpha_{k+1} V of the blend) to round-off, a
 // database blended with itself its own shifts; the hysteresis band rule on a
 // constructed signal; the schedule, blend and markov rules' choices, and the
-// markov rule continued from its saved state; databases of different lengths
-// (a blend with a truncated copy); the monitors following a switch; the
-// umf_usup signal the same number as bottom.csv's u_mf/u_sup.
+// markov rule continued from its saved state; a blend paired by recurrence,
+// whose second database wraps inside it (a frame without a follower);
+// databases of different lengths (a blend with a truncated copy); the
+// monitors following a switch; the umf_usup signal the same number as
+// bottom.csv's u_mf/u_sup.
 #include "check.hpp"
 #include "base/petsc_compat.hpp"
 #include "scoped_options.hpp"
@@ -207,6 +209,13 @@ PetscErrorCode blends(const std::string &dir) {
     }
     RCFD_CHECK(worstPaired < 1e-14); // the same frames blended: a's own shifts
     RCFD_CHECK(worstByIndex > 1e-3); // frames 7 apart blended: another database
+    // The lagged blend pairs a's frame K - 1 - lag = 6 with later's last and frame 7 with later's first:
+    // later wraps inside it, so frame 7 does not follow frame 6 (a run steps it as a jump).  By index, and
+    // in a loaded database, every frame but the last is followed by the next.
+    for (int k = 0; k < K; ++k) {
+      RCFD_CHECK(paired->nextFollows(k) == (k != K - 1 - lag && k + 1 < K));
+      RCFD_CHECK(byIndex->nextFollows(k) == (k + 1 < K) && da->nextFollows(k) == (k + 1 < K));
+    }
   }
   PetscCall(differentLengths(dir, *set, *da));
   // Dropping: a database nobody else holds goes when another is loaded.

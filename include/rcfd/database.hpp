@@ -8,6 +8,7 @@
 #include "rcfd/layout.hpp"
 #include "rcfd/mesh.hpp"
 
+#include <algorithm>
 #include <limits>
 #include <memory>
 #include <string>
@@ -119,9 +120,12 @@ public:
   /// with its own frames (e.g. two databases blended, rcfd/database_set.hpp):
   /// alpha_s and the shifts, one per frame, on like's layout; collective.
   /// The shifts are held as compact frames (full precision) like a loaded
-  /// database's, the matrices are not kept.
+  /// database's, the matrices are not kept.  `wrapsAfter`: frames k whose
+  /// next, k + 1, is not what follows k in time (a blend's frame where one of
+  /// its databases wraps); see nextFollows().
   static PetscErrorCode fromFrames(const Database &like, const std::string &identity, std::vector<OwnedVec> alpha,
-                                   std::vector<OwnedMat> shifts, std::unique_ptr<Database> *out);
+                                   std::vector<OwnedMat> shifts, std::unique_ptr<Database> *out,
+                                   std::vector<int> wrapsAfter = {});
   Database();
   ~Database();
   Database(const Database &) = delete;
@@ -142,6 +146,14 @@ public:
   int numFrames() const { return static_cast<int>(alpha.size()); }
   /// Bulk solid volume fraction of frame k (PETSc ordering, not to be modified).
   Vec alphaS(int k) const { return alpha[k]; }
+  /// Whether frame k + 1 is the frame that follows frame k in time, so that
+  /// frame k's shift moves alpha_k onto alpha_{k+1}: false after the last
+  /// frame, and after a frame of a blend where one of its databases wraps
+  /// (rcfd/database_set.hpp).  A run steps from a frame without a follower as
+  /// a jump (the carry remaps the state onto the next frame's bulk).
+  bool nextFollows(int k) const {
+    return k + 1 < numFrames() && !std::binary_search(wrapsAfter_.begin(), wrapsAfter_.end(), k);
+  }
   bool hasShifts() const { return !frames_.empty(); }
   /// Collective.  The shift matrix of frame k, which moves solid mass from t_k
   /// to t_k + dt_rec, built from the compact frame on each call (an MPIAIJ
@@ -175,6 +187,7 @@ private:
   std::vector<OwnedVec> alpha;
   std::vector<CompactFrame> frames_; // the shifts, as this rank's moving rows
   std::vector<PetscInt> ghostRows_;
+  std::vector<int> wrapsAfter_; // ascending: frames followed by another than their next (nextFollows)
   void numberGhostRows(); // sorts ghostRows_ and renumbers the frames' ghost columns
   std::vector<double> volumes;
   double maxColumnError = 0.0;

@@ -77,7 +77,8 @@ private:
 ///   alpha = w alpha_a + (1 - w) alpha_b,  T = F diag(alpha V)^-1,
 /// so T is column-stochastic and T alpha_k V = alpha_{k+1} V whenever a and b
 /// are consistent (docs/databases.md, "Blend").  A cell empty in both keeps an
-/// identity column.
+/// identity column.  Where b wraps inside the blend (a lag: the frame k =
+/// K_b - 1 - lag), the blend's frame k + 1 does not follow k (nextFollows).
 PetscErrorCode blendDatabases(const Database &a, const Database &b, double w, std::unique_ptr<Database> *blend,
                               int lag = 0);
 

@@ -641,9 +641,12 @@ PetscErrorCode Database::load(MPI_Comm comm, const std::string &path,
 }
 
 PetscErrorCode Database::fromFrames(const Database &like, const std::string &identity, std::vector<OwnedVec> alpha,
-                                  std::vector<OwnedMat> shifts, std::unique_ptr<Database> *out) {
+                                  std::vector<OwnedMat> shifts, std::unique_ptr<Database> *out,
+                                  std::vector<int> wrapsAfter) {
   PetscFunctionBeginUser;
   auto db = std::make_unique<Database>();
+  std::sort(wrapsAfter.begin(), wrapsAfter.end());
+  db->wrapsAfter_ = std::move(wrapsAfter);
   db->path_ = like.path_;
   db->identity_ = identity;
   db->mesh_ = like.mesh_;

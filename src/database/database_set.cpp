@@ -147,8 +147,11 @@ PetscErrorCode blendDatabases(const Database &a, const Database &b, double w, st
              a.path().c_str(), b.path().c_str());
   // As long as the shorter: with lag 0 no frame of the blend pairs the last
   // frame of one database with a frame of the other that does not follow it,
-  // except the blend's own last (a wrap, which a run steps as a jump).
+  // except the blend's own last (a wrap, which a run steps as a jump).  With a
+  // lag, b wraps inside the blend: the frame where it does has no follower
+  // (nextFollows), and a run steps it as a jump too.
   const int K = std::min(a.numFrames(), b.numFrames());
+  std::vector<int> wrapsAfter;
   OwnedVec volume, massA, massB, mass, inverse, empty;
   PetscCall(VecDuplicate(a.alphaS(0), volume.put()));
   for (OwnedVec *v : {&massA, &massB, &mass, &inverse, &empty}) PetscCall(VecDuplicate(volume, v->put()));
@@ -160,6 +163,7 @@ PetscErrorCode blendDatabases(const Database &a, const Database &b, double w, st
   std::vector<OwnedMat> shifts;
   for (int k = 0; k < K; ++k) {
     const int ka = k % a.numFrames(), kb = (k + lag) % b.numFrames();
+    if (k + 1 < K && (!a.nextFollows(ka) || !b.nextFollows(kb))) wrapsAfter.push_back(k);
     OwnedVec blended;
     PetscCall(VecDuplicate(volume, blended.put()));
     PetscCall(VecCopy(a.alphaS(ka), blended)); // b's frame may be a's (a database blended with itself)
@@ -199,7 +203,7 @@ PetscErrorCode blendDatabases(const Database &a, const Database &b, double w, st
   char text[64];
   std::snprintf(text, sizeof text, "blend %.17g (lag %d) of ", w, lag);
   PetscCall(Database::fromFrames(a, text + a.identity() + " and " + b.identity(), std::move(alpha),
-                                 std::move(shifts), blend));
+                                 std::move(shifts), blend, std::move(wrapsAfter)));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 

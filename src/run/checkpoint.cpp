@@ -15,7 +15,9 @@
 //                      a restart refuses a run that differs in any of them
 //   root attributes    format = "rcfd-checkpoint", version = 2, step, num_fractions,
 //                      num_cells, database (its path), output_dir (absolute),
-//                      path_txt_bytes (length of OUTPUT_DIR/path.txt at the step)
+//                      path_txt_bytes (length of OUTPUT_DIR/path.txt at the step),
+//                      jumps_csv_bytes (of OUTPUT_DIR/jumps.csv, -1 before its first row;
+//                      absent from an rcfd that wrote jumps.csv at the run's end)
 // Version 1 (before the time series left the checkpoint) is refused with a sentence.
 #include "path/frame_path.hpp"
 #include "base/petsc_compat.hpp"
@@ -168,6 +170,7 @@ PetscErrorCode Run::Impl::writeCheckpoint(long step) const {
       f.writeAttr("/", "database", dbPath);
       f.writeAttr("/", "output_dir", fs::absolute(outputDir).lexically_normal().string());
       f.writeAttr("/", "path_txt_bytes", static_cast<long long>(pathFile->mark()));
+      f.writeAttr("/", "jumps_csv_bytes", static_cast<long long>(jumps->mark()));
       f.createGroup("/physics");
       for (const auto &[name, text] : physics) f.writeAttr("/physics", name, text);
       const auto words = path->saveState();
@@ -191,7 +194,8 @@ PetscErrorCode Run::Impl::writeCheckpoint(long step) const {
 
 PetscErrorCode Run::Impl::readCheckpoint() {
   const int nf = set.size();
-  long long step = 0, pathBytes = 0;
+  long long step = 0, pathBytes = 0, jumpsBytes = -1;
+  bool jumpsRecorded = false;
   std::string previousDirectory;
   std::vector<int64_t> words;
   std::vector<double> reference, switchingState;
@@ -225,6 +229,8 @@ PetscErrorCode Run::Impl::readCheckpoint() {
         }
         step = f.readAttrInt("/", "step");
         pathBytes = f.readAttrInt("/", "path_txt_bytes");
+        jumpsRecorded = f.hasAttribute("/", "jumps_csv_bytes");
+        if (jumpsRecorded) jumpsBytes = f.readAttrInt("/", "jumps_csv_bytes");
         previousDirectory = f.readAttrString("/", "output_dir");
         words = f.read<int64_t>("/path_state");
         reference = f.read<double>("/ledger_reference", nf);
@@ -267,6 +273,8 @@ PetscErrorCode Run::Impl::readCheckpoint() {
   ledger.restore(reference);
   PetscCall(adoptOutputsOf(previousDirectory));
   PetscCall(pathFile->resume(static_cast<double>(pathBytes)));
+  PetscCall(jumps->resume(static_cast<double>(jumpsBytes)));
+  if (!jumpsRecorded) PetscCall(jumpsFromPathFile());
   for (std::size_t m = 0; m < monitors.size(); ++m) PetscCall(monitors[m].monitor->restoreState(states[m]));
   for (std::size_t k = 0; k < ops.operators().size(); ++k) PetscCall(ops.operators()[k]->restoreState(operatorStates[k]));
   if (switching) { // the database active at the checkpoint; the state is already on it
@@ -306,38 +314,19 @@ PetscErrorCode Run::Impl::adoptOutputsOf(const std::string &previousDirectory) c
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
-// jumps.csv: the rows of cog.csv (and the other time series) that follow a
-// step whose next frame is not the one after its frame -- a stitched path's
-// jump or a replay's wrap to frame 0, where the state is carried into another
-// bed.  Read back from path.txt (which is on disk, continued across restarts,
-// so memory stays flat), written only when there is a jump, so a run inside its
-// database leaves its output as it was.
-PetscErrorCode Run::Impl::writeJumps(int finalFrame) const {
-  PetscMPIInt rank;
+// A checkpoint of an rcfd that wrote jumps.csv at the run's end, from
+// path.txt: the jumps before the checkpoint are the path's, found there as
+// that rcfd found them (a step whose next frame is not its frame + 1), in the
+// path's frames, without the database in use (which that rcfd did not record).
+PetscErrorCode Run::Impl::jumpsFromPathFile() {
+  std::vector<int> frames;
   PetscFunctionBeginUser;
-  PetscCallMPI(MPI_Comm_rank(comm, &rank));
-  PetscCall(collectively(comm, [&] {
-    if (rank != 0) return;
-    const std::vector<int> steps = readPathFile(outputDir + "/path.txt");
-    const double dt = db->metadata().dtRec;
-    std::string rows;
-    char line[128];
-    for (std::size_t s = 0; s < steps.size(); ++s) {
-      const int next = s + 1 < steps.size() ? steps[s + 1] : finalFrame;
-      if (next < 0 || next == steps[s] + 1) continue;
-      std::snprintf(line, sizeof line, "%zu,%.9g,%d,%d\n", s + 1, (s + 1) * dt, steps[s], next);
-      rows += line;
-    }
-    const std::string file = outputDir + "/jumps.csv";
-    if (rows.empty()) {
-      std::filesystem::remove(file); // a stale one from an earlier run in this directory
-      return;
-    }
-    writeTextAtomically(file, "# rows of cog.csv at time_s follow a jump of the frame path (stitching, "
-                              "or a replay wrapping to frame 0): the bed's state was carried from "
-                              "after from_frame's shift into to_frame\nstep,time_s,from_frame,to_frame\n" +
-                                  rows);
-  }));
+  PetscCall(collectively(comm, [&] { frames = readPathFile(outputDir + "/path.txt"); }, PETSC_ERR_FILE_UNEXPECTED));
+  frames.push_back(path->frame()); // the next step's, where the checkpoint's path stands
+  const double dt = db->metadata().dtRec;
+  for (std::size_t s = 0; s + 1 < frames.size(); ++s)
+    if (frames[s + 1] != frames[s] + 1)
+      PetscCall(jumps->add(static_cast<long>(s + 1), (s + 1) * dt, frames[s], frames[s + 1], "(not recorded)"));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 

@@ -262,6 +262,7 @@ PetscErrorCode Run::setUp() {
       r.comm, r.outputDir + "/path.txt",
       "# frame of each step of this run; replay it with -path_type recorded -path_file FILE; " +
           r.path->describe()); // the layout of writePathFile
+  r.jumps = std::make_unique<JumpsFile>(r.comm, r.outputDir, r.switching != nullptr);
   r.isSetUp = true;
   if (r.restartFile.empty())
     PetscCall(setInitialState(InitialState{r.initKind, r.initFile}, *r.db, r.set, r.solidDensity, r.fstate));
@@ -316,6 +317,7 @@ PetscErrorCode Run::Impl::steadyAt(long step, double time, int frame, bool anyDu
 PetscErrorCode Run::Impl::flushMonitors() {
   PetscFunctionBeginUser;
   PetscCall(pathFile->flush());
+  PetscCall(jumps->flush());
   if (switching) PetscCall(switching->flush());
   for (auto &e : monitors) {
     const double start = MPI_Wtime();
@@ -383,11 +385,18 @@ PetscErrorCode Run::Impl::march() {
     }
     info.frame = r.dbFrame(frame); // the active database's; the same with one database
     info.nextFrame = r.dbFrame(next);
-    info.jump = pathJump || (next == frame + 1 && info.nextFrame != info.frame + 1); // or the active database wraps
+    // A jump of the path, or the path steps on where the frames of the database in
+    // use do not follow: it wraps (a database shorter than the path's), or a blend's
+    // database wraps inside it (docs/databases.md, "Databases of different lengths").
+    info.jump = pathJump || (next == frame + 1 && !r.db->nextFollows(info.frame));
     r.lastStep = s + 1;
     PetscCall(r.pathFile->add(std::to_string(frame)));
     if (r.keepHistory) r.frames.push_back(frame);
-    if (info.jump && !wrapNoted && r.path->kind() == "replay") {
+    if (info.jump)
+      PetscCall(r.jumps->add(s + 1, (s + 1) * dt, info.frame, info.nextFrame,
+                             r.switching ? r.switching->activeName() : std::string()));
+    const bool wraps = info.jump && info.nextFrame == 0; // not a blend's jump inside it
+    if (wraps && !wrapNoted && r.path->kind() == "replay") {
       wrapNoted = true;
       if (!r.quiet)
         PetscCall(PetscPrintf(r.comm,
@@ -423,7 +432,7 @@ PetscErrorCode Run::Impl::march() {
     PetscCall(r.progress(s + 1, t, false));
   }
   PetscCall(r.flushMonitors());
-  PetscCall(r.writeJumps(frame));
+  PetscCall(r.jumps->finish());
   // figures: drawn by the CLI (rcfd run), not by the library
   PetscCall(r.progress(r.steps, r.steps * dt, true));
   PetscFunctionReturn(PETSC_SUCCESS);

@@ -7,6 +7,7 @@
 #include "observable/answers.hpp"
 #include "observable/cog_monitor.hpp"
 #include "observable/mass_account_monitor.hpp"
+#include "run/jumps_file.hpp"
 #include "switching/database_switcher.hpp"
 
 #include "rcfd/carry.hpp"
@@ -37,8 +38,7 @@ struct Run::Impl {
   PetscErrorCode writeCheckpoint(long step) const; // src/run/checkpoint.cpp
   PetscErrorCode readCheckpoint();                 // src/run/checkpoint.cpp
   PetscErrorCode adoptOutputsOf(const std::string &previousDirectory) const; // src/run/checkpoint.cpp
-  /// jumps.csv from the finished path.txt and the frame after the last step (src/run/checkpoint.cpp).
-  PetscErrorCode writeJumps(int finalFrame) const;
+  PetscErrorCode jumpsFromPathFile(); // an older checkpoint's jumps.csv rows (src/run/checkpoint.cpp)
   /// What the physics was made with (src/run/checkpoint.cpp); a restart refuses a difference.
   std::vector<std::pair<std::string, std::string>> physicsRecord() const;
   // Several databases (src/run/run_switching.cpp, docs/databases.md).
@@ -79,6 +79,7 @@ struct Run::Impl {
   std::vector<Entry> monitors;
   Answers answers; // the monitors a case asks for by option (profiles, halves, ...)
   std::unique_ptr<CsvSeries> pathFile; // OUTPUT_DIR/path.txt, the frame of every step, appended
+  std::unique_ptr<JumpsFile> jumps;    // OUTPUT_DIR/jumps.csv, the steps taken as jumps, appended
   std::vector<int> frames;             // the same, in memory, only with keepHistory
   long startStep = 0, lastStep = 0;    // lastStep: the step being made, for a failure report
   bool isSetUp = false, solved = false, keepHistory = false;

@@ -160,6 +160,8 @@ std::string choiceText(const SwitchDecision &d) {
 
 } // namespace
 
+std::string DatabaseSwitcher::activeName() const { return choiceText(active_); }
+
 // Each database's envelope is the condition it was recorded at: its u_sup,
 // with a fluidized bottom (u_mf < u_sup).  The set covers u_sup between its
 // smallest and largest; a run outside, or with a de-fluidized bottom, which

@@ -49,6 +49,8 @@ public:
   const DatabaseSet &set() const { return *set_; }
   const SwitchRule &rule() const { return *rule_; }
   const SwitchDecision &active() const { return active_; }
+  /// The active choice as switches.csv names it: "1", or "0+1@0.25" (a blend).
+  std::string activeName() const;
   /// The conditions of the active choice: its database's (-db_conditions or the
   /// file's), or for a blend each quantity interpolated with the blend's weight.
   const OperatingConditions &activeConditions() const { return activeConditions_; }
