@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
-# Checksums of cog.csv of the four cases, to show that a change which should not touch the
-# arithmetic (a move of files, a new API around the same kernels) gives the same bits.
+# Checksums of cog.csv of the four cases, and of the frame path and its jumps (path.txt, jumps.csv),
+# to show that a change which should not touch the arithmetic (a move of files, a new API around
+# the same kernels) gives the same bits.
 #
 #   bench/case_checksums.sh [OUT]          writes OUT (default bench/results/case_checksums.txt)
 #   bench/case_checksums.sh --check FILE   runs again and compares with FILE (exit 1 on a change)
@@ -28,24 +29,32 @@ mkdir -p "$work"
 
 "$rcfd" synth -o "$work/default-bed.h5" -quiet
 sums=()
+# cog.csv as "SUM  case" (as recorded from the start), the path's files as "SUM  case/FILE".
+record() {
+  sums+=("$(sha256sum "$work/$1/cog.csv" | cut -d' ' -f1)  $1")
+  for f in path.txt jumps.csv; do
+    [ -e "$work/$1/$f" ] && sums+=("$(sha256sum "$work/$1/$f" | cut -d' ' -f1)  $1/$f")
+  done
+  return 0
+}
 for name in bubbling-bi-narrow bubbling-bi-wide bubbling-penta-narrow; do
   "$rcfd" run -options_file "$root/cases/$name/case.yaml" -db "$work/default-bed.h5" -t_end "$t_end" \
     -output_dir "$work/$name" -fields false -plot false -quiet
-  sums+=("$(sha256sum "$work/$name/cog.csv" | cut -d' ' -f1)  $name")
+  record "$name"
 done
 
 input=(-dumps "$ref/dump/dump.*.gz" -times "$ref/dump/times.txt" -mesh_cells 16,2,60)
 "$rcfd" build "${input[@]}" -window 0,200 -o "$work/dpm-db.h5" -init_out "$work/dpm-init.h5" -quiet
 "$rcfd" run -options_file "$root/cases/dpm-bi-narrow/case.yaml" -db "$work/dpm-db.h5" \
   -init_file "$work/dpm-init.h5" -t_end 0.99 -output_dir "$work/dpm-bi-narrow" -plot false -quiet
-sums+=("$(sha256sum "$work/dpm-bi-narrow/cog.csv" | cut -d' ' -f1)  dpm-bi-narrow")
+record dpm-bi-narrow
 
 printf '%s\n' "${sums[@]}" | tee "$out"
 if [ -n "$check" ]; then
   if diff -u "$check" "$out"; then
     echo "same bits as $check"
   else
-    echo "cog.csv differs from $check" >&2
+    echo "the cases' files differ from $check" >&2
     exit 1
   fi
 fi
