@@ -153,6 +153,9 @@ masses_kept "$work/lagged1"
 masses_kept "$work/lagged2"
 same "jumps of a lagged blend" "$(tail -n +3 "$work/lagged1/jumps.csv" | cut -d, -f1,3,4 | tr ',' ' ' | paste -sd' ')" \
   "7 6 7 40 39 0 47 6 7 80 39 0 87 6 7"
+"$rcfd" run -db "$a,$work/a7.h5" -db_conditions 1.0,1.2 -db_switch_type blend -db_switch_schedule 0:1.1 \
+  -db_blend_pairing recurrence -fields 0 -t_end 0.01 -output_dir "$work/lagview" -run_view >"$work/lagview.txt"
+same "the lag -run_view names" "$(sed -n 's/.*blend of 0 and 1 paired by recurrence: frame k with frame k + \([0-9]*\) of 1.*/\1/p' "$work/lagview.txt")" "33"
 for np in 1 2; do
   worst=$(awk -F, 'NR > 1 && $9 > w {w = $9} END {print w + 0}' "$work/lagged$np/cog.csv")
   if awk -v w="$worst" 'BEGIN { exit !(w < 1e-5) }'; then ok; else fail "lagged blend at $np ranks: the bulk strays $worst from the blend's frames"; fi

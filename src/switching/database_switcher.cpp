@@ -291,6 +291,9 @@ PetscErrorCode DatabaseSwitcher::view(PetscViewer viewer) const {
                                      i == active_.database || i == active_.partner ? " (active)" : ""));
   PetscCall(PetscViewerASCIIPrintf(viewer, "%d loads of a database, %.3g s in all; %d held now, at most %d at once\n",
                                    set_->numLoads(), set_->loadSeconds(), set_->numHeld(), set_->maxHeld()));
+  for (const auto &[pair, lag] : lags) // blends paired by recurrence: frame k with the partner's k + lag
+    PetscCall(PetscViewerASCIIPrintf(viewer, "blend of %d and %d paired by recurrence: frame k with frame k + %d of %d\n",
+                                     pair.first, pair.second, lag, pair.second));
   PetscCall(PetscViewerASCIIPopTab(viewer));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
