@@ -220,13 +220,24 @@ PetscErrorCode Run::Impl::readCheckpoint() {
                           std::to_string(f.readAttrInt("/", "version")) + ", this rcfd reads version " +
                           std::to_string(kCheckpointVersion));
         for (const auto &[name, text] : physicsRecord()) {
-          const std::string saved = f.hasAttribute("/physics", name) ? f.readAttrString("/physics", name) : "(none)";
+          if (!f.hasAttribute("/physics", name)) // every rcfd writing version 2 recorded these for its run
+            throw h5::Error("-restart '" + restartFile + "' holds no record of the physics entry '" + name +
+                            "' (an attribute of /physics), so it cannot be compared with this run; the file "
+                            "is damaged or was not written by rcfd run");
+          const std::string saved = f.readAttrString("/physics", name);
           if (saved != text) {
             throw h5::Error("-restart '" + restartFile + "' continues a run made with " + differenceIn(name) + " (" + saved +
                             " there, " + text + " here); a restart may change only run control such as -t_end, "
                             "the outputs and progress");
           }
         }
+        // Here, not in VecLoad, whose message names neither the file nor the checkpoint.
+        std::size_t masses = 1;
+        for (hsize_t extent : f.extents("/masses")) masses *= extent;
+        if (masses != static_cast<std::size_t>(cells * nf))
+          throw h5::Error("-restart '" + restartFile + "' holds " + std::to_string(masses) +
+                          " masses in /masses, expected " + std::to_string(cells) + " cells x " +
+                          std::to_string(nf) + " fractions");
         step = f.readAttrInt("/", "step");
         pathBytes = f.readAttrInt("/", "path_txt_bytes");
         jumpsRecorded = f.hasAttribute("/", "jumps_csv_bytes");
