@@ -43,8 +43,9 @@ awk -F, '/^[0-9]/ { if ($1 <= 200) b++; else a++ } END { exit !(b >= 5 && a >= 5
   fail "full1/jumps.csv should hold at least 5 jumps before step 200 and 5 after"
 grep -q '^8,0.04,' "$work/full1/jumps.csv" && ! grep -q '^[1-7],' "$work/full1/jumps.csv" && ok ||
   fail "the first jump of full1/jumps.csv should be at step 8"
-# Checkpoints at step 4 (no jump yet) and at step 8 (a jump into the checkpoint's own step), 1 rank.
-for at in 0.02 0.04; do
+# Checkpoints at step 6 (no jump yet; the file holds step 8's row, written after it) and at step 8 (a
+# jump into the checkpoint's own step), 1 rank.
+for at in 0.03 0.04; do
   run "first part to $at s" "$rcfd" run "${common[@]}" -t_end 0.05 -checkpoint_every $at \
     -output_dir "$work/at$at" && run "older at $at s" older "$work/at$at/checkpoint.h5" &&
     run "restart at $at s" "$rcfd" run "${common[@]}" -t_end 2 -restart "$work/at$at/checkpoint.h5" \

@@ -9,7 +9,8 @@
 //   /path_state        uint64 words of the frame path (position, sequence, PRNG)
 //   /ledger_reference  the mass ledger's reference totals
 //   /monitors/<name>   each monitor's saved state (Monitor::saveState), when not empty
-//   /operators/<type>  each operator's saved state (Operator::saveState), when not empty
+//   /operators/<type>  each operator's saved state (Operator::saveState), when not empty (the
+//                      group is absent from an rcfd before the granulation operators)
 //   /physics           attributes: what the physics was made with (database, diameters,
 //                      mass_shares, solid_density, pipeline, path, options_<operator>);
 //                      a restart refuses a run that differs in any of them
