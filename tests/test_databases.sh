@@ -103,6 +103,12 @@ for np in 1 2; do
   same "the operating u_sup at $np ranks: rows, rows off the schedule, first de-fluidized row" "${got% *}" "101 0 0.1"
   same "the validity warning and its umf_usup at $np ranks" "$warned" "0.1 ${got##* }" 1e-9
 done
+# A blend's u_sup is the schedule's too, where it leaves the databases' range and runs on the nearest
+# alone (1.5 from 0.1 s; b's 1.3 before).
+"$rcfd" run -db "$a,$b" -db_switch_type blend -db_switch_schedule 0:1.15,0.05:1.2,0.1:1.5 -bottom_layer "${common[@]}" \
+  -t_end 0.15 -output_dir "$work/blend_usup" >/dev/null
+same "a blend's u_sup: rows off the schedule" "$(awk -F, 'NR > 1 { u = $1 < 0.05 - 1e-9 ? 1.15 : $1 < 0.1 - 1e-9 ? 1.2 : 1.5
+  if ($4 != u) ++off } END { print NR - 1, off + 0 }' "$work/blend_usup/bottom.csv")" "31 0"
 
 # Markov: the same switches at 1 and 2 ranks, and after a restart from a checkpoint after a switch.
 alike markov -db "$a,$b" -db_switch_type markov -db_switch_interval 0.05 -db_switch_seed 3 -quiet "${common[@]}"
