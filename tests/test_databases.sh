@@ -6,7 +6,9 @@
 # (1e-12, ledger off) and no mass negative; markov switch times the same at 1
 # and 2 ranks and after a restart across a switch (byte for byte); the
 # validity warning once, at the step the schedule leaves the databases'
-# range; a blend restarted while active (byte for byte); the state rule
+# range; bottom.csv's u_sup the schedule's at every row, also between the
+# databases', and the warning's umf_usup bottom.csv's ratio (1 and 2 ranks, a
+# restart); a blend restarted while active (byte for byte); the state rule
 # switching on the bottom layer's d32; databases of different lengths (masses,
 # 1 and 2 ranks, a restart across a switch, every wrap in jumps.csv); a blend
 # paired by recurrence stepping its second database's wrap inside it as a jump
@@ -63,24 +65,50 @@ masses_kept() {
 masses_kept "$work/schedule" # switches at rows 21, 41, 51
 
 # alike NAME ARGS...: a run at 1 and at 2 ranks with a checkpoint at 0.2 s, and each again from that
-# checkpoint: switches.csv, cog.csv, path.txt and jumps.csv byte for byte after the restart; switches.csv
-# and jumps.csv the same and cog.csv within 1e-10 at 2 ranks.
+# checkpoint: switches.csv, cog.csv, path.txt, jumps.csv (and bottom.csv, when written) byte for byte
+# after the restart; switches.csv and jumps.csv the same and cog.csv (bottom.csv) within 1e-10 at 2 ranks.
 alike() {
-  local name=$1
+  local name=$1 written=(switches.csv cog.csv path.txt jumps.csv) near=(cog.csv)
   shift
   for np in 1 2; do
     mpiexec -n $np "$rcfd" run "$@" -checkpoint_every 0.2 -output_dir "$work/$name$np"
     mpiexec -n $np "$rcfd" run "$@" -restart "$work/$name$np/checkpoint.h5" -output_dir "$work/${name}_again$np"
-    for f in switches.csv cog.csv path.txt jumps.csv; do
+    if [ $np = 1 ] && [ -f "$work/${name}1/bottom.csv" ]; then written+=(bottom.csv) near+=(bottom.csv); fi
+    for f in "${written[@]}"; do
       if cmp -s "$work/$name$np/$f" "$work/${name}_again$np/$f"; then ok; else fail "$name, restart at $np ranks: $f differs"; fi
     done
   done
   for f in switches.csv jumps.csv; do
     if cmp -s "$work/${name}1/$f" "$work/${name}2/$f"; then ok; else fail "$name: $f differs at 2 ranks"; fi
   done
-  if "$compare" "$work/${name}1/cog.csv" "$work/${name}2/cog.csv" 1e-10 1e-14 >/dev/null; then ok; else
-    fail "$name at 2 ranks: $("$compare" "$work/${name}1/cog.csv" "$work/${name}2/cog.csv" 1e-10 1e-14)"; fi
+  for f in "${near[@]}"; do
+    if "$compare" "$work/${name}1/$f" "$work/${name}2/$f" 1e-10 1e-14 >/dev/null; then ok; else
+      fail "$name at 2 ranks: $("$compare" "$work/${name}1/$f" "$work/${name}2/$f" 1e-10 1e-14)"; fi
+  done
 }
+
+# The operating u_sup is the schedule's, also between the databases' (1.25 on b without a switch, 1.15 on a
+# without one) as where it is one's (1.3, 1.1): bottom.csv's usup_m_s is the schedule's value at every row
+# (the nearest database's, 1.3 and 1.1, before).  In the gas of -gas_density 0.68 (u_mf 1.268 m/s) the bottom
+# de-fluidizes when the schedule goes down to 1.25 at 0.1 s: bottom.csv's first de-fluidized row and the
+# switcher's validity warning are there, its trigger (umf_usup) bottom.csv's u_mf/u_sup.  1 and 2 ranks
+# alike, and a restart from 0.2 s (after the switch to a; 1.15 from 0.3 s) byte for byte.
+alike operating -db "$a,$b" -db_switch_schedule 0:1.3,0.1:1.25,0.2:1.1,0.3:1.15 -bottom_layer -gas_density 0.68 \
+  -quiet "${common[@]}"
+for np in 1 2; do
+  got=$(awk -F, 'NR > 1 { u = $1 < 0.1 - 1e-9 ? 1.3 : $1 < 0.2 - 1e-9 ? 1.25 : $1 < 0.3 - 1e-9 ? 1.1 : 1.15
+    if ($4 != u) ++off; if ($5 == 1 && first == "") first = $1; if ($1 == 0.1) ratio = $3 / $4 }
+    END { printf "%d %d %s %.12g", NR - 1, off, first, ratio }' "$work/operating$np/bottom.csv")
+  warned=$(awk -F, '/extrapolating$/ {print $1, $4}' "$work/operating$np/switches.csv")
+  same "the operating u_sup at $np ranks: rows, rows off the schedule, first de-fluidized row" "${got% *}" "101 0 0.1"
+  same "the validity warning and its umf_usup at $np ranks" "$warned" "0.1 ${got##* }" 1e-9
+done
+# A blend's u_sup is the schedule's too, where it leaves the databases' range and runs on the nearest
+# alone (1.5 from 0.1 s; b's 1.3 before).
+"$rcfd" run -db "$a,$b" -db_switch_type blend -db_switch_schedule 0:1.15,0.05:1.2,0.1:1.5 -bottom_layer "${common[@]}" \
+  -t_end 0.15 -output_dir "$work/blend_usup" >/dev/null
+same "a blend's u_sup: rows off the schedule" "$(awk -F, 'NR > 1 { u = $1 < 0.05 - 1e-9 ? 1.15 : $1 < 0.1 - 1e-9 ? 1.2 : 1.5
+  if ($4 != u) ++off } END { print NR - 1, off + 0 }' "$work/blend_usup/bottom.csv")" "31 0"
 
 # Markov: the same switches at 1 and 2 ranks, and after a restart from a checkpoint after a switch.
 alike markov -db "$a,$b" -db_switch_type markov -db_switch_interval 0.05 -db_switch_seed 3 -quiet "${common[@]}"

@@ -12,9 +12,10 @@ struct RunContext {
   const Database &db;
   const FractionSet &fractions;
   double solidDensity; // [kg/m^3]
-  /// The conditions the database in use stands for when they are not its file's
-  /// (a run on several databases: -db_conditions, a blend's interpolation;
-  /// docs/databases.md); null: db.metadata().conditions.
+  /// The conditions the run operates at when they are not the database file's
+  /// (a run on several databases: -db_conditions, a blend's interpolation, and
+  /// a schedule's u_sup at the current time; docs/databases.md); null:
+  /// db.metadata().conditions.
   const OperatingConditions *conditions = nullptr;
   const OperatingConditions &recordedAt() const { return conditions ? *conditions : db.metadata().conditions; }
 };

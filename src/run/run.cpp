@@ -202,7 +202,7 @@ PetscErrorCode Run::setUp() {
   PetscCheck(r.path, r.comm, PETSC_ERR_ORDER, "Run::setUp() needs Run::setFromOptions() first");
   if (r.switching) { // one partition for all; the first database the rule chooses
     PetscCall(r.switching->open(r.comm, splitList(r.dbPath), r.loadOptions));
-    PetscCall(r.switching->activate(r.switching->initial(), &r.db));
+    PetscCall(r.switching->activate(r.switching->initial(), 0.0, &r.db));
     r.switching->set().dropUnused(); // a blend's two databases
   }
   if (!r.db) {

@@ -50,7 +50,7 @@ struct Run::Impl {
   /// remap of a stitching jump.
   PetscErrorCode switchTo(const SwitchDecision &target, int nextFrame, double time, bool remap);
   RunContext context() const {
-    return RunContext{*db, set, solidDensity, switching ? &switching->activeConditions() : nullptr};
+    return RunContext{*db, set, solidDensity, switching ? &switching->operatingConditions() : nullptr};
   }
   /// The active database's frame for the path's frame k: the path runs over the
   /// frames of the database the run started on, a database of another length

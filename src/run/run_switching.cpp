@@ -27,7 +27,7 @@ PetscErrorCode Run::Impl::switchTo(const SwitchDecision &target, int nextFrame, 
   // run holds one database (and a blend its two while it is made); the
   // operators that point into it are set up again below, before any use.
   db.reset();
-  PetscCall(switching->activate(target, &db));
+  PetscCall(switching->activate(target, time, &db));
   const RunContext ctx = context();
   for (std::size_t k = 0; k < ops.operators().size(); ++k) {
     PetscCall(ops.operators()[k]->setUp(ctx));

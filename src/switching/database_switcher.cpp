@@ -51,7 +51,7 @@ PetscErrorCode DatabaseSwitcher::open(MPI_Comm c, const std::vector<std::string>
   for (int i = 0; i < set_->size(); ++i) conditions.push_back(set_->entry(i).conditions);
   PetscCall(rule_->setUp(comm, conditions));
   active_ = rule_->initial();
-  activeConditions_ = conditionsOf(active_);
+  operating_ = conditionsAt(0.0);
   for (int i : {active_.database, active_.partner})
     PetscCheck(i < set_->size(), comm, PETSC_ERR_USER_INPUT, "The %s switching rule starts on database %d of %d",
                rule_->kind().c_str(), i, set_->size());
@@ -119,24 +119,28 @@ PetscErrorCode DatabaseSwitcher::measure(long step, double time, const FractionS
   }
   s->inventoryD32 = mass > 0 ? mass / massOverD : std::numeric_limits<double>::quiet_NaN();
   s->bottomD32 = layers::sauterDiameter(perLayer, 0, *fractions);
-  // The bottom layer's gas and correlation: bottom.csv's u_mf/u_sup where the rule sets no u_sup of its own.
-  const OperatingConditions now = fluidization.resolve(activeConditions_);
-  const double usup = superficialVelocityAt(time);
-  if (std::isfinite(s->bottomD32) && std::isfinite(usup) && rho > now.gasDensity)
-    s->umfOverUsup = fluidization.minFluidizationVelocity(s->bottomD32, rho, now, gravity) / usup;
+  // The bottom layer's conditions at `time` (decide() has set them), resolved
+  // as it resolves them, and its correlation: bottom.csv's u_mf/u_sup.
+  const OperatingConditions now = fluidization.resolve(operating_);
+  if (std::isfinite(s->bottomD32) && rho > now.gasDensity)
+    s->umfOverUsup = fluidization.minFluidizationVelocity(s->bottomD32, rho, now, gravity) / now.superficialVelocity;
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
-// The rule's u_sup at `time` (a schedule's), else the bottom layer's: the
-// case's, else that of the databases in use, else the default.
-double DatabaseSwitcher::superficialVelocityAt(double time) const {
+// The one place that says what u_sup the run operates at: the rule's at
+// `time` where it sets one (a schedule's, also between or outside the
+// databases' u_sup), else that of the databases in use.  The gas is always
+// theirs (a blend's interpolated).
+OperatingConditions DatabaseSwitcher::conditionsAt(double time) const {
+  OperatingConditions c = conditionsOf(active_);
   const double scheduled = rule_->superficialVelocity(time);
-  return std::isfinite(scheduled) ? scheduled : fluidization.resolve(activeConditions_).superficialVelocity;
+  if (std::isfinite(scheduled)) c.superficialVelocity = scheduled;
+  return c;
 }
 
 // A blend stands for the conditions between its two databases' at its weight
-// (the blend rule's w makes that the schedule's u_sup); a quantity only one of
-// them recorded is that one's.
+// (its u_sup is the blend rule's schedule's to round-off; conditionsAt() puts
+// the schedule's own); a quantity only one of them recorded is that one's.
 OperatingConditions DatabaseSwitcher::conditionsOf(const SwitchDecision &d) const {
   const OperatingConditions &a = set_->entry(d.database).conditions;
   if (d.partner < 0) return a;
@@ -201,9 +205,9 @@ PetscErrorCode DatabaseSwitcher::decide(long step, double time, const FractionSt
   PetscFunctionBeginUser;
   s.step = step;
   s.time = time;
+  operating_ = conditionsAt(time); // what the monitors see at `time`, a switch or not
   PetscCall(measure(step, time, state, &s)); // also for the validity warning
-  const double usup = superficialVelocityAt(time);
-  PetscCall(warnIfOutside(s, usup));
+  PetscCall(warnIfOutside(s, fluidization.resolve(operating_).superficialVelocity));
   SwitchDecision d;
   PetscCall(collectively(comm, [&] { d = rule_->decide(active_, s); }));
   PetscCheck(d.database >= 0 && d.database < set_->size() && d.partner < set_->size() && d.weight >= 0 && d.weight <= 1,
@@ -214,7 +218,7 @@ PetscErrorCode DatabaseSwitcher::decide(long step, double time, const FractionSt
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
-PetscErrorCode DatabaseSwitcher::activate(const SwitchDecision &choice, std::shared_ptr<Database> *db) {
+PetscErrorCode DatabaseSwitcher::activate(const SwitchDecision &choice, double time, std::shared_ptr<Database> *db) {
   PetscFunctionBeginUser;
   if (choice.partner < 0) PetscCall(set_->get(choice.database, db));
   else { // the two are dropped once the blend is made, unless somebody else holds them
@@ -232,7 +236,7 @@ PetscErrorCode DatabaseSwitcher::activate(const SwitchDecision &choice, std::sha
     *db = std::move(blend);
   }
   active_ = choice;
-  activeConditions_ = conditionsOf(choice);
+  operating_ = conditionsAt(time);
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 

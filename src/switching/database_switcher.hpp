@@ -40,8 +40,8 @@ public:
   /// every database's envelope.
   PetscErrorCode decide(long step, double time, const FractionState &state, bool *change, SwitchDecision *target);
   /// Collective.  The database of the choice (the set's, loaded unless held;
-  /// or two of them blended), recorded as the active choice.
-  PetscErrorCode activate(const SwitchDecision &choice, std::shared_ptr<Database> *db);
+  /// or two of them blended), recorded as the active choice from `time` on.
+  PetscErrorCode activate(const SwitchDecision &choice, double time, std::shared_ptr<Database> *db);
   /// Appends the switch to switches.csv and prints it (rank 0, unless quiet).
   PetscErrorCode record(double time, const SwitchDecision &from, double seconds);
 
@@ -51,9 +51,10 @@ public:
   const SwitchDecision &active() const { return active_; }
   /// The active choice as switches.csv names it: "1", or "0+1@0.25" (a blend).
   std::string activeName() const;
-  /// The conditions of the active choice: its database's (-db_conditions or the
-  /// file's), or for a blend each quantity interpolated with the blend's weight.
-  const OperatingConditions &activeConditions() const { return activeConditions_; }
+  /// The conditions the run operates at now, which it hands its monitors
+  /// (RunContext::recordedAt): conditionsAt() the time of the last decision or
+  /// switch.  A reference that stays valid and follows them.
+  const OperatingConditions &operatingConditions() const { return operating_; }
   SwitchDecision initial() const { return rule_->initial(); }
   long numSwitches() const { return switches; }
   /// Time of the validity warning [s], NaN while the run stays inside.
@@ -71,14 +72,14 @@ private:
   PetscErrorCode measure(long step, double time, const FractionState &state, SwitchSignals *s) const;
   PetscErrorCode warnIfOutside(const SwitchSignals &s, double usup);
   OperatingConditions conditionsOf(const SwitchDecision &choice) const;
-  double superficialVelocityAt(double time) const;
+  OperatingConditions conditionsAt(double time) const;
   static constexpr std::size_t kSaved = 7; // words before the rule's own
   MPI_Comm comm = MPI_COMM_NULL;
   std::vector<double> conditionVelocities; // -db_conditions
   std::unique_ptr<DatabaseSet> set_;
   std::unique_ptr<SwitchRule> rule_;
   SwitchDecision active_;
-  OperatingConditions activeConditions_;
+  OperatingConditions operating_; // conditionsAt(the time of the last decision or switch)
   long switches = 0;
   double warnedAt = std::numeric_limits<double>::quiet_NaN();
   // Signals.
