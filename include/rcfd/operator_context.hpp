@@ -17,7 +17,8 @@ struct RunContext {
   /// a schedule's u_sup at the current time; docs/databases.md); null:
   /// db.metadata().conditions.
   const OperatingConditions *conditions = nullptr;
-  const OperatingConditions &recordedAt() const { return conditions ? *conditions : db.metadata().conditions; }
+  /// The run's conditions now: `conditions`, else the database file's.
+  const OperatingConditions &operatingConditions() const { return conditions ? *conditions : db.metadata().conditions; }
 };
 
 /// The step being taken: frame k moves the state from t_k to t_k + dt_rec.

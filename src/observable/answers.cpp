@@ -118,7 +118,7 @@ PetscErrorCode Answers::setFromOptions(MPI_Comm c) {
 PetscErrorCode Answers::createMonitors(const RunContext &run, double tEnd, bool quiet, std::vector<Named> *out) {
   PetscFunctionBeginUser;
   // Conditions: the case's value, else the database's (the one in use), else the default.
-  used = fluidization_.resolve(run.recordedAt(), sources);
+  used = fluidization_.resolve(run.operatingConditions(), sources);
   const double value[3] = {used.superficialVelocity, used.gasDensity, used.gasKinematicViscosity};
 
   for (TimeWindow *w : {&profilesWindow, &halvesWindow}) {

@@ -111,7 +111,7 @@ private:
 /// The warning is printed once, on rank 0, the first time u_mf of the bottom
 /// layer reaches u_sup; `defluidized` is 1 in every row where it has.  The
 /// conditions are resolved at every sample against the database in use
-/// (RunContext::recordedAt) by `model`, so they follow a run's switches
+/// (RunContext::operatingConditions) by `model`, so they follow a run's switches
 /// (docs/databases.md) and agree with the switcher's umf_usup.
 class BottomLayerMonitor final : public Monitor {
 public:

@@ -30,7 +30,7 @@ PetscErrorCode BottomLayerMonitor::sample(const MonitorContext &ctx) {
   const int nf = fractions->size();
   const double d32 = layers::sauterDiameter(*perLayer, 0, *fractions);
   // The conditions of the database in use now: a run on several databases switches.
-  const OperatingConditions now = model.resolve(ctx.run.recordedAt());
+  const OperatingConditions now = model.resolve(ctx.run.operatingConditions());
   if (now.superficialVelocity != detector.superficialVelocity()) { // keeps whether and when it fired
     const std::vector<double> fired = detector.saveState();
     detector = DefluidizationDetector(now.superficialVelocity);

@@ -52,7 +52,7 @@ public:
   /// The active choice as switches.csv names it: "1", or "0+1@0.25" (a blend).
   std::string activeName() const;
   /// The conditions the run operates at now, which it hands its monitors
-  /// (RunContext::recordedAt): conditionsAt() the time of the last decision or
+  /// (RunContext::operatingConditions): conditionsAt() the time of the last decision or
   /// switch.  A reference that stays valid and follows them.
   const OperatingConditions &operatingConditions() const { return operating_; }
   SwitchDecision initial() const { return rule_->initial(); }
