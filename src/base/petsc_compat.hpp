@@ -8,9 +8,6 @@
 
 #if PETSC_VERSION_LT(3, 19, 0)
 #define PETSC_SUCCESS 0
-#endif
-
-#if PETSC_VERSION_LT(3, 19, 0)
 // Documented and exported by PETSc 3.18, but declared in none of its headers.
 PETSC_EXTERN PetscErrorCode PetscObjectStateGet(PetscObject, PetscObjectState *);
 #endif

@@ -319,8 +319,7 @@ template <int NF> PetscErrorCode DriftOperator::sweep(double dt, const double *s
     if (bits != 0) break;
     top = from;
   }
-  std::fill(swaps + top, swaps + own, 0);
-  occupiedEnd = top;
+  occupiedEnd = top; // the flags of cells at or above it are never read: no face below it touches them
 
   PetscInt first = own, last = -1; // the own cells that swap
   auto sumCells = [&](const PetscScalar *m, PetscInt from, PetscInt to) { // m: the masses of cell `from`
