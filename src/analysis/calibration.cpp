@@ -122,7 +122,7 @@ PetscErrorCode DriftCalibration::evaluate(const std::string &model, double log10
     if (auto *d = dynamic_cast<DriftOperator *>(op.get())) drift = d;
   PetscCheck(drift, comm, PETSC_ERR_USER_INPUT,
              "rcfd calibrate fits the drift operator, but -pipeline has none (add drift)");
-  drift->setModel(model == "A" ? DriftOperator::Model::A : DriftOperator::Model::B);
+  PetscCallCXX(drift->setSizeLaw(model));
   drift->setKd(std::pow(10.0, log10kd));
   if (exponent >= 0.0) {
     if (!leaving) {
