@@ -4,7 +4,7 @@
 #include "check.hpp"
 
 #include "analysis/bed_dynamics.hpp"
-#include "observable/min_fluidization.hpp"
+#include "database/min_fluidization.hpp"
 #include "observable/mixing_index.hpp"
 
 #include <cmath>

@@ -68,6 +68,9 @@ public:
   /// database's own a_bar, or -drift_agitation_reference (times dt_rec for
   /// the leaving share, whose reference is a rate in 1/s).
   double agitationNormaliser() const { return normaliser; }
+  /// The bed's factor on every drift velocity, once set up: u_sup - u_mf in
+  /// m/s with -drift_excess_gas (0 when the bed is not fluidized), else 1.
+  double excessGasFactor() const { return gasFactor; }
 
 private:
   FaceChoice swapFaces(const RunContext &ctx) const override;
@@ -75,6 +78,8 @@ private:
   PetscErrorCode substep(double dt, const double *scale, FractionState &state);
   PetscErrorCode substepsFor(double dt, double largestScale, int *n) const;
   PetscErrorCode setUpScaling(const RunContext &ctx);
+  PetscErrorCode setUpExcessGas(const RunContext &ctx);
+  std::string kdUnit() const;
   // u of every fraction [m/s] for the reference diameter dRef.
   void velocitiesAt(double dRef, double *u) const;
   void setUpTables();
@@ -125,6 +130,15 @@ private:
   std::string agitationName = "none";
   double agitationExponent = 1.0;
   double agitationReference = 0.0; // -drift_agitation_reference (0: the database's a_bar)
+  // -drift_excess_gas: every velocity times u_sup - u_mf [m/s] of the bed
+  // (u_mf of the inventory's d32 by -umf_correlation in the run's gas), so
+  // that k_d is per m/s of excess gas; the case's conditions as given
+  // (NaN where not) and what set-up resolved.
+  PetscBool excessGas = PETSC_FALSE;
+  OperatingConditions givenConditions;
+  std::string umfCorrelation = "wen-yu";
+  double gasFactor = 1.0, gasUsup = 0.0, gasUmf = 0.0, gasSauter = 0.0;
+  std::string usupSource;
   double normaliser = 1.0;
   std::shared_ptr<const AgitationField> agitation;
   std::vector<std::vector<double>> scaleByFrame;

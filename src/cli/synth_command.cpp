@@ -5,7 +5,7 @@
 #include "analysis/span_statistics.hpp"
 #include "builders/synthetic/synthetic_bed.hpp"
 #include "builders/synthetic/two_phase_scaling.hpp"
-#include "observable/min_fluidization.hpp"
+#include "database/min_fluidization.hpp"
 #include "rcfd/database.hpp"
 #include "base/collective.hpp"
 #include "base/atomic_file.hpp"

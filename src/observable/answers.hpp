@@ -18,7 +18,7 @@
 //   -snapshots_times t1,t2,...  snapshot_<t>s.csv: each fraction's alpha in the mid-plane
 #pragma once
 
-#include "observable/fluidization_model.hpp"
+#include "database/fluidization_model.hpp"
 #include "observable/layer_masses.hpp"
 #include "rcfd/observables.hpp"
 #include "rcfd/zone.hpp"

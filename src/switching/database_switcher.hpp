@@ -9,7 +9,7 @@
 #include "rcfd/switching.hpp"
 
 #include "observable/layer_masses.hpp"
-#include "observable/fluidization_model.hpp"
+#include "database/fluidization_model.hpp"
 
 #include <limits>
 #include <map>

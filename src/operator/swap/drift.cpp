@@ -1,6 +1,7 @@
 #include "rcfd/drift.hpp"
 #include "base/checked_options.hpp"
 #include "base/petsc_compat.hpp"
+#include "database/fluidization_model.hpp"
 
 #include "rcfd/agitation.hpp"
 
@@ -81,7 +82,19 @@ PetscErrorCode DriftOperator::setFromOptions(MPI_Comm comm) {
                         "A fixed a_ref in place of the database's own a_bar: (a/a_ref)^n; for leaving a rate "
                         "in 1/s (compared with a/dt_rec), for dispersion in m^2/s",
                         &agitationReference, {0.0, PETSC_MAX_REAL, false, true, "a positive agitation"}));
+  PetscCall(PetscOptionsBool("-excess_gas",
+                             "Multiply u_d by the bed's excess gas velocity u_sup - u_mf [m/s] (u_mf of the "
+                             "inventory's d32, -umf_correlation): k_d is then per m/s of excess gas",
+                             "", excessGas, &excessGas, nullptr));
   PetscOptionsEnd();
+  if (excessGas) {
+    char correlation[64];
+    std::snprintf(correlation, sizeof correlation, "%s", umfCorrelation.c_str());
+    PetscCall(OperatingConditions::fromOptions(comm, &givenConditions));
+    PetscCall(PetscOptionsGetString(nullptr, nullptr, "-umf_correlation", correlation, sizeof correlation, nullptr));
+    umfCorrelation = correlation;
+    PetscCallCXX(findUmfCorrelation(umfCorrelation)); // an unknown name is refused here, listing the known ones
+  }
   const std::string chosen = models[which];
   if (setKd) kdGiven = true;
   // -drift_size_law wins over -drift_model A|B (case files name B), but a
@@ -136,13 +149,13 @@ bool DriftOperator::needed(const RunContext &ctx) const {
 
 double DriftOperator::velocity(int i, double sauter) const {
   double u = 0.0;
-  if (model == Model::SizeLaw) law->velocities(kd, sauter, &diameter[i], 1, &u);
-  else if (model == Model::Constant) u = constantVelocity[i];
+  if (model == Model::SizeLaw) law->velocities(kd * gasFactor, sauter, &diameter[i], 1, &u);
+  else if (model == Model::Constant) u = constantVelocity[i] * gasFactor;
   return u;
 }
 
 void DriftOperator::velocitiesAt(double dRef, double *u) const {
-  if (model == Model::SizeLaw) law->velocities(kd, dRef, diameter.data(), nf, u);
+  if (model == Model::SizeLaw) law->velocities(kd * gasFactor, dRef, diameter.data(), nf, u);
   else for (int i = 0; i < nf; ++i) u[i] = velocity(i, dRef);
 }
 
@@ -163,6 +176,7 @@ PetscErrorCode DriftOperator::setUpSwap(const RunContext &ctx) {
   diameter.resize(nf);
   for (int i = 0; i < nf; ++i) diameter[i] = ctx.fractions.diameter(i);
   d32 = d32Override > 0 ? d32Override : ctx.fractions.inventorySauterDiameter();
+  PetscCall(setUpExcessGas(ctx));
   velocityCache.resize(nf);
   fixedUp.resize(nf);
   fixedDown.resize(nf);
@@ -173,6 +187,34 @@ PetscErrorCode DriftOperator::setUpSwap(const RunContext &ctx) {
   }
   setUpTables();
   PetscCall(setUpScaling(ctx));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+// The bed's excess gas u_sup - u_mf, from the case's conditions over the
+// database's (as the bottom layer resolves them), with u_mf of the
+// inventory's d32: the bubble flux of two-phase theory, which sets how hard
+// the whole bed is stirred (docs/drift.md, "One constant for every bed").
+// A u_sup nobody gave is refused rather than taken as the default 1.1 m/s.
+PetscErrorCode DriftOperator::setUpExcessGas(const RunContext &ctx) {
+  PetscFunctionBeginUser;
+  gasFactor = 1.0;
+  if (!excessGas) PetscFunctionReturn(PETSC_SUCCESS);
+  FluidizationModel gas;
+  gas.given = givenConditions;
+  PetscCallCXX(gas.correlation = findUmfCorrelation(umfCorrelation));
+  std::string sources[3];
+  const OperatingConditions now = gas.resolve(ctx.operatingConditions(), sources);
+  PetscCheck(sources[0] != "default", comm, PETSC_ERR_USER_INPUT,
+             "-%sexcess_gas needs the superficial gas velocity: give -superficial_velocity, or record it in the "
+             "database '%s' (rcfd build -superficial_velocity)",
+             prefix.c_str(), ctx.db.path().c_str());
+  const Vec3 g = ctx.db.metadata().gravity;
+  const double gravity = std::sqrt(g[0] * g[0] + g[1] * g[1] + g[2] * g[2]);
+  gasSauter = ctx.fractions.inventorySauterDiameter();
+  PetscCallCXX(gasUmf = gas.minFluidizationVelocity(gasSauter, ctx.solidDensity, now, gravity));
+  gasUsup = now.superficialVelocity;
+  usupSource = sources[0];
+  gasFactor = std::max(0.0, gasUsup - gasUmf); // a bed below u_mf does not bubble: no drift
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
@@ -280,7 +322,7 @@ PetscErrorCode DriftOperator::substepsFor(double dt, double largestScale, int *n
   } else {
     const double dmin = *std::min_element(diameter.begin(), diameter.end());
     const double dmax = *std::max_element(diameter.begin(), diameter.end());
-    umax = law->largestSpeed(kd, dmin, dmax, diameter.data(), nf);
+    umax = law->largestSpeed(kd * gasFactor, dmin, dmax, diameter.data(), nf);
   }
   const double courant = umax * largestScale * exchange().maxAreaOverVolume() * dt;
   const double needed = std::ceil(courant / maxShare);
@@ -455,14 +497,25 @@ template <int NF> PetscErrorCode DriftOperator::sweep(double dt, const double *s
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
+// k_d's unit: the law's (unused by the constant model), per m/s
+// of excess gas when scaled by it.
+std::string DriftOperator::kdUnit() const {
+  const std::string unit = model == Model::SizeLaw ? law->unitOfK() : "1/(m s)";
+  return excessGas ? unit + " per m/s of excess gas" : unit;
+}
+
 PetscErrorCode DriftOperator::view(PetscViewer viewer) const {
   const std::string name = model == Model::SizeLaw ? lawName + ": " + law->formula()
                            : model == Model::Constant ? "constant velocities" : "none";
   PetscFunctionBeginUser;
   PetscCall(PetscViewerASCIIPrintf(viewer, "drift: model %s, kd = %g %s, d32 = %.4g mm (%s)%s; applied every %d step(s)\n",
-                                   name.c_str(), kd, model == Model::SizeLaw ? law->unitOfK() : "1/(m s)", d32 * 1e3,
+                                   name.c_str(), kd, kdUnit().c_str(), d32 * 1e3,
                                    localD32 ? "local per sending cell" : (d32Override > 0 ? "given" : "inventory"),
                                    hindered ? ", hindered" : "", (int)every));
+  if (excessGas && isSetUp())
+    PetscCall(PetscViewerASCIIPrintf(viewer, "  times the excess gas u_sup - u_mf = %.4g - %.4g = %.4g m/s (u_sup from the %s, u_mf by %s at the inventory's d32 %.4g mm)\n",
+                                     gasUsup, gasUmf, gasFactor, usupSource.c_str(), umfCorrelation.c_str(),
+                                     gasSauter * 1e3));
   if (agitation && agitationReference == 0.0)
     PetscCall(PetscViewerASCIIPrintf(viewer, "  scaled by (a/a_bar)^%g, a = %s agitation of the frame, a_bar = %.4g, a_max = %.4g, solid-weighted mean factor %.4g\n",
                                      agitationExponent, agitationMeasureName(agitation->measure()),

@@ -1,6 +1,6 @@
 // The case's conditions over the database's, and u_mf in the resolved gas
-// (src/observable/fluidization_model.hpp).
-#include "observable/fluidization_model.hpp"
+// (src/database/fluidization_model.hpp).
+#include "database/fluidization_model.hpp"
 
 #include <cmath>
 

@@ -4,7 +4,7 @@
 // (src/switching) give the same number at the same state.
 #pragma once
 
-#include "observable/min_fluidization.hpp"
+#include "database/min_fluidization.hpp"
 #include "rcfd/database.hpp"
 
 #include <string>

@@ -1,4 +1,4 @@
-#include "observable/min_fluidization.hpp"
+#include "database/min_fluidization.hpp"
 
 #include <cmath>
 #include <stdexcept>
