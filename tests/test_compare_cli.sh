@@ -77,6 +77,8 @@ polydisperse polydisperse " ] && ok || fail "rows: Delta z first, then classes, 
     done; for r in 8 9; do col "$s" $r rms_difference; col "$s" $r rms_over_peak; done)" \
     "$(awk 'BEGIN { printf "%.12g 2 0.15 %.12g %.12g %.12g %.12g", sqrt(0.5) / 8, sqrt(2.425) / 1e3, sqrt(2.425) / 10,
       sqrt(1.225 / 0.7) / 1e3, sqrt(1.225 / 0.7) / 10 }')" 1e-8
+  # Scripts read the Delta z row as the line starting with the run's label: the class lines do not.
+  [ "$(grep -c "^lacking " "$work/out.txt")" = 1 ] && ok || fail "more than the Delta z row start with the label"
   grep -q "Note: lacking: '$work/lacking.csv' has no class d2.000mm (within 1 %): not scored." "$work/out.txt" && ok ||
     fail "no note of the missing class: $(cat "$work/out.txt")"
   [ "$(head -1 "$work/classes-classes.csv")" = "time_s,class_d1.000mm_reference_m,class_d1.000mm_run_m,\

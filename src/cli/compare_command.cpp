@@ -151,22 +151,25 @@ void printCurveScores(const std::string &reference, const std::vector<CurveScore
 
 /// Each class's z_CoG,i - z_CoG,bed against the reference's, then the
 /// poly-disperse number of each run and the notes (classes not scored).
+/// Printed before the Delta z table, and no line starts with a run's label:
+/// scripts read the Delta z row as the last line, or as the line starting
+/// with the label.
 void printClassScores(const std::vector<CurveScore> &scores, const std::vector<PolydisperseScore> &polys,
                       const std::vector<std::string> &notes) {
   if (!scores.empty()) {
     std::printf("Each class: z_cog,i - z_cog,bed against the reference (RMS over the run / the reference's peak "
                 "|z_cog,i - z_cog,bed|; means over the window, in mm):\n");
-    std::printf("%-28s %-16s %-12s %10s %10s %10s %10s %10s %10s\n", "run", "class", "window [s]", "mean ref",
+    std::printf("%-16s %-28s %-12s %10s %10s %10s %10s %10s %10s\n", "class", "run", "window [s]", "mean ref",
                 "mean run", "diff", "RMS", "peak ref", "RMS/peak");
     for (const CurveScore &c : scores) {
       const DeltaZScore &s = c.score;
-      std::printf("%-28s %-16s %-12s %10.4f %10.4f %10.4f %10.4f %10.4f %10.3f\n", c.run.c_str(), c.curve.c_str(),
+      std::printf("%-16s %-28s %-12s %10.4f %10.4f %10.4f %10.4f %10.4f %10.3f\n", c.curve.c_str(), c.run.c_str(),
                   (exactNumber(s.windowBegin) + "-" + exactNumber(s.windowEnd)).c_str(), 1e3 * s.meanRef,
                   1e3 * s.meanModel, 1e3 * (s.meanModel - s.meanRef), 1e3 * s.rms, 1e3 * s.peakRef, s.rmsRelative);
     }
   }
   for (const PolydisperseScore &p : polys) {
-    std::printf("%s: poly-disperse sqrt(sum w_i RMS_i^2) = %.4f mm = %.3f of the peak %.4f mm of %s; w_i",
+    std::printf("Poly-disperse, %s: sqrt(sum w_i RMS_i^2) = %.4f mm = %.3f of the peak %.4f mm of %s; w_i",
                 p.run.c_str(), 1e3 * p.rms, p.rmsRelative, 1e3 * p.peakLargest, p.largestClass.c_str());
     for (double w : p.weights) std::printf(" %.4g", w);
     std::printf(" (mass shares of %s)\n", p.weightsFrom.c_str());
@@ -236,9 +239,9 @@ void compareCurves(const CompareOptions &o, const CsvTable &refTable, std::vecto
                   c.polydisperse.rmsRelative);
     classLegends->push_back(c.hasPolydisperse ? text : o.labels[i]);
   }
+  printClassScores(classScores, polys, notes);
   if (ref.names == std::vector<std::string>{"delta_z"}) printDeltaZScores(o.reference, *scores);
   else printCurveScores(o.reference, *scores);
-  printClassScores(classScores, polys, notes);
   if (classScores.empty() || o.output.empty()) classLegends->clear(); // no classes CSV, no class panel
   if (!o.output.empty()) {
     writeCurvesSideBySide(o.output, ref, runs, o.labels);
