@@ -26,7 +26,7 @@ printf '# index time\n0 0.1\n1 0.2\n2 0.3\n' >"$work/dump/times.txt"
 run "build" "$rcfd" build -dumps "$work/dump/dump.*.txt" -times "$work/dump/times.txt" -mesh_cells 1,1,1 \
   -o "$work/db.h5" -quiet
 if run "calibrate" "$rcfd" calibrate -db "$work/db.h5" -fractions_diameters 1e-3,2e-3 \
-  -fractions_mass_shares 0.5,0.5 -calibrate_from measured -calibrate_models A,B -t_end 0.1 \
+  -fractions_mass_shares 0.5,0.5 -calibrate_from measured -calibrate_models A,B,drag,log,power -t_end 0.1 \
   -output_dir "$work/calibrate"; then
   best=$work/calibrate/calibrate_best.csv
   [ -f "$best" ] && ok || fail "calibrate_best.csv not written"
@@ -35,6 +35,20 @@ if run "calibrate" "$rcfd" calibrate -db "$work/db.h5" -fractions_diameters 1e-3
   # Model B: x = (d - d32)|d - d32| = -1/9, 4/9 mm^2; mean 1/6 mm^2; x_l - mean = 5/18 mm^2.
   same "model B k_d" "$(awk -F, '$1 == "B" { print $3 }' "$best")" \
     "$(awk 'BEGIN { printf "%.17g", 3e-3 / (5.0 / 18 * 1e-6) }')" 1e-9
+  # drag: g = d32/d - 1 = 1/3, -1/3 (mean 0), so k = 3e-3 / (1/3) = 9e-3 m/s; log: g = ln(4/3),
+  # ln(2/3), g_l - mean = ln(1/2)/2, so k = 6e-3 / ln 2; power: two classes fix no exponent (m stays 1).
+  # (k in mm/s, so that same's tolerance is relative)
+  same "drag k [mm/s]" "$(awk -F, '$1 == "drag" { printf "%.17g", 1e3 * $3 }' "$best")" 9 1e-9
+  same "log k [mm/s]" "$(awk -F, '$1 == "log" { printf "%.17g", 1e3 * $3 }' "$best")" "$(awk 'BEGIN { printf "%.17g", 6 / log(2) }')" 1e-8
+  same "power k [mm/s]" "$(awk -F, '$1 == "power" { printf "%.17g", 1e3 * $3 }' "$best")" 9 1e-9
+  units=$(awk -F, 'NR > 2 { printf "%s;", $11 }' "$best")
+  [ "$units" = "1/(m s);1/(m s);m/s;m/s;m/s;" ] && ok || fail "units of k in calibrate_best.csv: '$units'"
+  fits=$work/calibrate/measured_law_fits.csv
+  same "rows of measured_law_fits.csv (5 laws x 2 classes)" "$(grep -vc '^#\|^model' "$fits")" 10
+  same "largest residual of the exact fits [m/s]" \
+    "$(awk -F, 'NR > 2 { r = $13 < 0 ? -$13 : $13; if (r > m) m = r } END { print m < 1e-15 ? 0 : m }' "$fits")" 0
+  shape=$(awk -F, '$1 == "power" { printf "[%s]", $4 }' "$fits")
+  [ "$shape" = "[][]" ] && ok || fail "power's exponent on two classes: '$shape', expected none (not fitted)"
 fi
 echo "$passed passed, $failures failed"
 [ "$failures" -eq 0 ]

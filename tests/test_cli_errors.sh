@@ -66,6 +66,21 @@ expect_error "-solid_density 0: expected a positive density" run -db "$db" -soli
 expect_error "-fields_every -1: expected a number >= 0" run -db "$db" -fields_every -1
 expect_error "-drift_kd -5: expected a number >= 0" run -db "$db" -drift_kd -5
 expect_error "-drift_alpha_max 1.5: expected a number in (0, 1]" run -db "$db" -drift_alpha_max 1.5
+expect_error "-drift_size_law drga is not a known size law; known: A, B, drag, log, power" run -db "$db" \
+  -drift_size_law drga
+expect_error "-drift_size_law_exponent 0: expected an exponent m in (0, 20]" run -db "$db" -drift_size_law power \
+  -drift_kd 0.01 -drift_size_law_exponent 0
+expect_error "-drift_size_law_exponent -1: expected an exponent m in (0, 20]" run -db "$db" -drift_size_law power \
+  -drift_kd 0.01 -drift_size_law_exponent -1
+expect_error "-drift_size_law drag has no default k_d: give -drift_kd (in m/s)" run -db "$db" -drift_size_law drag
+expect_error "-drift_size_law log cannot be used with -drift_model constant" run -db "$db" -drift_size_law log \
+  -drift_model constant -drift_velocities 0.01,-0.01
+expect_error "-drift_agitation_reference needs -drift_agitation leaving or dispersion" run -db "$db" \
+  -drift_agitation_reference 20
+expect_error "-drift_agitation_reference -2: expected a positive agitation" run -db "$db" -drift_agitation leaving \
+  -drift_agitation_reference -2
+expect_error "-calibrate_models: size law 'C' is not known; use any of A, B, drag, log, power" calibrate -db "$db" \
+  -calibrate_from measured -calibrate_models A,C
 expect_error "-monitor_every 0: expected a whole number from 1" run -db "$db" -monitor_every 0
 expect_error "-synth_packing 1: expected a number between 0 and 1" synth -synth_packing 1 -o "$work/s.h5"
 expect_error "-pipeline is empty" run -db "$db" -pipeline ""

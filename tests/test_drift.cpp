@@ -10,7 +10,10 @@
 // round-off, the factor of the frame being applied), and the operator
 // against a straightforward implementation written here, along the frames of
 // small.h5 with each option that changes the kernel's path, and the state's
-// bound on where mass can be as the shift and the drift keep it.
+// bound on where mass can be as the shift and the drift keep it; the size
+// laws against hand values (fixed and local d32), the drag law's zero net
+// volume, a user-registered law, and a fixed agitation reference that makes
+// two beds at different agitation drift alike per unit agitation.
 // Runs at 1 and 2 ranks.  Every PETSc call is checked with PetscCallAbort:
 // an error (a database that does not load, a set-up or step that fails)
 // stops the test with PETSc's message and a non-zero exit, never a silent pass.
@@ -20,7 +23,10 @@
 #include "state_access.hpp"
 
 #include <cmath>
+#include <functional>
+#include <map>
 #include <random>
+#include <stdexcept>
 
 using namespace rcfd;
 using rcfd::test::gatherNatural;
@@ -500,10 +506,11 @@ void agitationFollowsTheDatabase() {
 // in natural order (every rank computes all of it): what the operator's
 // kernel must give to round-off.
 struct ReferenceDrift {
-  char model = 'B'; // 'A', 'B' or 'c' (constant)
+  char model = 'B'; // 'A', 'B', 'c' (constant) or 'L' (law)
   double kd = 5e3, alphaMin = 1e-3, alphaMax = 0.65, maxShare = 0.5, exponent = 1.0;
   bool localD32 = false, hindered = false;
   std::vector<double> velocities;
+  std::function<double(double d, double d32)> law; // u of model 'L', k included
   std::vector<std::vector<double>> agitation; // per frame, natural order (empty: unscaled)
 
   std::vector<double> run(const Database &db, const FractionSet &set, std::vector<double> m, int steps,
@@ -515,7 +522,8 @@ struct ReferenceDrift {
     for (int i = 0; i < nf; ++i) d[i] = set.diameter(i);
     auto velocity = [&](int i, double s) {
       return model == 'A' ? -kd * (d[i] * d[i] - s * s)
-             : model == 'B' ? -kd * (d[i] - s) * std::fabs(d[i] - s) : velocities[i];
+             : model == 'B' ? -kd * (d[i] - s) * std::fabs(d[i] - s)
+             : model == 'L' ? law(d[i], s) : velocities[i];
     };
     struct Face { int lower, upper; double area; };
     std::vector<Face> faces;
@@ -689,7 +697,29 @@ void againstReference() {
   seven.localD32 = seven.hindered = true;
   compare({1e-3, 1.5e-3, 2e-3, 2.5e-3, 3e-3, 3.5e-3, 4e-3}, std::vector<double>(7, 1.0 / 7.0),
           "-model A -kd 5e3 -local_d32 -hindered", seven);
-  RCFD_CHECK(checked == 8);
+  // The dimensionless size laws (k in m/s), each with the local d32 (its
+  // sub-step bound from the smallest and the largest diameter) and once with
+  // the inventory's, scaled and hindered.
+  ReferenceDrift drag{'L'};
+  drag.localD32 = true;
+  drag.law = [](double d, double s) { return 0.05 * (s / d - 1.0); };
+  compare(penta, pentaShares, "-size_law drag -kd 0.05 -local_d32", drag);
+  ReferenceDrift logLaw{'L'};
+  logLaw.localD32 = true;
+  logLaw.law = [](double d, double s) { return 0.05 * std::log(s / d); };
+  compare(penta, pentaShares, "-size_law log -kd 0.05 -local_d32", logLaw);
+  ReferenceDrift power{'L'};
+  power.localD32 = true;
+  power.law = [](double d, double s) { return 3.0 * (std::pow(s / d, 2.5) - 1.0); };
+  RCFD_CHECK(compare(penta, pentaShares, "-size_law power -size_law_exponent 2.5 -kd 3 -local_d32", power) > 90);
+  ReferenceDrift powerScaled{'L'};
+  powerScaled.hindered = true;
+  powerScaled.agitation = natural;
+  powerScaled.exponent = 2.0;
+  powerScaled.law = [](double d, double s) { return 0.05 * (std::pow(s / d, 0.6) - 1.0); };
+  compare(penta, pentaShares, "-size_law power -size_law_exponent 0.6 -kd 0.05 -hindered -agitation_exponent 2",
+          powerScaled);
+  RCFD_CHECK(checked == 12);
 }
 
 // The state's bound on where mass can be (FractionState::occupiedEnd): after
@@ -792,6 +822,196 @@ void leftOutWhenNotNeeded() {
 
 } // namespace
 
+// A two-cell column (identity shifts, alpha 0.5, 1 cm cells) for one face.
+std::unique_ptr<Database> twoCells(int frames = 1) {
+  const std::string path = dir + "/drift_" + std::to_string(counter++) + ".h5";
+  rcfd::test::writeIdentityDatabase(path, Mesh::box(column(2, 2, 0.02)), {0.5, 0.5}, DatabaseMetadata{}, frames);
+  std::unique_ptr<Database> db;
+  PetscCallAbort(PETSC_COMM_WORLD, Database::load(PETSC_COMM_WORLD, path, DatabaseLoadOptions{}, &db));
+  return db;
+}
+
+// Each size law against values by hand for three classes of 1.5, 2 and 3 mm
+// (mass shares 0.3, 0.4, 0.3: d32 = 2 mm), at the inventory's d32 and at
+// 2.5 mm; then with -local_d32 on one face whose cells have other
+// compositions (d32 1.765 and 2.4 mm): the exchange of one step of Eq. 6
+// with the top-up, written here with each cell's own d32.
+void sizeLawsByHand() {
+  auto db = twoCells();
+  const std::vector<double> d{1.5e-3, 2.0e-3, 3.0e-3};
+  FractionSet set(d, {0.3, 0.4, 0.3});
+  RunContext ctx{*db, set, 1440.0};
+  RCFD_CHECK_CLOSE(set.inventorySauterDiameter(), 2e-3, 1e-15);
+  struct Case {
+    std::string options;
+    std::vector<double> atD32, at25; // u [m/s] of the three classes at d_ref = 2 and 2.5 mm
+    std::function<double(double d, double s)> law;
+  };
+  const double k = 0.02, l43 = std::log(4.0 / 3.0), l53 = std::log(5.0 / 3.0);
+  const std::vector<Case> cases{
+      {"-size_law A -kd 5e3", {8.75e-3, 0.0, -0.025}, {0.02, 0.01125, -0.01375},
+       [](double di, double s) { return -5e3 * (di * di - s * s); }},
+      {"-model B -kd 5e3", {1.25e-3, 0.0, -5e-3}, {5e-3, 1.25e-3, -1.25e-3},
+       [](double di, double s) { return -5e3 * (di - s) * std::fabs(di - s); }},
+      {"-size_law drag -kd 0.02", {k / 3.0, 0.0, -k / 3.0}, {k * 2.0 / 3.0, k / 4.0, -k / 6.0},
+       [k](double di, double s) { return k * (s / di - 1.0); }},
+      {"-size_law log -kd 0.02", {k * l43, 0.0, k * (std::log(2.0) - std::log(3.0))},
+       {k * l53, k * std::log(1.25), k * std::log(5.0 / 6.0)},
+       [k](double di, double s) { return k * std::log(s / di); }},
+      {"-size_law power -size_law_exponent 2 -kd 0.02", {k * 7.0 / 9.0, 0.0, -k * 5.0 / 9.0},
+       {k * 16.0 / 9.0, k * 0.5625, -k * 11.0 / 36.0},
+       [k](double di, double s) { return k * ((s / di) * (s / di) - 1.0); }},
+  };
+  const std::vector<double> yL{0.6, 0.2, 0.2}, yU{0.1, 0.3, 0.6};
+  const double M = 1440.0 * 0.5 * 1e-6, dt = 5e-3, AoverV = 100.0; // 1 cm cube, alpha 0.5
+  for (const Case &c : cases) {
+    auto fixed = makeOperator<DriftOperator>(c.options);
+    PetscCallAbort(PETSC_COMM_WORLD, fixed->setUp(ctx));
+    double worst = 0.0;
+    for (int i = 0; i < 3; ++i) {
+      worst = std::fmax(worst, std::fabs(fixed->velocity(i, set.inventorySauterDiameter()) - c.atD32[i]));
+      worst = std::fmax(worst, std::fabs(fixed->velocity(i, 2.5e-3) - c.at25[i]));
+    }
+    // The face with each cell's own d32.
+    auto local = makeOperator<DriftOperator>(c.options + " -local_d32");
+    PetscCallAbort(PETSC_COMM_WORLD, local->setUp(ctx));
+    std::vector<double> m0;
+    for (double y : yL) m0.push_back(M * y);
+    for (double y : yU) m0.push_back(M * y);
+    const auto m = stepFrames(*db, *local, m0, 3, 1);
+    auto sauter = [&](const std::vector<double> &y) { return 1.0 / (y[0] / d[0] + y[1] / d[1] + y[2] / d[2]); };
+    const double sL = sauter(yL), sU = sauter(yU);
+    std::vector<double> pL(3), pU(3);
+    double up = 0.0, down = 0.0;
+    for (int i = 0; i < 3; ++i) {
+      up += pL[i] = M * yL[i] * std::max(c.law(d[i], sL), 0.0) * AoverV * dt;
+      down += pU[i] = M * yU[i] * std::max(-c.law(d[i], sU), 0.0) * AoverV * dt;
+    }
+    const double X = std::max(up, down);
+    double worstFace = 0.0;
+    for (int i = 0; i < 3; ++i) {
+      const double net = pL[i] + (X - up) * yL[i] - pU[i] - (X - down) * yU[i];
+      worstFace = std::fmax(worstFace, std::fabs(m[3 + i] - (m0[3 + i] + net)) / M);
+      worstFace = std::fmax(worstFace, std::fabs(m[i] - (m0[i] - net)) / M);
+    }
+    PetscPrintf(PETSC_COMM_WORLD, "size law by hand (%s): u at d32 and 2.5 mm within %.1e m/s, the face with local d32 "
+                                  "within %.1e of the cell mass (moved %.2e)\n",
+                c.options.c_str(), worst, worstFace, std::fabs(m[3] - m0[3]) / M);
+    RCFD_CHECK(worst < 1e-15);
+    RCFD_CHECK(worstFace < 1e-15);
+    RCFD_CHECK(std::fabs(m[3] - m0[3]) / M > 1e-4);
+  }
+}
+
+// No net volume: with d32 = 1/sum(w_i/d_i) the drag law's sum_i w_i u_i is
+// k (d32 sum w_i/d_i - 1) = 0 for any shares; the other laws carry volume.
+// 200 random shares of five classes.
+void noNetVolume() {
+  const SizeLawRegistry laws = SizeLawRegistry::withBuiltins();
+  const std::vector<double> d{1.4e-3, 1.75e-3, 2.3e-3, 2.9e-3, 3.6e-3};
+  std::mt19937_64 rng(21);
+  std::uniform_real_distribution<double> U(0.0, 1.0);
+  std::map<std::string, double> largest; // of |sum w u| / max |u|
+  for (int draw = 0; draw < 200; ++draw) {
+    std::vector<double> w(5);
+    double sum = 0.0;
+    for (double &v : w) sum += (v = U(rng));
+    double inverse = 0.0;
+    for (int i = 0; i < 5; ++i) inverse += (w[i] /= sum) / d[i];
+    for (const std::string name : {"drag", "A", "B", "log", "power"}) {
+      auto law = laws.create(name);
+      if (name == "power") law->setShapeParameter(2.0);
+      std::vector<double> u(5);
+      law->velocities(name == "A" || name == "B" ? 5e3 : 1.0, 1.0 / inverse, d.data(), 5, u.data());
+      double net = 0.0, top = 0.0;
+      for (int i = 0; i < 5; ++i) net += w[i] * u[i], top = std::fmax(top, std::fabs(u[i]));
+      largest[name] = std::fmax(largest[name], std::fabs(net) / top);
+    }
+  }
+  PetscPrintf(PETSC_COMM_WORLD, "no net volume: |sum w u| / max |u| at most drag %.1e, A %.2f, B %.2f, log %.2f, "
+                                "power (m 2) %.2f\n",
+              largest["drag"], largest["A"], largest["B"], largest["log"], largest["power"]);
+  RCFD_CHECK(largest["drag"] < 1e-15);
+  for (const char *name : {"A", "B", "log", "power"}) RCFD_CHECK(largest[name] > 0.02);
+}
+
+// A law a user registers in the operator registry reaches the drift:
+// u = k (d32 - d)/d32, chosen by -drift_size_law, gives its velocities and
+// moves the small class up; a drift made without that registry refuses it.
+class LinearLaw : public SizeLaw {
+public:
+  void velocities(double k, double dRef, const double *d, int n, double *u) const override {
+    for (int i = 0; i < n; ++i) u[i] = k * (dRef - d[i]) / dRef;
+  }
+  const char *unitOfK() const override { return "m/s"; }
+  std::string formula() const override { return "u = kd (d32 - d)/d32"; }
+};
+
+void userSizeLaw() {
+  OperatorRegistry registry = OperatorRegistry::withBuiltins();
+  registry.sizeLaws().add("linear", [] { return std::make_unique<LinearLaw>(); }, "u = k (d32 - d)/d32");
+  auto op = registry.create("drift");
+  const std::string prefix = "t" + std::to_string(counter++) + "_";
+  PetscCallAbort(PETSC_COMM_WORLD,
+                 PetscOptionsInsertString(nullptr, ("-" + prefix + "size_law linear -" + prefix + "kd 0.01").c_str()));
+  op->setOptionsPrefix(prefix);
+  PetscCallAbort(PETSC_COMM_WORLD, op->setFromOptions(PETSC_COMM_WORLD));
+  auto *drift = dynamic_cast<DriftOperator *>(op.get());
+  RCFD_CHECK(drift && drift->sizeLawName() == "linear");
+  auto db = twoCells();
+  FractionSet set({1e-3, 3e-3}, {0.5, 0.5}); // d32 1.5 mm
+  PetscCallAbort(PETSC_COMM_WORLD, drift->setUp(RunContext{*db, set, 1440.0}));
+  RCFD_CHECK_CLOSE(drift->velocity(0, 1.5e-3), 0.01 / 3.0, 1e-15);
+  RCFD_CHECK_CLOSE(drift->velocity(1, 1.5e-3), -0.01, 1e-15);
+  const auto m0 = uniformState(db->mesh(), {0.5, 0.5}, set);
+  const auto m = stepFrames(*db, *drift, m0, 2, 1);
+  RCFD_CHECK(m[2] > m0[2] * (1.0 + 1e-4)); // the small class rose into the upper cell
+  DriftOperator plain;                      // the built-in laws only
+  RCFD_CHECK(plain.sizeLawName() == "B");
+  bool refused = false;
+  try {
+    plain.setSizeLaw("linear");
+  } catch (const std::invalid_argument &e) {
+    refused = std::string(e.what()).find("unknown size law 'linear'") != std::string::npos;
+  }
+  RCFD_CHECK(refused);
+}
+
+// Two beds at different agitation (uniform leaving shares 0.05 and 0.10 per
+// 5 ms frame) drift alike per unit agitation with a fixed reference (-drift_
+// agitation_reference 10 1/s: factors 1 and 2), but alike in absolute terms
+// with each database's own a_bar (both factors 1), which hides the
+// difference.
+void agitationReference() {
+  auto db = twoCells();
+  FractionSet set({1e-3, 3e-3}, {0.5, 0.5});
+  RunContext ctx{*db, set, 1440.0};
+  const auto m0 = uniformState(db->mesh(), {0.5, 0.5}, set);
+  auto moved = [&](double a, const std::string &options, double *normaliser) {
+    auto field = std::make_shared<AgitationField>();
+    PetscCallAbort(PETSC_COMM_WORLD,
+                   field->setValues(*db, AgitationMeasure::LeavingShare,
+                                    {std::vector<double>(db->layout().numLocal(), a)}));
+    auto drift = makeOperator<DriftOperator>("-model B -kd 5e4 -agitation_exponent 1 " + options);
+    drift->useAgitation(field);
+    PetscCallAbort(PETSC_COMM_WORLD, drift->setUp(ctx));
+    *normaliser = drift->agitationNormaliser();
+    const auto m = stepFrames(*db, *drift, m0, 2, 1);
+    return m[2] - m0[2]; // small particles risen into the upper cell
+  };
+  double n1, n2, r1, r2;
+  const double own1 = moved(0.05, "", &n1), own2 = moved(0.10, "", &n2);
+  const double ref1 = moved(0.05, "-agitation_reference 10", &r1), ref2 = moved(0.10, "-agitation_reference 10", &r2);
+  PetscPrintf(PETSC_COMM_WORLD, "agitation reference: bed 2 / bed 1 moved %.15f with the own a_bar (%g, %g), %.15f "
+                                "with a_ref = 10 1/s (a_ref dt_rec %g)\n",
+              own2 / own1, n1, n2, ref2 / ref1, r1);
+  RCFD_CHECK(own1 > 0.0);
+  RCFD_CHECK_CLOSE(own2 / own1, 1.0, 1e-14);
+  RCFD_CHECK_CLOSE((ref2 / 0.10) / (ref1 / 0.05), 1.0, 1e-12); // per unit agitation
+  RCFD_CHECK_CLOSE(r1, 10.0 * 5e-3, 1e-15);
+  RCFD_CHECK_CLOSE(ref1, own1, 1e-12 * own1); // a = a_ref dt_rec: the factor is 1
+}
+
 int main(int argc, char **argv) {
   PetscCall(PetscInitialize(&argc, &argv, nullptr, nullptr));
   dir = rcfd::test::rankCountDirectory(argc, argv, "drift");
@@ -814,6 +1034,10 @@ int main(int argc, char **argv) {
   agitationFollowsTheDatabase();
   againstReference();
   occupiedBound();
+  sizeLawsByHand();
+  noNetVolume();
+  userSizeLaw();
+  agitationReference();
   const int total = rcfd::test::globalFailures();
   PetscCall(PetscFinalize());
   return total == 0 ? 0 : 1;

@@ -5,6 +5,7 @@
 #include "check.hpp"
 
 #include "analysis/measured_drift.hpp"
+#include "rcfd/size_law.hpp"
 
 #include <cmath>
 #include <stdexcept>
@@ -57,13 +58,15 @@ int main() {
   RCFD_CHECK_CLOSE(r[0].velocity * 1.0 + r[1].velocity * 8.0, 0.0, 1e-12);
   // The fit recovers k_d from drifts made with it, for both shapes.
   const double kd = 4.2e3, d32 = 2.2e-3;
-  for (DriftLawShape shape : {DriftLawShape::A, DriftLawShape::B}) {
+  const SizeLawRegistry laws = SizeLawRegistry::withBuiltins();
+  const auto lawA = laws.create("A"), lawB = laws.create("B");
+  for (const SizeLaw *shape : {lawA.get(), lawB.get()}) {
     std::vector<MeasuredDrift::ClassDrift> made;
     for (double d : {1.5e-3, 2.0e-3, 3.0e-3}) {
-      const double dd = d - d32, x = shape == DriftLawShape::A ? d * d - d32 * d32 : dd * std::fabs(dd);
+      const double dd = d - d32, x = shape == lawA.get() ? d * d - d32 * d32 : dd * std::fabs(dd);
       made.push_back({d, -kd * x, 1e-4, 100, 10});
     }
-    const DriftFit fit = fitDriftCoefficient(made, d32, shape);
+    const DriftFit fit = fitDriftCoefficient(made, d32, *shape);
     RCFD_CHECK_CLOSE(fit.kd / kd, 1.0, 1e-12);
     RCFD_CHECK(fit.chiSquarePerDof < 1e-20 && fit.standardError > 0.0);
   }
@@ -73,17 +76,17 @@ int main() {
   {
     const std::vector<double> d{1.6e-3, 3.0e-3}, share{0.5, 0.5};
     const double sauter = 1.0 / (0.5 / 1.6e-3 + 0.5 / 3.0e-3);
-    for (DriftLawShape shape : {DriftLawShape::A, DriftLawShape::B}) {
+    for (const SizeLaw *shape : {lawA.get(), lawB.get()}) {
       auto law = [&](double di) {
         const double dd = di - sauter;
-        return shape == DriftLawShape::A ? di * di - sauter * sauter : dd * std::fabs(dd);
+        return shape == lawA.get() ? di * di - sauter * sauter : dd * std::fabs(dd);
       };
       const double mean = share[0] * law(d[0]) + share[1] * law(d[1]);
       std::vector<MeasuredDrift::ClassDrift> made;
       for (int c = 0; c < 2; ++c) made.push_back({d[c], -kd * (law(d[c]) - mean), 1e-4, 100, 10, share[c]});
       RCFD_CHECK_CLOSE(made[0].velocity * share[0] + made[1].velocity * share[1], 0.0, 1e-15);
-      RCFD_CHECK_CLOSE(fitDriftCoefficient(made, sauter, shape, true).kd / kd, 1.0, 1e-12);
-      RCFD_CHECK(std::fabs(fitDriftCoefficient(made, sauter, shape).kd / kd - 1.0) > 0.05);
+      RCFD_CHECK_CLOSE(fitDriftCoefficient(made, sauter, *shape, true).kd / kd, 1.0, 1e-12);
+      RCFD_CHECK(std::fabs(fitDriftCoefficient(made, sauter, *shape).kd / kd - 1.0) > 0.05);
       const auto back = measuredDriftFromTable(measuredDriftTable(made), kMeasuredDriftColumns);
       RCFD_CHECK(back.size() == 2 && back[1].velocity == made[1].velocity && back[1].massShare == 0.5 &&
                  back[0].frames == 10 && back[0].particles == 100);
@@ -110,13 +113,13 @@ int main() {
       }
     const auto table = driftByAgitationTable(bins);
     const AgitationDriftFit fit = fitAgitationExponent(
-        driftByAgitationFromTable(table, kDriftByAgitationColumns), bed, aBar, sauter, DriftLawShape::A);
+        driftByAgitationFromTable(table, kDriftByAgitationColumns), bed, aBar, sauter, *lawA);
     RCFD_CHECK_CLOSE(fit.exponent, n, 1e-9);
     RCFD_CHECK_CLOSE(fit.kd / kd, 1.0, 1e-9);
   }
   bool refused = false;
   try {
-    fitDriftCoefficient({{1e-3, 0.1, 0.0, 1, 1}}, 1e-3, DriftLawShape::B);
+    fitDriftCoefficient({{1e-3, 0.1, 0.0, 1, 1}}, 1e-3, *lawB);
   } catch (const std::invalid_argument &) {
     refused = true;
   }

@@ -3,6 +3,7 @@
 // sub-step rule.
 #pragma once
 
+#include "rcfd/size_law.hpp"
 #include "rcfd/swap_operator.hpp"
 
 #include <algorithm>
@@ -13,20 +14,27 @@ namespace rcfd {
 
 class AgitationField;
 
-/// Drift of each fraction along -gravity: u_d,i = -k_d (d_i^2 - d32^2)
-/// (model A), -k_d (d_i - d32)|d_i - d32| (model B), or given velocities
-/// (model constant); positive is upward.  Each face swaps equal bulk masses,
-/// so every cell keeps the bulk solid mass the database gives it and only
-/// its composition changes.  Options (prefix drift_): -drift_model
-/// A|B|constant|none, -drift_kd [1/(m s)], -drift_velocities [m/s per
-/// fraction], -drift_d32 [m] (override), -drift_local_d32, -drift_hindered,
-/// -drift_alpha_max, -drift_alpha_min, -drift_max_share,
+/// Drift of each fraction along -gravity by a registered size law
+/// (rcfd/size_law.hpp): u_d,i = k_d g(d_i, d32), e.g. -k_d (d_i^2 - d32^2)
+/// (law A), -k_d (d_i - d32)|d_i - d32| (law B, the default), k_d (d32/d_i -
+/// 1) (drag); or given velocities (model constant); positive is upward.
+/// Each face swaps equal bulk masses, so every cell keeps the bulk solid mass
+/// the database gives it and only its composition changes.  Options (prefix
+/// drift_): -drift_size_law NAME, -drift_model A|B|constant|none (A and B:
+/// the laws of those names), -drift_kd [the law's unit], -drift_velocities
+/// [m/s per fraction], -drift_d32 [m] (override), -drift_local_d32,
+/// -drift_hindered, -drift_alpha_max, -drift_alpha_min, -drift_max_share,
 /// -drift_max_substeps, -drift_every N (the drift of N steps every N steps),
+/// -drift_agitation, -drift_agitation_exponent, -drift_agitation_reference,
 /// -drift_view [viewer].
 class DriftOperator : public SwapOperator {
 public:
-  enum class Model { A, B, Constant, None };
+  /// SizeLaw: u from the size law (A, B, drag, ...); Constant: given velocities.
+  enum class Model { SizeLaw, Constant, None };
+  /// Knows the built-in size laws.
   DriftOperator();
+  /// Knows the given laws (e.g. an OperatorRegistry's sizeLaws()).
+  explicit DriftOperator(SizeLawRegistry laws);
   ~DriftOperator() override;
   std::string type() const override { return "drift"; }
   PetscErrorCode setFromOptions(MPI_Comm comm) override;
@@ -35,7 +43,14 @@ public:
   PetscErrorCode view(PetscViewer viewer) const override;
   /// Before setUp (setFromOptions reads -drift_model and -drift_kd over these).
   void setModel(Model m) { model = m; }
-  void setKd(double value) { kd = value; }
+  void setKd(double value) { kd = value, kdGiven = true; }
+  /// Before setUp: the size law of that name (and Model::SizeLaw), with its
+  /// default parameters.  Throws std::invalid_argument for an unknown name.
+  void setSizeLaw(const std::string &name);
+  const std::string &sizeLawName() const { return lawName; }
+  /// The size law (null for models constant and none); its shape parameter
+  /// may be set before setUp.
+  SizeLaw *sizeLaw() { return model == Model::SizeLaw ? law.get() : nullptr; }
   /// Before setUp: scale by this field (already set up on the run's database)
   /// instead of one made from -drift_agitation; shares one field between runs.
   void useAgitation(std::shared_ptr<const AgitationField> field) { agitation = std::move(field); }
@@ -49,6 +64,10 @@ public:
 
   /// Drift velocity [m/s, up positive] of fraction i for a given Sauter diameter.
   double velocity(int i, double d32) const;
+  /// The denominator of the agitation factor (a/a_ref)^n, once set up: the
+  /// database's own a_bar, or -drift_agitation_reference (times dt_rec for
+  /// the leaving share, whose reference is a rate in 1/s).
+  double agitationNormaliser() const { return normaliser; }
 
 private:
   FaceChoice swapFaces(const RunContext &ctx) const override;
@@ -56,6 +75,8 @@ private:
   PetscErrorCode substep(double dt, const double *scale, FractionState &state);
   PetscErrorCode substepsFor(double dt, double largestScale, int *n) const;
   PetscErrorCode setUpScaling(const RunContext &ctx);
+  // u of every fraction [m/s] for the reference diameter dRef.
+  void velocitiesAt(double dRef, double *u) const;
   void setUpTables();
   template <int NF> PetscErrorCode sweep(double dt, const double *scale); // NF = 0: nf read at run time
 
@@ -88,7 +109,11 @@ private:
   // mass between two cells that hold some).
   PetscInt occupiedEnd = 0;
 
-  Model model = Model::B;
+  SizeLawRegistry known;
+  Model model = Model::SizeLaw;
+  std::string lawName = "B";
+  std::unique_ptr<SizeLaw> law;
+  bool kdGiven = false; // else the law's default k (setFromOptions)
   double kd = 5e3, d32Override = -1.0, alphaMax = 0.65, alphaMin = 1e-3, maxShare = 0.5;
   PetscBool localD32 = PETSC_FALSE, hindered = PETSC_FALSE;
   PetscInt substepLimit = 10000, every = 1;
@@ -99,6 +124,8 @@ private:
   // and its largest value over all ranks (for the sub-step rule).
   std::string agitationName = "none";
   double agitationExponent = 1.0;
+  double agitationReference = 0.0; // -drift_agitation_reference (0: the database's a_bar)
+  double normaliser = 1.0;
   std::shared_ptr<const AgitationField> agitation;
   std::vector<std::vector<double>> scaleByFrame;
   std::vector<double> largestScaleByFrame;

@@ -10,6 +10,7 @@
 #include "rcfd/carry_kind.hpp"
 #include "rcfd/operator_context.hpp"
 #include "rcfd/registry.hpp"
+#include "rcfd/size_law.hpp"
 
 #include <functional>
 #include <memory>
@@ -81,7 +82,9 @@ using OperatorFactory = std::function<std::unique_ptr<Operator>()>;
 /// makes one with the built-in operators and users add theirs to it, e.g.
 ///   registry.add("mydrift", [] { return std::make_unique<MyDrift>(); }, "my drift law");
 ///   registry.carryKinds().add("mycarry", [] { return std::make_unique<MyCarry>(); }, "...");
-/// then -pipeline shift,mydrift,carry -carry_type mycarry uses both.
+///   registry.sizeLaws().add("mylaw", [] { return std::make_unique<MyLaw>(); }, "...");
+/// then -pipeline shift,mydrift,carry -carry_type mycarry uses both, and
+/// -pipeline shift,drift -drift_size_law mylaw the law.
 class OperatorRegistry {
 public:
   /// A registry holding rcfd's built-in operators and carry kinds.
@@ -97,12 +100,17 @@ public:
   /// an operator copies them when it is created, so add kinds before.
   CarryKindRegistry &carryKinds() { return carry; }
   const CarryKindRegistry &carryKinds() const { return carry; }
+  /// The size laws a `drift` operator made by this registry knows
+  /// (-drift_size_law); add laws before it is created.
+  SizeLawRegistry &sizeLaws() { return laws; }
+  const SizeLawRegistry &sizeLaws() const { return laws; }
 
 private:
   // Built-in operators may depend on the registry (carry takes its kinds).
   using Maker = std::function<std::unique_ptr<Operator>(const OperatorRegistry &)>;
   NamedFactories<Maker> makers;
   CarryKindRegistry carry = CarryKindRegistry::withBuiltins();
+  SizeLawRegistry laws = SizeLawRegistry::withBuiltins();
 };
 
 /// An operator given as a callback, for quick experiments from user code.

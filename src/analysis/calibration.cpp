@@ -40,8 +40,8 @@ PetscErrorCode DriftCalibration::setFromOptions() {
                              "With -calibrate_from measured: also fit n of a drift scaled by (a/a_bar)^n, a the "
                              "cell's leaving share, to the measured drift by agitation",
                              "", fitExponent, &fitExponent, nullptr));
-  PetscCall(checkedStringArray(PetscOptionsObject, "-calibrate_models", "Drift models to fit: A, B or A,B", 2,
-                               &given, &setModels));
+  const std::string modelsHelp = "Size laws to fit, comma-separated: any of " + registry.sizeLaws().listing();
+  PetscCall(checkedStringArray(PetscOptionsObject, "-calibrate_models", modelsHelp.c_str(), 16, &given, &setModels));
   PetscCall(PetscOptionsString("-calibrate_objective",
                                "rms: RMS of Delta z(t) - reference / reference peak; seg: |Eq. 7 error| in the window",
                                "", objective, objective, sizeof objective, nullptr));
@@ -65,8 +65,9 @@ PetscErrorCode DriftCalibration::setFromOptions() {
   PetscCheck(setRef || source == "measured", comm, PETSC_ERR_USER_INPUT,
              "No reference given: pass -reference REF/cog.csv (made by rcfd reference)");
   for (const auto &m : given)
-    PetscCheck(m == "A" || m == "B", comm, PETSC_ERR_USER_INPUT,
-               "-calibrate_models: model '%s' is not known; use A, B or A,B", m.c_str());
+    PetscCheck(registry.sizeLaws().has(m), comm, PETSC_ERR_USER_INPUT,
+               "-calibrate_models: size law '%s' is not known; use any of %s", m.c_str(),
+               registry.sizeLaws().listing().c_str());
   objectiveName = objective;
   PetscCheck(objectiveName == "rms" || objectiveName == "seg", comm, PETSC_ERR_USER_INPUT,
              "-calibrate_objective %s is not known; use rms or seg", objective);
@@ -80,6 +81,7 @@ PetscErrorCode DriftCalibration::setFromOptions() {
   if (!given.empty()) models = given;
   kdLo = range[0];
   kdHi = range[1];
+  rangeGiven = setRange;
   windowBegin = window[0];
   windowEnd = window[1];
   PetscFunctionReturn(PETSC_SUCCESS);
@@ -108,7 +110,7 @@ PetscErrorCode DriftCalibration::setUp() {
 
 /// Runs the case with the given model and k_d and scores it.
 PetscErrorCode DriftCalibration::evaluate(const std::string &model, double log10kd, DeltaZScore *score,
-                                          double exponent) {
+                                          double exponent, double shape) {
   PetscFunctionBeginUser;
   Run run(comm, registry);
   run.setDefaultOutputDirectory("rcfd-calibrate");
@@ -122,7 +124,8 @@ PetscErrorCode DriftCalibration::evaluate(const std::string &model, double log10
     if (auto *d = dynamic_cast<DriftOperator *>(op.get())) drift = d;
   PetscCheck(drift, comm, PETSC_ERR_USER_INPUT,
              "rcfd calibrate fits the drift operator, but -pipeline has none (add drift)");
-  drift->setModel(model == "A" ? DriftOperator::Model::A : DriftOperator::Model::B);
+  PetscCallCXX(drift->setSizeLaw(model));
+  if (std::isfinite(shape)) drift->sizeLaw()->setShapeParameter(shape);
   drift->setKd(std::pow(10.0, log10kd));
   if (exponent >= 0.0) {
     if (!leaving) {
@@ -153,7 +156,11 @@ double DriftCalibration::objective(const DeltaZScore &s) const {
 
 // Coarse scan, then golden section in the bracket around the best point.
 PetscErrorCode DriftCalibration::search(const std::string &model, Result *result) {
-  const double lo = std::log10(kdLo), hi = std::log10(kdHi);
+  // k of a dimensionless law is a velocity: without -calibrate_kd_range its
+  // search spans 0.1 mm/s to 1 m/s instead of the 1/(m s) range of A and B.
+  const bool velocityUnit = std::string(registry.sizeLaws().create(model)->unitOfK()) == "m/s";
+  const double lo = std::log10(rangeGiven || !velocityUnit ? kdLo : 1e-4);
+  const double hi = std::log10(rangeGiven || !velocityUnit ? kdHi : 1.0);
   PetscFunctionBeginUser;
   PetscCall(PetscPrintf(comm, "model %s:\n  %12s %14s %12s %10s\n", model.c_str(), "k_d",
                         "mean dz [mm]", "Delta_seg [%]", "RMS/peak"));
@@ -212,27 +219,51 @@ PetscErrorCode DriftCalibration::fitMeasured(const std::string &model, Result *r
              "snapshots stores it; databases from other builders or older versions do not)",
              db->path().c_str());
   std::vector<MeasuredDrift::ClassDrift> drift;
+  std::unique_ptr<SizeLaw> law;
+  DriftFit fit;
   PetscCall(collectively(comm, [&] {
     drift = measuredDriftFromTable(table, cols);
     measuredTable = table;
-    const DriftFit fit =
-        fitDriftCoefficient(drift, sauter, model == "A" ? DriftLawShape::A : DriftLawShape::B, true);
+    law = registry.sizeLaws().create(model);
+    fit = fitDriftLaw(drift, sauter, *law);
     // A law scaled by (a/a_bar)^n drifts on average meanFactor times as fast.
     result->model = model;
     result->kd = fit.kd / meanFactor;
     result->kdStandardError = fit.standardError / meanFactor;
+    result->shape = fit.shape;
+    result->chiSquarePerDof = fit.chiSquarePerDof;
+    result->unit = law->unitOfK();
+    for (std::size_t c = 0; c < drift.size(); ++c)
+      lawRows.push_back({model, result->kd, result->unit, fit.shape, fit.chiSquare, fit.chiSquarePerDof, drift[c],
+                         fit.predicted[c], fit.residual[c]});
   }, PETSC_ERR_USER_INPUT));
   PetscCheck(result->kd > 0.0, comm, PETSC_ERR_USER_INPUT,
-             "-calibrate_from measured: the measured drift of '%s' gives k_d = %g for model %s: the "
+             "-calibrate_from measured: the measured drift of '%s' gives k_d = %g for size law %s: the "
              "large particles do not sink relative to the bulk, so no drift law of this form fits",
              db->path().c_str(), result->kd, model.c_str());
   if (model == models.front())
     for (const auto &c : drift)
       PetscCall(PetscPrintf(comm, "  measured: d = %.4g mm (mass share %.3f): u = %+.3f +- %.3f mm/s relative to the bulk\n",
                             c.diameter * 1e3, c.massShare, c.velocity * 1e3, c.standardError * 1e3));
-  PetscCall(PetscPrintf(comm, "model %s: k_d = %.4g +- %.2g 1/(m s) from the measured drift (d32 %.4g mm%s)\n",
-                        model.c_str(), result->kd, result->kdStandardError, sauter * 1e3,
-                        meanFactor != 1.0 ? ", divided by the mean agitation factor of the runs' drift" : ""));
+  std::string shapeText;
+  SizeLaw::ShapeParameter p;
+  if (law->shapeParameter(&p)) {
+    char text[96];
+    std::snprintf(text, sizeof text, std::isfinite(fit.shape) ? ", %s %.2f" : ", %s %g (not fitted: it needs three classes)",
+                  p.option.c_str(), p.value);
+    shapeText = text;
+  }
+  std::string residuals;
+  for (double r : fit.residual) {
+    char text[32];
+    std::snprintf(text, sizeof text, "%s%+.2f", residuals.empty() ? "" : " ", r * 1e3);
+    residuals += text;
+  }
+  PetscCall(PetscPrintf(comm, "model %s: k_d = %.4g +- %.2g %s%s from the measured drift (d32 %.4g mm%s); chi^2/dof %.4g, "
+                              "residual per class [mm/s] %s\n",
+                        model.c_str(), result->kd, result->kdStandardError, result->unit.c_str(), shapeText.c_str(),
+                        sauter * 1e3, meanFactor != 1.0 ? ", divided by the mean agitation factor of the runs' drift" : "",
+                        fit.chiSquarePerDof, residuals.c_str()));
   if (fitExponent) {
     std::vector<double> mean;
     int c1 = 0, c2 = 0;
@@ -242,21 +273,22 @@ PetscErrorCode DriftCalibration::fitMeasured(const std::string &model, Result *r
                "-calibrate_exponent: database '%s' holds no measured drift by agitation (rcfd build from "
                "particle snapshots stores it from this version on)",
                db->path().c_str());
-    AgitationDriftFit fit;
+    AgitationDriftFit scaled;
     PetscCall(collectively(comm, [&] {
-      fit = fitAgitationExponent(driftByAgitationFromTable(byAgitationTable, c1), drift, mean[0], sauter,
-                                 model == "A" ? DriftLawShape::A : DriftLawShape::B);
+      scaled = fitAgitationExponent(driftByAgitationFromTable(byAgitationTable, c1), drift, mean[0], sauter, *law);
     }, PETSC_ERR_USER_INPUT));
-    result->kd = fit.kd;
+    result->kd = scaled.kd;
     result->kdStandardError = 0.0;
-    result->exponent = fit.exponent;
+    result->exponent = scaled.exponent;
     agitationMean = mean[0];
     PetscCall(PetscPrintf(comm, "model %s scaled by (a/a_bar)^n, a = leaving share (a_bar %.4g from the particles): "
-                                "n = %.2f, k_d = %.4g 1/(m s), chi^2/dof %.3g\n",
-                          model.c_str(), mean[0], fit.exponent, fit.kd, fit.chiSquarePerDof));
+                                "n = %.2f, k_d = %.4g %s, chi^2/dof %.3g\n",
+                          model.c_str(), mean[0], scaled.exponent, scaled.kd, result->unit.c_str(),
+                          scaled.chiSquarePerDof));
   }
   if (!referenceFile.empty()) {
-    PetscCall(evaluate(model, std::log10(result->kd), &result->score, fitExponent ? result->exponent : -1.0));
+    PetscCall(evaluate(model, std::log10(result->kd), &result->score, fitExponent ? result->exponent : -1.0,
+                       result->shape));
     result->scored = true;
     PetscCall(keepBestRun(model));
   }
@@ -299,15 +331,18 @@ PetscErrorCode DriftCalibration::writeFiles() const {
               << number(r.score.rmsRelative) << '\n';
     bestCsv << "# rcfd calibrate: the best k_d of every model (from " << source << (source == "cog" ? ", objective " + objectiveName : std::string())
             << "); scores of its run (best-MODEL/cog.csv), empty without a reference\n"
-            << "model,source,kd,kd_standard_error,agitation_exponent,d32_m,delta_seg_percent,rms_over_peak,mean_run_m,mean_reference_m\n";
+            << "model,source,kd,kd_standard_error,agitation_exponent,d32_m,delta_seg_percent,rms_over_peak,mean_run_m,"
+               "mean_reference_m,kd_unit,shape_parameter,chi2_per_dof\n";
+    auto optional = [&](double v) { return std::isfinite(v) ? number(v) : std::string(); };
     for (const Result &r : best) {
       bestCsv << r.model << ',' << source << ',' << number(r.kd) << ',' << number(r.kdStandardError) << ','
               << number(r.exponent) << ',' << number(sauter);
       if (r.scored)
         bestCsv << ',' << number(r.score.segregationError) << ',' << number(r.score.rmsRelative) << ','
-                << number(r.score.meanModel) << ',' << number(r.score.meanRef) << '\n';
+                << number(r.score.meanModel) << ',' << number(r.score.meanRef);
       else
-        bestCsv << ",,,,\n";
+        bestCsv << ",,,,";
+      bestCsv << ',' << r.unit << ',' << optional(r.shape) << ',' << optional(r.chiSquarePerDof) << '\n';
     }
     std::filesystem::create_directories(outputDirectory);
     // A stored table as CSV: a comment, the header, the rows (each ending with `extra`).
@@ -332,6 +367,21 @@ PetscErrorCode DriftCalibration::writeFiles() const {
                    " by the leaving share of the particle's cell (bins of 0.1); mass_share within the bin",
                "agitation,diameter_m,velocity_m_s,standard_error_m_s,particles,frames,mass_share,agitation_mean",
                byAgitationTable, kDriftByAgitationColumns, "," + number(agitationMean));
+    if (!lawRows.empty()) {
+      std::ostringstream fits;
+      fits << "# rcfd calibrate: every size law fitted to the drift measured in " << db->path()
+           << " relative to the bulk, u_i = k (g_i - sum_j s_j g_j), weights 1/se^2; one row per law and class; "
+              "law_m_s is the fitted law's u, residual_m_s measured - law; shape_parameter: power's m (fitted)\n"
+           << "model,kd,kd_unit,shape_parameter,chi2,chi2_per_dof,d32_m,diameter_m,mass_share,velocity_m_s,"
+              "standard_error_m_s,law_m_s,residual_m_s\n";
+      for (const LawRow &r : lawRows)
+        fits << r.model << ',' << number(r.kd) << ',' << r.unit << ',' << optional(r.shape) << ','
+             << number(r.chiSquare) << ',' << number(r.chiSquarePerDof) << ',' << number(sauter) << ','
+             << number(r.measured.diameter) << ',' << number(r.measured.massShare) << ','
+             << number(r.measured.velocity) << ',' << number(r.measured.standardError) << ','
+             << number(r.predicted) << ',' << number(r.residual) << '\n';
+      writeTextAtomically(outputDirectory + "/measured_law_fits.csv", fits.str());
+    }
     writeTextAtomically(outputDirectory + "/calibrate_scan.csv", scanCsv.str());
     writeTextAtomically(outputDirectory + "/calibrate_best.csv", bestCsv.str());
   }, PETSC_ERR_FILE_WRITE));
@@ -352,6 +402,7 @@ PetscErrorCode DriftCalibration::solve() {
     PetscCall(PetscPrintf(comm, "Fitting k_d to the measured drift of %s\n", db->path().c_str()));
   best.clear();
   scan.clear();
+  lawRows.clear();
   for (const std::string &model : models) {
     Result r;
     PetscCall(source == "cog" ? search(model, &r) : fitMeasured(model, &r));

@@ -14,9 +14,11 @@
 // src/cli/figures/drift_law_form.py) are written to the output directory.
 #pragma once
 
+#include "analysis/measured_drift.hpp"
 #include "analysis/segregation_score.hpp"
 #include "rcfd/operator.hpp"
 
+#include <limits>
 #include <memory>
 #include <string>
 #include <vector>
@@ -30,9 +32,12 @@ class DriftCalibration {
 public:
   struct Result {
     std::string model;
-    double kd;                  ///< best k_d [1/(m s)]
+    double kd;                  ///< best k_d [the size law's unit]
     double kdStandardError = 0; ///< from the measured drift's spread (measured path)
     double exponent = 0;        ///< of the agitation scaling (a/a_bar)^n, with -calibrate_exponent
+    double shape = std::numeric_limits<double>::quiet_NaN(); ///< the law's fitted shape parameter (power: m), measured path
+    double chiSquarePerDof = std::numeric_limits<double>::quiet_NaN(); ///< of the measured fit
+    std::string unit = "1/(m s)"; ///< of kd (the size law's)
     bool scored = false;        ///< a reference was given and a run made
     DeltaZScore score;          ///< of the run at that k_d
   };
@@ -41,7 +46,8 @@ public:
   DriftCalibration(MPI_Comm comm, const OperatorRegistry &registry);
   ~DriftCalibration();
 
-  /// Reads -reference, -calibrate_from, -calibrate_models, -calibrate_objective,
+  /// Reads -reference, -calibrate_from, -calibrate_models (any registered
+  /// size laws, rcfd/size_law.hpp), -calibrate_objective,
   /// -calibrate_kd_range, -calibrate_tolerance, -calibrate_scan,
   /// -rcfd_time_offset and -score_window.  Collective.
   PetscErrorCode setFromOptions();
@@ -57,8 +63,10 @@ public:
   int evaluations() const { return count; }
 
 private:
-  PetscErrorCode evaluate(const std::string &model, double log10kd, DeltaZScore *score,
-                          double exponent = -1.0); // >= 0: scaled by (a/a_bar)^n, a = leaving share
+  // exponent >= 0: scaled by (a/a_bar)^n, a = leaving share; shape: the
+  // law's shape parameter (NaN: its default).
+  PetscErrorCode evaluate(const std::string &model, double log10kd, DeltaZScore *score, double exponent = -1.0,
+                          double shape = std::numeric_limits<double>::quiet_NaN());
   PetscErrorCode fitMeasured(const std::string &model, Result *result);
   PetscErrorCode keepBestRun(const std::string &model);
   PetscErrorCode writeFiles() const;
@@ -75,6 +83,7 @@ private:
   std::vector<std::string> models{"B"};
   double offset = 0.0, windowBegin = 0.5, windowEnd = 1.5;
   double kdLo = 1e2, kdHi = 1e6, tolerance = 0.01; // tolerance in log10 k_d
+  bool rangeGiven = false; // else laws with k in m/s search 1e-4 to 1 m/s
   PetscInt scanPoints = 9;
   DeltaZSeries reference;
   std::shared_ptr<Database> db;
@@ -86,6 +95,16 @@ private:
   };
   std::vector<ScanRow> scan;
   std::vector<double> measuredTable; // the database's measured drift (measured path)
+  // Every law's fit per class (measured path): measured_law_fits.csv.
+  struct LawRow {
+    std::string model;
+    double kd;
+    std::string unit;
+    double shape, chiSquare, chiSquarePerDof;
+    MeasuredDrift::ClassDrift measured;
+    double predicted, residual;
+  };
+  std::vector<LawRow> lawRows;
   std::vector<double> byAgitationTable; // and by agitation (with -calibrate_exponent)
   PetscBool fitExponent = PETSC_FALSE;  // -calibrate_exponent
   double agitationMean = 0.0;           // a bar of the measured drift by agitation

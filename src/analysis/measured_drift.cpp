@@ -1,4 +1,5 @@
 #include "analysis/measured_drift.hpp"
+#include "rcfd/size_law.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -187,41 +188,74 @@ std::vector<MeasuredDrift::ClassDrift> measuredDriftFromTable(const std::vector<
   return out;
 }
 
-DriftFit fitDriftCoefficient(const std::vector<MeasuredDrift::ClassDrift> &drift, double d32,
-                             DriftLawShape shape, bool relativeToBulk) {
-  auto lawOf = [&](double d) {
-    const double dd = d - d32;
-    return shape == DriftLawShape::A ? d * d - d32 * d32 : dd * std::fabs(dd);
-  };
-  double mean = 0.0; // sum_j s_j x_j over the classes with a mass share
+namespace {
+
+// The law's shape g_i = u_i at k = 1 for each class, less sum_j s_j g_j when
+// relative to the bulk.
+std::vector<double> lawShape(const std::vector<MeasuredDrift::ClassDrift> &drift, double d32, const SizeLaw &law,
+                             bool relativeToBulk) {
+  std::vector<double> d, g(drift.size());
+  for (const auto &c : drift) d.push_back(c.diameter);
+  law.velocities(1.0, d32, d.data(), static_cast<int>(d.size()), g.data());
+  double mean = 0.0; // sum_j s_j g_j over the classes with a mass share
   if (relativeToBulk)
-    for (const auto &c : drift)
-      if (std::isfinite(c.massShare)) mean += c.massShare * lawOf(c.diameter);
-  double sxx = 0.0, sxu = 0.0;
-  std::vector<std::pair<double, double>> used; // (x, u) with weight
-  std::vector<double> weights;
-  for (const auto &c : drift) {
-    if (c.frames < 2 || !(c.standardError > 0.0) || !std::isfinite(c.velocity)) continue;
-    const double x = lawOf(c.diameter) - mean;
-    const double w = 1.0 / (c.standardError * c.standardError);
-    sxx += w * x * x;
-    sxu += w * x * c.velocity;
-    used.emplace_back(x, c.velocity);
-    weights.push_back(w);
+    for (std::size_t c = 0; c < drift.size(); ++c)
+      if (std::isfinite(drift[c].massShare)) mean += drift[c].massShare * g[c];
+  for (double &x : g) x -= mean;
+  return g;
+}
+
+} // namespace
+
+DriftFit fitDriftCoefficient(const std::vector<MeasuredDrift::ClassDrift> &drift, double d32, const SizeLaw &law,
+                             bool relativeToBulk) {
+  const std::vector<double> g = lawShape(drift, d32, law, relativeToBulk);
+  double sgg = 0.0, sgu = 0.0;
+  int used = 0;
+  auto usable = [](const MeasuredDrift::ClassDrift &c) {
+    return c.frames >= 2 && c.standardError > 0.0 && std::isfinite(c.velocity);
+  };
+  for (std::size_t c = 0; c < drift.size(); ++c) {
+    if (!usable(drift[c])) continue;
+    const double w = 1.0 / (drift[c].standardError * drift[c].standardError);
+    sgg += w * g[c] * g[c];
+    sgu += w * g[c] * drift[c].velocity;
+    ++used;
   }
-  if (used.empty() || !(sxx > 0.0))
+  if (used == 0 || !(sgg > 0.0))
     throw std::invalid_argument("the measured drift has no size class with a spread over at least two "
                                 "frames and a diameter other than d32: no k_d can be fitted");
   DriftFit fit;
-  fit.kd = -sxu / sxx;
-  fit.standardError = std::sqrt(1.0 / sxx);
-  double chi2 = 0.0;
-  for (std::size_t k = 0; k < used.size(); ++k) {
-    const double r = used[k].second + fit.kd * used[k].first;
-    chi2 += weights[k] * r * r;
+  fit.kd = sgu / sgg;
+  fit.standardError = std::sqrt(1.0 / sgg);
+  for (std::size_t c = 0; c < drift.size(); ++c) {
+    fit.predicted.push_back(fit.kd * g[c]);
+    fit.residual.push_back(drift[c].velocity - fit.predicted.back());
+    if (usable(drift[c])) fit.chiSquare += fit.residual.back() * fit.residual.back() / (drift[c].standardError * drift[c].standardError);
   }
-  fit.chiSquarePerDof = used.size() > 1 ? chi2 / static_cast<double>(used.size() - 1) : 0.0;
+  fit.chiSquarePerDof = used > 1 ? fit.chiSquare / static_cast<double>(used - 1) : 0.0;
   return fit;
+}
+
+DriftFit fitDriftLaw(const std::vector<MeasuredDrift::ClassDrift> &drift, double d32, SizeLaw &law) {
+  SizeLaw::ShapeParameter p;
+  int used = 0;
+  for (const auto &c : drift) used += c.frames >= 2 && c.standardError > 0.0 && std::isfinite(c.velocity);
+  // Two classes fit any one-parameter law exactly: a shape needs three.
+  if (!law.shapeParameter(&p) || used < 3) return fitDriftCoefficient(drift, d32, law, true);
+  DriftFit best;
+  double bestValue = p.value;
+  bool found = false;
+  for (int step = 0; p.low + step * 0.01 <= p.high + 1e-12; ++step) {
+    const double value = p.low + step * 0.01;
+    law.setShapeParameter(value);
+    const DriftFit fit = fitDriftCoefficient(drift, d32, law, true);
+    if (!found || fit.chiSquare < best.chiSquare) best = fit, bestValue = value, found = true;
+  }
+  law.setShapeParameter(bestValue);
+  best.shape = bestValue;
+  best.chiSquarePerDof = used > 2 ? best.chiSquare / static_cast<double>(used - 2) : 0.0;
+  return best;
 }
 
 } // namespace rcfd
@@ -230,21 +264,21 @@ namespace rcfd {
 
 AgitationDriftFit fitAgitationExponent(const std::vector<MeasuredDrift::BinDrift> &bins,
                                        const std::vector<MeasuredDrift::ClassDrift> &bed, double aBar,
-                                       double d32, DriftLawShape shape, double nMax) {
-  auto lawOf = [&](double d) {
-    const double dd = d - d32;
-    return shape == DriftLawShape::A ? d * d - d32 * d32 : dd * std::fabs(dd);
+                                       double d32, const SizeLaw &law, double nMax) {
+  // g_i - sum_j s_j g_j of the whole bed, by diameter.
+  const std::vector<double> g = lawShape(bed, d32, law, true);
+  auto shapeOf = [&](double d) {
+    for (std::size_t c = 0; c < bed.size(); ++c)
+      if (bed[c].diameter == d) return g[c];
+    throw std::invalid_argument("the drift by agitation has a class the bed does not have");
   };
-  double mean = 0.0;
-  for (const auto &c : bed)
-    if (std::isfinite(c.massShare)) mean += c.massShare * lawOf(c.diameter);
   struct Point {
     double x, r, u, w; // size term, a / a_bar, velocity, weight
   };
   std::vector<Point> points;
   for (const auto &b : bins)
     if (b.drift.frames >= 2 && b.drift.standardError > 0.0 && std::isfinite(b.drift.velocity) && b.agitation > 0.0)
-      points.push_back({lawOf(b.drift.diameter) - mean, b.agitation / aBar, b.drift.velocity,
+      points.push_back({shapeOf(b.drift.diameter), b.agitation / aBar, b.drift.velocity,
                         1.0 / (b.drift.standardError * b.drift.standardError)});
   if (points.size() < 2 || !(aBar > 0.0))
     throw std::invalid_argument("the drift by agitation has fewer than two bins with a spread over two frames: "
@@ -260,10 +294,10 @@ AgitationDriftFit fitAgitationExponent(const std::vector<MeasuredDrift::BinDrift
       sxu += p.w * x * p.u;
     }
     if (!(sxx > 0.0)) continue;
-    const double kd = -sxu / sxx;
+    const double kd = sxu / sxx;
     double chi2 = 0.0;
     for (const Point &p : points) {
-      const double res = p.u + kd * p.x * std::pow(p.r, n);
+      const double res = p.u - kd * p.x * std::pow(p.r, n);
       chi2 += p.w * res * res;
     }
     if (chi2 < bestChi2) bestChi2 = chi2, best = {kd, n, chi2 / static_cast<double>(points.size() - 2)};

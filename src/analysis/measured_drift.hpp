@@ -14,6 +14,8 @@
 
 namespace rcfd {
 
+class SizeLaw;
+
 class MeasuredDrift {
 public:
   /// Cells of `mesh` (rcfd coordinates, z up after `axes`) define "the solid of its cell".
@@ -86,27 +88,39 @@ std::vector<double> measuredDriftTable(const std::vector<MeasuredDrift::ClassDri
 /// Back from such a table; throws std::invalid_argument for another column count.
 std::vector<MeasuredDrift::ClassDrift> measuredDriftFromTable(const std::vector<double> &rowMajor, int cols);
 
-/// A drift law's shape: u_i = -k_d x_i with x_i = d_i^2 - d32^2 (model A) or
-/// (d_i - d32)|d_i - d32| (model B).
-enum class DriftLawShape { A, B };
-
+/// A size law's fit to the measured drift.  The law's shape is its velocity
+/// at k = 1, g_i = g(d_i, d32) (rcfd/size_law.hpp): u_i = k g_i, or relative
+/// to the bulk u_i = k (g_i - sum_j s_j g_j).  For A and B, g = -x with x the
+/// paper's size term, so k is the paper's k_d.
 struct DriftFit {
-  double kd = 0.0;            ///< [1/(m s)]
+  double kd = 0.0;            ///< [the law's unit of k]
   double standardError = 0.0; ///< of kd
+  double chiSquare = 0.0;     ///< sum of w (u - fit)^2 over the classes used
   double chiSquarePerDof = 0.0;
+  double shape = std::numeric_limits<double>::quiet_NaN(); ///< the shape parameter fitted (fitDriftLaw), NaN: none
+  std::vector<double> predicted; ///< per class: the law's u at the fitted k [m/s]
+  std::vector<double> residual;  ///< per class: measured u - predicted [m/s] (NaN where not measured)
 };
 
-/// Weighted least squares of u_i = -k_d x_i through the origin, weights
+/// Weighted least squares of u_i = k g_i through the origin, weights
 /// 1/se_i^2 (classes with se 0 or fewer than two frames are left out).
-/// With relativeToBulk, x_i - sum_j s_j x_j instead (s_j the classes' mass
+/// With relativeToBulk, g_i - sum_j s_j g_j instead (s_j the classes' mass
 /// shares): the drift relative to the bulk that rcfd's face swaps realise,
 /// since what the sending side lacks the bulk tops up (docs/drift.md), and
 /// the form the measured velocities have (their mass-weighted mean is zero).
 /// Throws std::invalid_argument when fewer than one class can be used.
-DriftFit fitDriftCoefficient(const std::vector<MeasuredDrift::ClassDrift> &drift, double d32,
-                             DriftLawShape shape, bool relativeToBulk = false);
+DriftFit fitDriftCoefficient(const std::vector<MeasuredDrift::ClassDrift> &drift, double d32, const SizeLaw &law,
+                             bool relativeToBulk = false);
 
-/// u_b,i = -k_d (x_i - sum_j s_j x_j) (a_b / a_bar)^n over bins b and classes i
+/// fitDriftCoefficient relative to the bulk; for a law with a shape
+/// parameter (power: m) also that parameter, by a scan of its range in
+/// steps of 0.01 (k by least squares at each), the smallest chi^2.  Leaves
+/// the law at the fitted parameter; chiSquarePerDof counts it as a parameter.
+/// With fewer than three usable classes the shape is not fitted (any value
+/// fits two classes exactly): shape stays NaN and the law at its value.
+DriftFit fitDriftLaw(const std::vector<MeasuredDrift::ClassDrift> &drift, double d32, SizeLaw &law);
+
+/// u_b,i = k (g_i - sum_j s_j g_j) (a_b / a_bar)^n over bins b and classes i
 /// (x and the mass shares s of the whole bed, as fitDriftCoefficient with
 /// relativeToBulk), weights 1/se^2: k_d by least squares for each n of a scan
 /// of [0, nMax] in steps of 0.01, the n of the smallest chi^2.
@@ -115,6 +129,6 @@ struct AgitationDriftFit {
 };
 AgitationDriftFit fitAgitationExponent(const std::vector<MeasuredDrift::BinDrift> &bins,
                                        const std::vector<MeasuredDrift::ClassDrift> &bed, double aBar,
-                                       double d32, DriftLawShape shape, double nMax = 6.0);
+                                       double d32, const SizeLaw &law, double nMax = 6.0);
 
 } // namespace rcfd

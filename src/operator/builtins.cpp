@@ -8,8 +8,8 @@ OperatorRegistry OperatorRegistry::withBuiltins() {
   OperatorRegistry r;
   r.add("shift", [] { return std::make_unique<ShiftOperator>(); },
         "move all fractions with the frame's shift matrix (bulk convection)");
-  r.add("drift", [] { return std::make_unique<DriftOperator>(); },
-        "fractional drift along gravity by face swaps (paper Eq. 4-6)");
+  r.makers.add("drift", [](const OperatorRegistry &self) { return std::make_unique<DriftOperator>(self.sizeLaws()); },
+               "fractional drift along gravity by face swaps (paper Eq. 4-6; -drift_size_law)");
   r.add("dispersion", [] { return std::make_unique<DispersionOperator>(); },
         "symmetric mixing of composition across all faces");
   r.makers.add("carry",

@@ -21,12 +21,7 @@ def size_terms(table, model):
 
 
 def main():
-    parser = rf.arguments(__doc__, "measured_drift.csv of the bed the law is fitted on", ".png")
-    parser.add_argument("others", nargs="*", help="measured_drift.csv of beds to check the law on")
-    parser.add_argument("--labels", default="", help="comma-separated labels, one per file")
-    args = rf.parse(parser)
-    files = [args.csv] + args.others
-    labels = args.labels.split(",") if args.labels else files
+    args, files, labels = rf.several_files(__doc__, "measured_drift.csv")
     tables = [rf.read_csv(f) for f in files]
     fig, axes = rf.plt.subplots(1, 2, figsize=(9.0, 4.0))
     markers = ["o", "s", "^", "D", "v"]

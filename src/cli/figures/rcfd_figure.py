@@ -34,6 +34,18 @@ def parse(parser):
     return args
 
 
+def several_files(doc, csv_name, default_suffix=".png"):
+    """(args, files, labels) of a script that draws one CSV per bed: the
+    files given, and --labels (comma-separated, one per file; default the
+    file names)."""
+    parser = arguments(doc, f"{csv_name} of the first bed", default_suffix)
+    parser.add_argument("others", nargs="*", help=f"{csv_name} of further beds")
+    parser.add_argument("--labels", default="", help="comma-separated labels, one per file")
+    args = parse(parser)
+    files = [args.csv] + args.others
+    return args, files, args.labels.split(",") if args.labels else files
+
+
 def read_csv(path):
     """The columns of a CSV file rcfd wrote, by name and in file order.
 

@@ -13,23 +13,40 @@
 
 namespace rcfd {
 
-DriftOperator::DriftOperator() = default;
+DriftOperator::DriftOperator() : DriftOperator(SizeLawRegistry::withBuiltins()) {}
+DriftOperator::DriftOperator(SizeLawRegistry laws)
+    : known(std::move(laws)), law(known.has(lawName) ? known.create(lawName) : nullptr) {}
 DriftOperator::~DriftOperator() = default;
 
+void DriftOperator::setSizeLaw(const std::string &name) {
+  law = known.create(name);
+  lawName = name;
+  model = Model::SizeLaw;
+  if (!kdGiven) kd = law->defaultK();
+}
+
+// -drift_model A|B is the size law of that name; -drift_size_law chooses any
+// registered law and overrides -drift_model A|B.
 PetscErrorCode DriftOperator::setFromOptions(MPI_Comm comm) {
   const char *models[] = {"A", "B", "constant", "none"};
-  PetscInt which = static_cast<PetscInt>(model);
+  const bool plain = model == Model::SizeLaw && (lawName == "A" || lawName == "B");
+  PetscInt which = model == Model::Constant ? 2 : model == Model::None ? 3 : plain && lawName == "A" ? 0 : 1;
   PetscReal velocities[256] = {0.0}; // -help prints the first entry
   PetscInt nv = 256;
-  PetscBool setV = PETSC_FALSE;
-  char agitationText[32];
+  PetscBool setV = PETSC_FALSE, setModel = PETSC_FALSE, setLaw = PETSC_FALSE, setKd = PETSC_FALSE;
+  char agitationText[32], lawText[64];
   std::snprintf(agitationText, sizeof agitationText, "%s", agitationName.c_str());
+  std::snprintf(lawText, sizeof lawText, "%s", lawName.c_str());
+  const std::string lawHelp = "Size law of the drift velocity (docs/drift.md): " + known.listing();
   PetscFunctionBeginUser;
   PetscOptionsBegin(comm, prefix.c_str(), "Fractional drift (face swaps along gravity)", "rcfd");
-  PetscCall(PetscOptionsEList("-model", "Drift model: A (d^2), B (d|d|), constant or none", "",
-                              models, 4, models[which], &which, nullptr));
+  PetscCall(PetscOptionsEList("-model", "Drift model: A (d^2), B (d|d|), constant or none (A, B: size laws)", "",
+                              models, 4, models[which], &which, &setModel));
+  PetscCall(PetscOptionsString("-size_law", lawHelp.c_str(), "", lawText, lawText, sizeof lawText, &setLaw));
   PetscCall(checkedReal(PetscOptionsObject, "-kd",
-                        "Drift constant k_d [1/(m s)] (paper: 5e2 for A, 5e3 for B)", &kd, kNonNegative));
+                        "Drift constant k_d in the size law's unit: 1/(m s) for A and B (paper: 5e2 for A, 5e3 "
+                        "for B), m/s for drag, log and power",
+                        &kd, kNonNegative, &setKd));
   PetscCall(checkedRealArray(PetscOptionsObject, "-velocities",
                              "Drift velocity of each fraction, up positive [m/s] (model constant)", velocities,
                              &nv, &setV));
@@ -60,12 +77,39 @@ PetscErrorCode DriftOperator::setFromOptions(MPI_Comm comm) {
   PetscCall(checkedReal(PetscOptionsObject, "-agitation_exponent",
                         "Exponent n of the agitation scaling (a/a_bar)^n", &agitationExponent,
                         {0.0, 100.0, true, true, "an exponent in [0, 100]"}));
+  PetscCall(checkedReal(PetscOptionsObject, "-agitation_reference",
+                        "A fixed a_ref in place of the database's own a_bar: (a/a_ref)^n; for leaving a rate "
+                        "in 1/s (compared with a/dt_rec), for dispersion in m^2/s",
+                        &agitationReference, {0.0, PETSC_MAX_REAL, false, true, "a positive agitation"}));
   PetscOptionsEnd();
+  const std::string chosen = models[which];
+  if (setKd) kdGiven = true;
+  // -drift_size_law wins over -drift_model A|B (case files name B), but a
+  // law makes no sense with given velocities or no drift.
+  PetscCheck(!setLaw || !setModel || chosen == "A" || chosen == "B", comm, PETSC_ERR_USER_INPUT,
+             "-%ssize_law %s cannot be used with -%smodel %s; leave out one of them", prefix.c_str(), lawText,
+             prefix.c_str(), chosen.c_str());
+  if (setLaw || (setModel && (chosen == "A" || chosen == "B"))) {
+    const std::string name = setLaw ? std::string(lawText) : chosen;
+    PetscCheck(known.has(name), comm, PETSC_ERR_USER_INPUT, "-%ssize_law %s is not a known size law; known: %s",
+               prefix.c_str(), name.c_str(), known.listing().c_str());
+    PetscCallCXX(setSizeLaw(name));
+  } else if (setModel) {
+    model = chosen == "constant" ? Model::Constant : Model::None;
+  }
+  if (model == Model::SizeLaw) {
+    PetscCheck(law, comm, PETSC_ERR_USER_INPUT, "-%ssize_law %s is not a known size law; known: %s",
+               prefix.c_str(), lawName.c_str(), known.listing().c_str());
+    PetscCall(law->setFromOptions(comm, prefix));
+    if (!kdGiven) kd = law->defaultK();
+    PetscCheck(std::isfinite(kd), comm, PETSC_ERR_USER_INPUT,
+               "-%ssize_law %s has no default k_d: give -%skd (in %s)", prefix.c_str(), lawName.c_str(),
+               prefix.c_str(), law->unitOfK());
+  }
   agitationName = agitationText;
   PetscCheck(agitationName == "none" || agitationName == "leaving" || agitationName == "dispersion", comm,
              PETSC_ERR_USER_INPUT, "-%sagitation %s is not known; use none, leaving or dispersion",
              prefix.c_str(), agitationText);
-  model = static_cast<Model>(which);
   constantVelocity.assign(velocities, velocities + (setV ? nv : 0));
   PetscCheck(kd >= 0 && std::isfinite(kd), comm, PETSC_ERR_USER_INPUT,
              "-%skd must be a non-negative number, got %g", prefix.c_str(), kd);
@@ -87,18 +131,19 @@ bool DriftOperator::needed(const RunContext &ctx) const {
   if (model == Model::Constant)
     return std::any_of(constantVelocity.begin(), constantVelocity.end(),
                        [](double u) { return u != 0.0; });
-  return kd > 0.0;
+  return kd != 0.0; // NaN (a law without a default k_d) is refused by setUp
 }
 
 double DriftOperator::velocity(int i, double sauter) const {
-  const double d = diameter[i];
-  switch (model) {
-  case Model::A: return -kd * (d * d - sauter * sauter);
-  case Model::B: return -kd * (d - sauter) * std::fabs(d - sauter);
-  case Model::Constant: return constantVelocity[i];
-  case Model::None: break;
-  }
-  return 0.0;
+  double u = 0.0;
+  if (model == Model::SizeLaw) law->velocities(kd, sauter, &diameter[i], 1, &u);
+  else if (model == Model::Constant) u = constantVelocity[i];
+  return u;
+}
+
+void DriftOperator::velocitiesAt(double dRef, double *u) const {
+  if (model == Model::SizeLaw) law->velocities(kd, dRef, diameter.data(), nf, u);
+  else for (int i = 0; i < nf; ++i) u[i] = velocity(i, dRef);
 }
 
 // Faces whose normal is within 1e-9 of horizontal carry no drift.
@@ -112,14 +157,17 @@ PetscErrorCode DriftOperator::setUpSwap(const RunContext &ctx) {
   PetscCheck(model != Model::Constant || (int)constantVelocity.size() == nf, comm,
              PETSC_ERR_USER_INPUT, "-%svelocities has %zu values but there are %d fractions",
              prefix.c_str(), constantVelocity.size(), nf);
+  PetscCheck(model != Model::SizeLaw || std::isfinite(kd), comm, PETSC_ERR_USER_INPUT,
+             "-%ssize_law %s has no default k_d: give -%skd (in %s)", prefix.c_str(), lawName.c_str(),
+             prefix.c_str(), law->unitOfK());
   diameter.resize(nf);
   for (int i = 0; i < nf; ++i) diameter[i] = ctx.fractions.diameter(i);
   d32 = d32Override > 0 ? d32Override : ctx.fractions.inventorySauterDiameter();
   velocityCache.resize(nf);
   fixedUp.resize(nf);
   fixedDown.resize(nf);
+  velocitiesAt(d32, velocityCache.data());
   for (int i = 0; i < nf; ++i) {
-    velocityCache[i] = velocity(i, d32);
     fixedUp[i] = std::max(velocityCache[i], 0.0);
     fixedDown[i] = std::max(-velocityCache[i], 0.0);
   }
@@ -166,7 +214,11 @@ PetscErrorCode DriftOperator::setUpScaling(const RunContext &ctx) {
   scaleByFrame.clear();
   largestScaleByFrame.clear();
   meanFactor = 1.0;
-  if (!agitation && agitationName == "none") PetscFunctionReturn(PETSC_SUCCESS);
+  if (!agitation && agitationName == "none") {
+    PetscCheck(agitationReference == 0.0, comm, PETSC_ERR_USER_INPUT,
+               "-%sagitation_reference needs -%sagitation leaving or dispersion", prefix.c_str(), prefix.c_str());
+    PetscFunctionReturn(PETSC_SUCCESS);
+  }
   // A field made for another database (the run switched databases) is made
   // again, of the same measure, for this one.
   if (!agitation || agitation->databaseIdentity() != ctx.db.identity()) {
@@ -175,7 +227,14 @@ PetscErrorCode DriftOperator::setUpScaling(const RunContext &ctx) {
     PetscCall(field->setUp(ctx.db, measure));
     agitation = field;
   }
-  const double mean = agitation->solidWeightedMean();
+  // The factor's denominator: the database's own a_bar, or a fixed reference
+  // (for the leaving share a rate in 1/s, so that databases recorded with
+  // another dt_rec agree: the share leaving in dt_rec is about rate x dt_rec).
+  const bool leavingShare = agitation->measure() == AgitationMeasure::LeavingShare;
+  const double mean = agitationReference > 0.0
+                          ? (leavingShare ? agitationReference * ctx.db.metadata().dtRec : agitationReference)
+                          : agitation->solidWeightedMean();
+  normaliser = mean;
   PetscCheck(mean > 0.0 || agitationExponent == 0.0, comm, PETSC_ERR_USER_INPUT,
              "-%sagitation %s: the database '%s' shows no agitation at all (a_bar = 0), so u_d "
              "cannot be scaled by a/a_bar",
@@ -216,13 +275,12 @@ PetscErrorCode DriftOperator::setUpScaling(const RunContext &ctx) {
 PetscErrorCode DriftOperator::substepsFor(double dt, double largestScale, int *n) const {
   PetscFunctionBeginUser;
   double umax = 0.0;
-  if (!localD32) {
+  if (!localD32 || model != Model::SizeLaw) {
     for (double u : velocityCache) umax = std::max(umax, std::fabs(u));
   } else {
     const double dmin = *std::min_element(diameter.begin(), diameter.end());
     const double dmax = *std::max_element(diameter.begin(), diameter.end());
-    for (int i = 0; i < nf; ++i)
-      umax = std::max({umax, std::fabs(velocity(i, dmin)), std::fabs(velocity(i, dmax))});
+    umax = law->largestSpeed(kd, dmin, dmax, diameter.data(), nf);
   }
   const double courant = umax * largestScale * exchange().maxAreaOverVolume() * dt;
   const double needed = std::ceil(courant / maxShare);
@@ -340,10 +398,11 @@ template <int NF> PetscErrorCode DriftOperator::sweep(double dt, const double *s
         for (int i = 0; i < n; ++i) s += m[i] / diameter[i];
         const double sauter = s > 0 ? M / s : d32;
         up = upLocal + c * n, down = downLocal + c * n;
+        double u[cap];
+        velocitiesAt(sauter, u);
         for (int i = 0; i < n; ++i) {
-          const double u = velocity(i, sauter);
-          upLocal[c * n + i] = std::max(u, 0.0);
-          downLocal[c * n + i] = std::max(-u, 0.0);
+          upLocal[c * n + i] = std::max(u[i], 0.0);
+          downLocal[c * n + i] = std::max(-u[i], 0.0);
         }
       }
       double U = 0.0, D = 0.0;
@@ -397,17 +456,25 @@ template <int NF> PetscErrorCode DriftOperator::sweep(double dt, const double *s
 }
 
 PetscErrorCode DriftOperator::view(PetscViewer viewer) const {
-  const char *names[] = {"A: u = -kd (d^2 - d32^2)", "B: u = -kd (d - d32)|d - d32|",
-                         "constant velocities", "none"};
+  const std::string name = model == Model::SizeLaw ? lawName + ": " + law->formula()
+                           : model == Model::Constant ? "constant velocities" : "none";
   PetscFunctionBeginUser;
-  PetscCall(PetscViewerASCIIPrintf(viewer, "drift: model %s, kd = %g 1/(m s), d32 = %.4g mm (%s)%s; applied every %d step(s)\n",
-                                   names[static_cast<int>(model)], kd, d32 * 1e3,
+  PetscCall(PetscViewerASCIIPrintf(viewer, "drift: model %s, kd = %g %s, d32 = %.4g mm (%s)%s; applied every %d step(s)\n",
+                                   name.c_str(), kd, model == Model::SizeLaw ? law->unitOfK() : "1/(m s)", d32 * 1e3,
                                    localD32 ? "local per sending cell" : (d32Override > 0 ? "given" : "inventory"),
                                    hindered ? ", hindered" : "", (int)every));
-  if (agitation)
+  if (agitation && agitationReference == 0.0)
     PetscCall(PetscViewerASCIIPrintf(viewer, "  scaled by (a/a_bar)^%g, a = %s agitation of the frame, a_bar = %.4g, a_max = %.4g, solid-weighted mean factor %.4g\n",
                                      agitationExponent, agitationMeasureName(agitation->measure()),
                                      agitation->solidWeightedMean(), agitation->maximum(), meanFactor));
+  else if (agitation)
+    PetscCall(PetscViewerASCIIPrintf(viewer, "  scaled by (a/a_ref)^%g, a = %s agitation of the frame, a_ref = %.4g (%s), a_bar = %.4g, a_max = %.4g, solid-weighted mean factor %.4g\n",
+                                     agitationExponent, agitationMeasureName(agitation->measure()), normaliser,
+                                     agitation->measure() == AgitationMeasure::LeavingShare ? "-drift_agitation_reference x dt_rec" : "-drift_agitation_reference",
+                                     agitation->solidWeightedMean(), agitation->maximum(), meanFactor));
+  if (agitation && agitation->measure() == AgitationMeasure::LeavingShare && isSetUp())
+    PetscCall(PetscViewerASCIIPrintf(viewer, "  a_bar as a rate: %.4g 1/s (a_bar / dt_rec, dt_rec = %g s; the unit of -drift_agitation_reference)\n",
+                                     agitation->solidWeightedMean() / database().metadata().dtRec, database().metadata().dtRec));
   PetscCall(PetscViewerASCIIPushTab(viewer));
   for (int i = 0; i < nf; ++i)
     PetscCall(PetscViewerASCIIPrintf(viewer, "fraction %d (d = %.4g mm): u_d = %+.4g m/s\n", i,
