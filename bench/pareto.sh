@@ -112,7 +112,7 @@ for precision in $precisions; do
         peak=$(tr ' ' '\n' <<<"$peaks" | grep . | median)
         "$rcfd" compare -reference "$out/reference/cog.csv" -rcfd "$dir/replay/cog.csv" -labels run \
           -rcfd_time_offset $offset -score_window 0.5,1.5 -o "$dir/scores.csv" >/dev/null
-        read -r seg rms < <(awk -F, 'NR > 2 && $1 == "run" { print $11, $17 }' "$dir/scores-scores.csv")
+        read -r seg rms < <(awk -F, 'NR > 2 && $1 == "run" && $2 == "delta_z" { print $11, $17 }' "$dir/scores-scores.csv")
         read -r cells frames dt < <("$rcfd" info "$db-replay.h5" 2>/dev/null | awk '
           /^  mesh:/ { for (i = 1; i < NF; ++i) if ($i == "=") c = $(i + 1) + 0 }
           /^  frames:/ { f = $2; d = $4 } END { print c, f, d }')

@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # rcfd compare on hand-made files: Eq. 7 over two windows, the RMS over the
-# peak, an ensemble.csv scored by its mean, the bottom layer's d32, profiles,
+# peak, an ensemble.csv scored by its mean, every class against the bed and
+# the poly-disperse number, the bottom layer's d32, profiles,
 # halves and the database distance (a database against rcfd info's bed
 # dynamics) give hand-computed numbers in the scores CSV; window labels read
 # back exactly; bad input gets one sentence naming the file.  The figures of
@@ -52,6 +53,43 @@ if run "compare exact labels" "$rcfd" compare -reference "$work/odd.csv" -rcfd "
     "0.30000000000000004 0.30000000000000004" 0
   [ "$(col "$work/odd-scores.csv" 1 window_end_s)" = 0.30000000000000004 ] && ok || fail "window label not exact"
 fi
+
+# ---- every class: z_cog,i - z_cog,bed [mm] at 0..3 s, reference d1 -2 -4 -6 -8, d2 0 1 0 -1,
+# d3 1 3 5 10 (bed 0.1, 0.12, ...); the run (bed 0.11, classes labelled within 1 %) -1 -4 -7 -8,
+# 2 3 2 1, 1 3 5 7: RMS sqrt(1/2), 2, 1.5 mm over peaks 8, 1, 10 mm.  Mass shares 0.2 / 0.3 / 0.5:
+# poly-disperse sqrt(2.425) mm over d3's peak.  A second run lacks d2: d1, d3 weighed 0.2, 0.5.
+awk 'BEGIN { print "time_s,z_cog_bed_m,z_cog_d1.000mm_m,z_cog_d2.000mm_m,z_cog_d3.000mm_m"
+  split("-2 -4 -6 -8", a, " "); split("0 1 0 -1", b, " "); split("1 3 5 10", c, " ")
+  for (k = 0; k < 4; ++k) { z = k % 2 ? 0.12 : 0.1
+    printf "%d,%.9g,%.9g,%.9g,%.9g\n", k, z, z + a[k+1] / 1e3, z + b[k+1] / 1e3, z + c[k+1] / 1e3 } }' >"$work/ref-classes.csv"
+awk 'BEGIN { print "time_s,z_cog_bed_m,z_cog_d1.005mm_m,z_cog_d2.000mm_m,z_cog_d3.02mm_m,delta_z_m,mass_d1.005mm_kg,mass_d2.000mm_kg,mass_d3.02mm_kg"
+  split("-1 -4 -7 -8", a, " "); split("2 3 2 1", b, " "); split("1 3 5 7", c, " ")
+  for (k = 0; k < 4; ++k) printf "%d,0.11,%.9g,%.9g,%.9g,%.9g,0.2,0.3,0.5\n", k, 0.11 + a[k+1] / 1e3, 0.11 + b[k+1] / 1e3,
+    0.11 + c[k+1] / 1e3, (a[k+1] - c[k+1]) / 1e3 }' >"$work/run-classes.csv"
+cut -d, -f1-3,5,6,7,9 "$work/run-classes.csv" | sed 's/d1.005mm/d1.000mm/g; s/d3.02mm/d3.000mm/g' >"$work/lacking.csv"
+if run "compare every class" "$rcfd" compare -reference "$work/ref-classes.csv" -rcfd "$work/run-classes.csv,$work/lacking.csv" \
+  -labels run,lacking -score_window 0,3 -o "$work/classes.csv"; then
+  s=$work/classes-scores.csv
+  rows=$(for r in 1 2 3 4 5 6 7 8 9 10; do col "$s" $r curve; done | tr '\n' ' ')
+  [ "$rows" = "delta_z delta_z class_d1.000mm class_d2.000mm class_d3.000mm class_d1.000mm class_d3.000mm \
+polydisperse polydisperse " ] && ok || fail "rows: Delta z first, then classes, then the poly-disperse number: $rows"
+  same "RMS/peak of each class, the poly-disperse number and its ratio" "$(for r in 3 4 5; do col "$s" $r rms_over_peak
+    done; for r in 8 9; do col "$s" $r rms_difference; col "$s" $r rms_over_peak; done)" \
+    "$(awk 'BEGIN { printf "%.12g 2 0.15 %.12g %.12g %.12g %.12g", sqrt(0.5) / 8, sqrt(2.425) / 1e3, sqrt(2.425) / 10,
+      sqrt(1.225 / 0.7) / 1e3, sqrt(1.225 / 0.7) / 10 }')" 1e-8
+  # Scripts read the Delta z row as the line starting with the run's label: the class lines do not.
+  [ "$(grep -c "^lacking " "$work/out.txt")" = 1 ] && ok || fail "more than the Delta z row start with the label"
+  grep -q "Note: lacking: '$work/lacking.csv' has no class d2.000mm (within 1 %): not scored." "$work/out.txt" && ok ||
+    fail "no note of the missing class: $(cat "$work/out.txt")"
+  [ "$(head -1 "$work/classes-classes.csv")" = "time_s,class_d1.000mm_reference_m,class_d1.000mm_run_m,\
+class_d1.000mm_lacking_m,class_d2.000mm_reference_m,class_d2.000mm_run_m,class_d2.000mm_lacking_m,\
+class_d3.000mm_reference_m,class_d3.000mm_run_m,class_d3.000mm_lacking_m" ] && ok ||
+    fail "header of the classes CSV: $(head -1 "$work/classes-classes.csv")"
+fi
+sed '1s/mass_d3.02mm_kg/mass_d3.5mm_kg/' "$work/run-classes.csv" >"$work/wrong-mass.csv"
+expect_error "'$work/wrong-mass.csv' has mass columns of the classes d1.005mm, d2.000mm, d3.5mm but centre-of-gravity \
+columns of d1.005mm, d2.000mm, d3.02mm: each class needs both, in the same order." compare \
+  -reference "$work/ref-classes.csv" -rcfd "$work/wrong-mass.csv"
 
 # ---- bottom layer: reference 2.3, 2.4, (empty layer), 2.6 mm at 0, 1, 2, 3 s; run 2.2 mm.
 # Window [0, 3]: means 7.3/3 and 2.2 mm; RMS at 0..3 s (reference 2.5 mm at 2 s): sqrt(0.075) mm.
@@ -148,6 +186,10 @@ expect_error "-o writes curves over time, which the profiles file" compare -refe
 python=${RCFD_PYTHON:-/usr/bin/python3}
 [ -x "$python" ] || python=python3
 if "$python" -c 'import matplotlib, numpy' 2>/dev/null; then
+  run "figure of every class" "$rcfd" compare -reference "$work/ref-classes.csv" \
+    -rcfd "$work/run-classes.csv,$work/lacking.csv" -labels run,lacking -png "$work/classes.png" &&
+    [ "$(stat -c %s "$work/classes.png" 2>/dev/null || echo 0)" -gt 10000 ] && [ -s "$work/classes-classes.csv" ] &&
+    ok || fail "no sensible classes.png"
   for kind in profiles halves; do
     run "figure of $kind" "$rcfd" compare -reference "$work/ref-$kind.csv" -rcfd "$work/run-$kind.csv" \
       -png "$work/$kind.png" -title "$kind" && [ "$(stat -c %s "$work/$kind.png" 2>/dev/null || echo 0)" -gt 10000 ] &&

@@ -4,6 +4,7 @@
 // the halves' size distributions, the database distance, window labels that
 // read back exactly, and bad input refused naming the file.
 #include "analysis/bed_dynamics.hpp"
+#include "analysis/class_scores.hpp"
 #include "analysis/comparison.hpp"
 #include "analysis/halves_comparison.hpp"
 #include "analysis/profile_comparison.hpp"
@@ -196,6 +197,98 @@ void halves(const std::string &dir) {
   RCFD_CHECK(throwsWith([&] { readHalves(table(text)); }, "'" + text + "', line 2, column 'top_mass_fraction': expected a number"));
 }
 
+/// A cog.csv of classes `labels` at t = 0, 1, 2, 3 s: the bed at `bed` m, each class
+/// `offsets` mm above it (a row per class), `masses` kg in mass_<label>_kg columns if any.
+std::string cogFile(const std::string &path, const std::vector<double> &bed, const std::vector<std::string> &labels,
+                    const std::vector<std::vector<double>> &offsets, const std::vector<double> &masses) {
+  std::string text = "time_s,z_cog_bed_m";
+  for (const auto &l : labels) text += ",z_cog_" + l + "_m";
+  for (std::size_t i = 0; i < masses.size(); ++i) text += ",mass_" + labels[i] + "_kg";
+  text += "\n";
+  for (std::size_t k = 0; k < bed.size(); ++k) {
+    text += std::to_string(k) + "," + csvNumber(bed[k]);
+    for (const auto &o : offsets) text += "," + csvNumber(bed[k] + 1e-3 * o[k]);
+    for (double m : masses) text += "," + csvNumber(m);
+    text += "\n";
+  }
+  return write(path, text);
+}
+
+// Every class, z_CoG,i - z_CoG,bed [mm] at t = 0, 1, 2, 3 s, the beds moving differently:
+//   reference d1.000mm -2 -4 -6 -8 (peak 8), d2.000mm 0 1 0 -1 (peak 1), d3.000mm 1 3 5 10 (peak 10);
+//   run       d1.005mm -1 -4 -7 -8 (RMS sqrt(1/2)), d2.000mm 2 3 2 1 (RMS 2), d3.02mm 1 3 5 7 (RMS 1.5);
+// classes within 1 % are one.  Mass shares 0.2 / 0.3 / 0.5: the poly-disperse number
+// sqrt(0.2 * 0.5 + 0.3 * 4 + 0.5 * 2.25) mm = sqrt(2.425) mm, over d3's peak 10 mm.  Window
+// [0, 1.5]: d1 means -3 and -2.5 mm.  A run without d2 (and with a d4 the reference lacks)
+// weighs d1 and d3 by 0.2 and 0.5 renormalised: sqrt((0.2 * 0.5 + 0.5 * 2.25) / 0.7) mm.
+void classes(const std::string &dir) {
+  const std::vector<double> refBed{0.1, 0.12, 0.1, 0.12}, runBed{0.11, 0.11, 0.11, 0.11};
+  const std::vector<double> d1{-1, -4, -7, -8}, d2{2, 3, 2, 1}, d3{1, 3, 5, 7};
+  const std::string ref = cogFile(dir + "/ref-classes.csv", refBed, {"d1.000mm", "d2.000mm", "d3.000mm"},
+                                  {{-2, -4, -6, -8}, {0, 1, 0, -1}, {1, 3, 5, 10}}, {});
+  const std::string run = cogFile(dir + "/run-classes.csv", runBed, {"d1.005mm", "d2.000mm", "d3.02mm"},
+                                  {d1, d2, d3}, {0.2e-3, 0.3e-3, 0.5e-3});
+  const std::string lacking = cogFile(dir + "/lacking.csv", runBed, {"d1.000mm", "d3.000mm", "d4.000mm"},
+                                      {d1, d3, d3}, {0.2, 0.5, 0.3});
+  const std::string massless = cogFile(dir + "/massless.csv", runBed, {"d1.000mm", "d2.000mm", "d3.000mm"},
+                                       {d1, d2, d3}, {});
+  const ClassCurveSet r = readClassCurves(table(ref), 0.0);
+  RCFD_CHECK(r.curves.names == (std::vector<std::string>{"class_d1.000mm", "class_d2.000mm", "class_d3.000mm"}));
+  RCFD_CHECK(r.massShares.empty());
+  const std::vector<TimeSpan> windows{{0.0, 1.5}, {0.0, 3.0}};
+  const ClassComparison c = compareClasses(r, readClassCurves(table(run), 0.0), "run", windows);
+  RCFD_CHECK(c.notes.empty() && c.scores.size() == 6 && c.hasPolydisperse);
+  RCFD_CHECK(c.scores[0].curve == "class_d1.000mm" && c.scores[5].curve == "class_d3.000mm");
+  const double rms[3] = {std::sqrt(0.5), 2.0, 1.5}, peak[3] = {8.0, 1.0, 10.0};
+  for (int i = 0; i < 3; ++i) {
+    const DeltaZScore &s = c.scores[2 * i].score;
+    RCFD_CHECK(s.curveSamples == 4);
+    RCFD_CHECK_CLOSE(s.rms, 1e-3 * rms[i], 1e-14);
+    RCFD_CHECK_CLOSE(s.peakRef, 1e-3 * peak[i], 1e-14);
+    RCFD_CHECK_CLOSE(s.rmsRelative, rms[i] / peak[i], 1e-12);
+  }
+  RCFD_CHECK(c.scores[0].score.windowSamplesRef == 2 && c.scores[1].score.windowSamplesModel == 4);
+  RCFD_CHECK_CLOSE(c.scores[0].score.meanRef, -3e-3, 1e-14);
+  RCFD_CHECK_CLOSE(c.scores[0].score.meanModel - c.scores[0].score.meanRef, 0.5e-3, 1e-14);
+  const PolydisperseScore &p = c.polydisperse;
+  RCFD_CHECK(p.weightsFrom == run && p.largestClass == "class_d3.000mm" && p.weights.size() == 3);
+  RCFD_CHECK_CLOSE(p.weights[1], 0.3, 1e-14);
+  RCFD_CHECK_CLOSE(p.rms, 1e-3 * std::sqrt(2.425), 1e-14);
+  RCFD_CHECK_CLOSE(p.peakLargest, 10e-3, 1e-14);
+  RCFD_CHECK_CLOSE(p.rmsRelative, std::sqrt(2.425) / 10.0, 1e-12);
+
+  // A run lacking d2 and holding a d4: both noted, d1 and d3 scored and weighed.
+  const ClassComparison l = compareClasses(r, readClassCurves(table(lacking), 0.0), "lacking", windows);
+  RCFD_CHECK(l.scores.size() == 4 && l.notes.size() == 2 && l.matched.names.size() == 2);
+  RCFD_CHECK(l.notes.size() == 2 && l.notes[0].find("has no class d2.000mm") != std::string::npos &&
+             l.notes[1].find("the reference '" + ref + "' has no class d4.000mm") != std::string::npos);
+  RCFD_CHECK_CLOSE(l.polydisperse.rms, 1e-3 * std::sqrt((0.2 * 0.5 + 0.5 * 2.25) / 0.7), 1e-14);
+  RCFD_CHECK_CLOSE(l.polydisperse.weights[0], 0.2 / 0.7, 1e-14);
+  // No mass columns on either side: classes scored, no poly-disperse number, a note why.
+  const ClassComparison m = compareClasses(r, readClassCurves(table(massless), 0.0), "massless", windows);
+  RCFD_CHECK(m.scores.size() == 6 && !m.hasPolydisperse && m.notes.size() == 1 &&
+             m.notes[0].find("no poly-disperse number") != std::string::npos);
+  // The poly-disperse row in the scores CSV, after the class rows.
+  const std::string scores = dir + "/class-scores.csv";
+  writeCurveScores(scores, ref, c.scores, polydisperseRows({p}));
+  RCFD_CHECK(field(scores, 6, "curve") == "polydisperse" && field(scores, 6, "window_begin_s").empty());
+  RCFD_CHECK_CLOSE(std::strtod(field(scores, 6, "rms_over_peak").c_str(), nullptr), std::sqrt(2.425) / 10.0, 1e-8);
+  RCFD_CHECK_CLOSE(std::strtod(field(scores, 4, "rms_over_peak").c_str(), nullptr), 0.15, 1e-8);
+
+  // Columns that do not fit together: one sentence naming the file.
+  const std::string wrongMass = write(dir + "/wrong-mass.csv", "time_s,z_cog_bed_m,z_cog_d1.000mm_m,z_cog_d2.000mm_m,"
+                                                               "mass_d1.000mm_kg,mass_d2.500mm_kg\n0,0.1,0.1,0.1,1,1\n");
+  RCFD_CHECK(throwsWith([&] { readClassCurves(table(wrongMass), 0.0); },
+                        "'" + wrongMass + "' has mass columns of the classes d1.000mm, d2.500mm but centre-of-gravity "
+                        "columns of d1.000mm, d2.000mm: each class needs both, in the same order."));
+  const std::string noBed = write(dir + "/no-bed.csv", "time_s,z_cog_d1.000mm_m,z_cog_d2.000mm_m\n0,0.1,0.1\n");
+  RCFD_CHECK(throwsWith([&] { readClassCurves(table(noBed), 0.0); },
+                        "'" + noBed + "' has class columns (z_cog_d1.000mm_m, z_cog_d2.000mm_m) but no z_cog_bed_m"));
+  const std::string twins = write(dir + "/twins.csv", "time_s,z_cog_bed_m,z_cog_d1.000mm_m,z_cog_d1.005mm_m\n0,0.1,0.1,0.1\n");
+  RCFD_CHECK(throwsWith([&] { readClassCurves(table(twins), 0.0); },
+                        "'" + twins + "' has two classes within 1 % of d1.005mm"));
+}
+
 // Bed dynamics: z_CoG = 0.10, 0.12, 0.10, 0.12 m, Delta z_CoG = 0.01 m; a bed_dynamics.csv
 // of 0.008 m; Delta DB = |0.01 - 0.008| / 0.008 = 0.25 (the second the denominator).
 void distance(const std::string &dir) {
@@ -219,6 +312,7 @@ int main() {
   deltaZ(dir);
   bottomLayer(dir);
   profiles(dir);
+  classes(dir);
   halves(dir);
   distance(dir);
   std::filesystem::remove_all(dir);

@@ -89,7 +89,7 @@ P
 score() { # score RUN_DIR REFERENCE WINDOWS -> "seg1 rms" of the first window
   "$rcfd" compare -reference "$2" -rcfd "$1/cog.csv" -labels run -rcfd_time_offset 0.2 -score_window "$3" \
     -o "$1/scores.csv" >/dev/null
-  awk -F, 'NR > 2 { printf "%s,%s,", $11, $17 }' "$1/scores-scores.csv"
+  awk -F, 'NR > 2 && $2 == "delta_z" { printf "%s,%s,", $11, $17 }' "$1/scores-scores.csv"
 }
 # stitched DIR OPTIONS... -> "seg,rms,seg40,se40,rms40": 40 stitched paths (seeds 1-40) on the
 # 0.2-1.7 s window, scored by the mean curve of seeds 1-5 and of all 40.
@@ -102,7 +102,7 @@ stitched() {
     se=$(stitch_scores "$dir" $n)
     "$rcfd" compare -reference "$out/narrow-ref/cog.csv" -rcfd "$dir/mean-$n.csv" -labels mean \
       -rcfd_time_offset 0.2 -score_window 0.5,1.5 -o "$dir/scores-$n.csv" >/dev/null
-    awk -F, -v n=$n -v se="$se" 'NR > 2 { printf "%s%s,%s%s", n == 40 ? "," : "", $11, n == 40 ? se "," : "", $17 }' \
+    awk -F, -v n=$n -v se="$se" 'NR > 2 && $2 == "delta_z" { printf "%s%s,%s%s", n == 40 ? "," : "", $11, n == 40 ? se "," : "", $17 }' \
       "$dir/scores-$n-scores.csv"
   done
 }

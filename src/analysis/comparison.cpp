@@ -115,7 +115,7 @@ std::vector<CurveScore> scoreCurves(const CurveSet &ref, const CurveSet &run, co
 }
 
 void writeCurveScores(const std::string &path, const std::string &referencePath,
-                      const std::vector<CurveScore> &scores) {
+                      const std::vector<CurveScore> &scores, const std::string &moreRows) {
   std::string text = "# rcfd compare against " + referencePath +
                      ": window means and their relative difference (for delta_z the paper's Eq. 7, "
                      "Delta_seg); rms_difference over the times both curves cover, the reference "
@@ -132,7 +132,7 @@ void writeCurveScores(const std::string &path, const std::string &referencePath,
             "," + std::to_string(s.curveSamples) + "," + csvNumber(s.rms) + "," + csvNumber(s.peakRef) + "," +
             csvNumber(s.rmsRelative) + "\n";
   }
-  writeTextFile(path, text);
+  writeTextFile(path, text + moreRows);
 }
 
 void writeCurvesSideBySide(const std::string &path, const CurveSet &ref, const std::vector<CurveSet> &runs,

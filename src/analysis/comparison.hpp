@@ -62,9 +62,10 @@ struct CurveScore {
 std::vector<CurveScore> scoreCurves(const CurveSet &reference, const CurveSet &run, const std::string &label,
                                     const std::vector<TimeSpan> &windows);
 
-/// One row per compared curve and window, units in the header.
+/// One row per compared curve and window, units in the header; `moreRows`
+/// (rows of the same columns, e.g. polydisperseRows) after them.
 void writeCurveScores(const std::string &path, const std::string &referencePath,
-                      const std::vector<CurveScore> &scores);
+                      const std::vector<CurveScore> &scores, const std::string &moreRows = "");
 
 /// The curves at the reference's times: time_s, <curve>_reference_m, then
 /// <curve>_<label>_m for each run (empty outside a run's times).

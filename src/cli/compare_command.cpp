@@ -10,6 +10,7 @@
 
 #include "base/checked_options.hpp"
 #include "analysis/bed_dynamics.hpp"
+#include "analysis/class_scores.hpp"
 #include "analysis/comparison.hpp"
 #include "analysis/halves_comparison.hpp"
 #include "analysis/profile_comparison.hpp"
@@ -40,6 +41,9 @@ std::string sibling(const std::string &path, const std::string &suffix) {
   std::filesystem::path p(path);
   return (p.parent_path() / (p.stem().string() + suffix)).string();
 }
+
+/// The classes' curves beside the -o CSV: delta_z.csv -> delta_z-classes.csv.
+std::string classesFile(const std::string &output) { return sibling(output, "-classes.csv"); }
 
 PetscErrorCode readCompareOptions(MPI_Comm comm, CompareOptions *o) {
   char ref[PETSC_MAX_PATH_LEN] = "", out[PETSC_MAX_PATH_LEN] = "", scores[PETSC_MAX_PATH_LEN] = "",
@@ -145,17 +149,49 @@ void printCurveScores(const std::string &reference, const std::vector<CurveScore
   }
 }
 
+/// Each class's z_CoG,i - z_CoG,bed against the reference's, then the
+/// poly-disperse number of each run and the notes (classes not scored).
+/// Printed before the Delta z table, and no line starts with a run's label:
+/// scripts read the Delta z row as the last line, or as the line starting
+/// with the label.
+void printClassScores(const std::vector<CurveScore> &scores, const std::vector<PolydisperseScore> &polys,
+                      const std::vector<std::string> &notes) {
+  if (!scores.empty()) {
+    std::printf("Each class: z_cog,i - z_cog,bed against the reference (RMS over the run / the reference's peak "
+                "|z_cog,i - z_cog,bed|; means over the window, in mm):\n");
+    std::printf("%-16s %-28s %-12s %10s %10s %10s %10s %10s %10s\n", "class", "run", "window [s]", "mean ref",
+                "mean run", "diff", "RMS", "peak ref", "RMS/peak");
+    for (const CurveScore &c : scores) {
+      const DeltaZScore &s = c.score;
+      std::printf("%-16s %-28s %-12s %10.4f %10.4f %10.4f %10.4f %10.4f %10.3f\n", c.curve.c_str(), c.run.c_str(),
+                  (exactNumber(s.windowBegin) + "-" + exactNumber(s.windowEnd)).c_str(), 1e3 * s.meanRef,
+                  1e3 * s.meanModel, 1e3 * (s.meanModel - s.meanRef), 1e3 * s.rms, 1e3 * s.peakRef, s.rmsRelative);
+    }
+  }
+  for (const PolydisperseScore &p : polys) {
+    std::printf("Poly-disperse, %s: sqrt(sum w_i RMS_i^2) = %.4f mm = %.3f of the peak %.4f mm of %s; w_i",
+                p.run.c_str(), 1e3 * p.rms, p.rmsRelative, 1e3 * p.peakLargest, p.largestClass.c_str());
+    for (double w : p.weights) std::printf(" %.4g", w);
+    std::printf(" (mass shares of %s)\n", p.weightsFrom.c_str());
+  }
+  for (const std::string &note : notes) std::printf("Note: %s\n", note.c_str());
+}
+
 /// Delta z(t) of the reference and every run from the curves CSV, each run's
-/// legend carrying its scores over the first window.
-PetscErrorCode drawDeltaZ(MPI_Comm comm, const CompareOptions &o, const std::vector<CurveScore> &scores) {
+/// legend carrying its scores over the first window; beside it each class's
+/// z_CoG,i - z_CoG,bed when the classes CSV was written.
+PetscErrorCode drawDeltaZ(MPI_Comm comm, const CompareOptions &o, const std::vector<CurveScore> &scores,
+                          const std::vector<std::string> &classLegends) {
   PetscFunctionBeginUser;
   const TimeSpan &w = o.windows.front();
   std::vector<std::string> args{o.output, "-o", o.png, "--title", o.title, "--window",
                                 exactNumber(w.begin) + "," + exactNumber(w.end)};
+  if (!classLegends.empty()) args.insert(args.end(), {"--classes", classesFile(o.output)});
+  for (const auto &text : classLegends) args.insert(args.end(), {"--class-legend", text});
   for (const auto &label : o.labels) {
     char text[200] = "";
     for (const CurveScore &c : scores)
-      if (c.run == label && c.score.windowBegin == w.begin && c.score.windowEnd == w.end)
+      if (c.run == label && c.curve == "delta_z" && c.score.windowBegin == w.begin && c.score.windowEnd == w.end)
         std::snprintf(text, sizeof text, "%s: $\\Delta_\\mathrm{seg}$ = %.0f %%, RMS/peak = %.2f", label.c_str(),
                       c.score.segregationError, c.score.rmsRelative);
     args.insert(args.end(), {"--legend", text});
@@ -175,22 +211,48 @@ PetscErrorCode drawFiles(MPI_Comm comm, const CompareOptions &o, const char *scr
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
-/// Rank 0: Delta z or d32 curves over time.
-void compareCurves(const CompareOptions &o, const CsvTable &refTable, std::vector<CurveScore> *scores) {
+/// Rank 0: Delta z or d32 curves over time; of centre-of-gravity files also
+/// every class.  *classLegends: when the classes CSV was written, a legend
+/// for each run's class curves (with its poly-disperse number).
+void compareCurves(const CompareOptions &o, const CsvTable &refTable, std::vector<CurveScore> *scores,
+                   std::vector<std::string> *classLegends) {
   const CurveSet ref = readCurves(refTable, 0.0);
-  std::vector<CurveSet> runs;
+  const bool cog = answerFileKind(refTable) == AnswerFile::centresOfGravity;
+  const ClassCurveSet refClasses = cog ? readClassCurves(refTable, 0.0) : ClassCurveSet{};
+  std::vector<CurveSet> runs, runClasses;
+  std::vector<CurveScore> classScores;
+  std::vector<PolydisperseScore> polys;
+  std::vector<std::string> notes;
   for (std::size_t i = 0; i < o.runs.size(); ++i) {
-    runs.push_back(readCurves(CsvTable::read(o.runs[i], "run's file"), o.offset));
+    const CsvTable table = CsvTable::read(o.runs[i], "run's file");
+    runs.push_back(readCurves(table, o.offset));
     const auto s = scoreCurves(ref, runs.back(), o.labels[i], o.windows);
     scores->insert(scores->end(), s.begin(), s.end());
+    if (!cog) continue;
+    const ClassComparison c = compareClasses(refClasses, readClassCurves(table, o.offset), o.labels[i], o.windows);
+    runClasses.push_back(c.matched);
+    classScores.insert(classScores.end(), c.scores.begin(), c.scores.end());
+    notes.insert(notes.end(), c.notes.begin(), c.notes.end());
+    if (c.hasPolydisperse) polys.push_back(c.polydisperse);
+    char text[200];
+    std::snprintf(text, sizeof text, "%s: poly-disperse %.2f of the largest class's peak", o.labels[i].c_str(),
+                  c.polydisperse.rmsRelative);
+    classLegends->push_back(c.hasPolydisperse ? text : o.labels[i]);
   }
+  printClassScores(classScores, polys, notes);
   if (ref.names == std::vector<std::string>{"delta_z"}) printDeltaZScores(o.reference, *scores);
   else printCurveScores(o.reference, *scores);
+  if (classScores.empty() || o.output.empty()) classLegends->clear(); // no classes CSV, no class panel
   if (!o.output.empty()) {
     writeCurvesSideBySide(o.output, ref, runs, o.labels);
     std::printf("Wrote %s\n", o.output.c_str());
+    if (!classLegends->empty()) {
+      writeCurvesSideBySide(classesFile(o.output), refClasses.curves, runClasses, o.labels);
+      std::printf("Wrote %s\n", classesFile(o.output).c_str());
+    }
   }
-  if (!o.scores.empty()) writeCurveScores(o.scores, o.reference, *scores);
+  scores->insert(scores->end(), classScores.begin(), classScores.end()); // after the curves' rows, as written
+  if (!o.scores.empty()) writeCurveScores(o.scores, o.reference, *scores, polydisperseRows(polys));
 }
 
 /// Rank 0: vertical profiles.
@@ -323,16 +385,17 @@ PetscErrorCode compareCommand(MPI_Comm comm) {
   // The Delta z figure is drawn from the curves CSV: by default the PNG's name with .csv.
   if (k == AnswerFile::centresOfGravity && o.output.empty() && !o.png.empty()) o.output = sibling(o.png, ".csv");
   std::vector<CurveScore> scores; // rank 0's
+  std::vector<std::string> classLegends; // rank 0's
   PetscCall(collectively(comm, [&] {
     if (rank != 0) return;
     const CsvTable ref = CsvTable::read(o.reference, "reference file");
-    if (k == AnswerFile::centresOfGravity || k == AnswerFile::bottomLayer) compareCurves(o, ref, &scores);
+    if (k == AnswerFile::centresOfGravity || k == AnswerFile::bottomLayer) compareCurves(o, ref, &scores, &classLegends);
     if (k == AnswerFile::profiles) compareProfileFiles(o, ref);
     if (k == AnswerFile::halves) compareHalvesFiles(o, ref);
     if (!o.scores.empty()) std::printf("Wrote %s\n", o.scores.c_str());
   }, PETSC_ERR_USER_INPUT));
   if (o.png.empty()) PetscFunctionReturn(PETSC_SUCCESS);
-  if (k == AnswerFile::centresOfGravity) PetscCall(drawDeltaZ(comm, o, scores));
+  if (k == AnswerFile::centresOfGravity) PetscCall(drawDeltaZ(comm, o, scores, classLegends));
   if (k == AnswerFile::profiles) PetscCall(drawFiles(comm, o, "compare_profiles.py"));
   if (k == AnswerFile::halves) PetscCall(drawFiles(comm, o, "compare_halves.py"));
   PetscFunctionReturn(PETSC_SUCCESS);
