@@ -13,7 +13,8 @@
 // bound on where mass can be as the shift and the drift keep it; the size
 // laws against hand values (fixed and local d32), the drag law's zero net
 // volume, a user-registered law, and a fixed agitation reference that makes
-// two beds at different agitation drift alike per unit agitation.
+// two beds at different agitation drift alike per unit agitation, and the
+// excess-gas scale against u_sup - u_mf worked out by hand.
 // Runs at 1 and 2 ranks.  Every PETSc call is checked with PetscCallAbort:
 // an error (a database that does not load, a set-up or step that fails)
 // stops the test with PETSc's message and a non-zero exit, never a silent pass.
@@ -1012,6 +1013,48 @@ void agitationReference() {
   RCFD_CHECK_CLOSE(ref1, own1, 1e-12 * own1); // a = a_ref dt_rec: the factor is 1
 }
 
+// -drift_excess_gas: every velocity times u_sup - u_mf, u_mf by Wen & Yu
+// at the inventory's d32 in the run's gas (worked out here by hand); two
+// beds at 1.2 and 1.6 m/s move in that ratio, a bed below u_mf does not
+// drift at all, and a run that knows no u_sup is refused.
+void excessGas() {
+  auto db = twoCells();
+  FractionSet set({1e-3, 3e-3}, {0.5, 0.5});
+  const auto m0 = uniformState(db->mesh(), {0.5, 0.5}, set);
+  const double d32 = 1.0 / (0.5 / 1e-3 + 0.5 / 3e-3), rhoG = 1.189, nu = 1e-5, mu = rhoG * nu;
+  const Vec3 g = db->metadata().gravity;
+  const double gravity = std::sqrt(g[0] * g[0] + g[1] * g[1] + g[2] * g[2]);
+  const double ar = gravity * d32 * d32 * d32 * rhoG * (1440.0 - rhoG) / (mu * mu);
+  const double umf = (std::sqrt(33.7 * 33.7 + 0.0408 * ar) - 33.7) * mu / (rhoG * d32);
+  auto run = [&](double usup, double *factor) {
+    OperatingConditions c;
+    c.superficialVelocity = usup;
+    c.gasDensity = rhoG;
+    c.gasKinematicViscosity = nu;
+    RunContext ctx{*db, set, 1440.0, &c};
+    auto drift = makeOperator<DriftOperator>("-size_law drag -kd 0.05 -excess_gas");
+    PetscCallAbort(PETSC_COMM_WORLD, drift->setUp(ctx));
+    *factor = drift->excessGasFactor();
+    return stepFrames(*db, *drift, m0, 2, 1);
+  };
+  double f1, f2, f0;
+  const auto m1 = run(1.2, &f1), m2 = run(1.6, &f2), still = run(0.5 * umf, &f0);
+  PetscPrintf(PETSC_COMM_WORLD, "excess gas: u_mf %.6f m/s by hand; factors %.15g, %.15g; moved ratio %.15g\n", umf,
+              f1, f2, (m2[2] - m0[2]) / (m1[2] - m0[2]));
+  RCFD_CHECK_CLOSE(f1, 1.2 - umf, 1e-12);
+  RCFD_CHECK_CLOSE(f2, 1.6 - umf, 1e-12);
+  RCFD_CHECK(m1[2] > m0[2]);
+  RCFD_CHECK_CLOSE((m2[2] - m0[2]) / (m1[2] - m0[2]), (1.6 - umf) / (1.2 - umf), 1e-12);
+  RCFD_CHECK(f0 == 0.0 && still == m0);
+  // No u_sup from the case or the database: refused, not the default 1.1 m/s.
+  RunContext none{*db, set, 1440.0};
+  auto drift = makeOperator<DriftOperator>("-size_law drag -kd 0.05 -excess_gas");
+  PetscCallAbort(PETSC_COMM_WORLD, PetscPushErrorHandler(PetscReturnErrorHandler, nullptr));
+  const PetscErrorCode refused = drift->setUp(none);
+  PetscCallAbort(PETSC_COMM_WORLD, PetscPopErrorHandler());
+  RCFD_CHECK(refused != 0);
+}
+
 int main(int argc, char **argv) {
   PetscCall(PetscInitialize(&argc, &argv, nullptr, nullptr));
   dir = rcfd::test::rankCountDirectory(argc, argv, "drift");
@@ -1038,6 +1081,7 @@ int main(int argc, char **argv) {
   noNetVolume();
   userSizeLaw();
   agitationReference();
+  excessGas();
   const int total = rcfd::test::globalFailures();
   PetscCall(PetscFinalize());
   return total == 0 ? 0 : 1;
