@@ -12,20 +12,22 @@
 namespace rcfd {
 
 class AgitationField;
+class MeasuredDriftField;
 
 /// Drift of each fraction along -gravity: u_d,i = -k_d (d_i^2 - d32^2)
 /// (model A), -k_d (d_i - d32)|d_i - d32| (model B), or given velocities
-/// (model constant); positive is upward.  Each face swaps equal bulk masses,
+/// (model constant), or the velocities the particle data show per frame
+/// and region (model measured, rcfd/measured_drift_field.hpp); positive is upward.  Each face swaps equal bulk masses,
 /// so every cell keeps the bulk solid mass the database gives it and only
 /// its composition changes.  Options (prefix drift_): -drift_model
-/// A|B|constant|none, -drift_kd [1/(m s)], -drift_velocities [m/s per
+/// A|B|constant|none|measured, -drift_kd [1/(m s)], -drift_velocities [m/s per
 /// fraction], -drift_d32 [m] (override), -drift_local_d32, -drift_hindered,
 /// -drift_alpha_max, -drift_alpha_min, -drift_max_share,
 /// -drift_max_substeps, -drift_every N (the drift of N steps every N steps),
 /// -drift_view [viewer].
 class DriftOperator : public SwapOperator {
 public:
-  enum class Model { A, B, Constant, None };
+  enum class Model { A, B, Constant, None, Measured };
   DriftOperator();
   ~DriftOperator() override;
   std::string type() const override { return "drift"; }
@@ -103,6 +105,10 @@ private:
   std::vector<std::vector<double>> scaleByFrame;
   std::vector<double> largestScaleByFrame;
   double meanFactor = 1.0;
+  // -drift_model measured: the database's field, and the largest |u| of the
+  // step's frame (for the sub-step rule).
+  std::shared_ptr<MeasuredDriftField> measured;
+  double measuredSpeed = 0.0;
 };
 
 } // namespace rcfd

@@ -3,6 +3,7 @@
 #include "base/petsc_compat.hpp"
 
 #include "rcfd/agitation.hpp"
+#include "rcfd/measured_drift_field.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -17,7 +18,7 @@ DriftOperator::DriftOperator() = default;
 DriftOperator::~DriftOperator() = default;
 
 PetscErrorCode DriftOperator::setFromOptions(MPI_Comm comm) {
-  const char *models[] = {"A", "B", "constant", "none"};
+  const char *models[] = {"A", "B", "constant", "none", "measured"};
   PetscInt which = static_cast<PetscInt>(model);
   PetscReal velocities[256] = {0.0}; // -help prints the first entry
   PetscInt nv = 256;
@@ -26,8 +27,8 @@ PetscErrorCode DriftOperator::setFromOptions(MPI_Comm comm) {
   std::snprintf(agitationText, sizeof agitationText, "%s", agitationName.c_str());
   PetscFunctionBeginUser;
   PetscOptionsBegin(comm, prefix.c_str(), "Fractional drift (face swaps along gravity)", "rcfd");
-  PetscCall(PetscOptionsEList("-model", "Drift model: A (d^2), B (d|d|), constant or none", "",
-                              models, 4, models[which], &which, nullptr));
+  PetscCall(PetscOptionsEList("-model", "Drift model: A (d^2), B (d|d|), constant, none or measured (the database's)",
+                              "", models, 5, models[which], &which, nullptr));
   PetscCall(checkedReal(PetscOptionsObject, "-kd",
                         "Drift constant k_d [1/(m s)] (paper: 5e2 for A, 5e3 for B)", &kd, kNonNegative));
   PetscCall(checkedRealArray(PetscOptionsObject, "-velocities",
@@ -84,6 +85,7 @@ PetscErrorCode DriftOperator::setFromOptions(MPI_Comm comm) {
 
 bool DriftOperator::needed(const RunContext &ctx) const {
   if (ctx.fractions.size() < 2 || model == Model::None) return false;
+  if (model == Model::Measured) return true;
   if (model == Model::Constant)
     return std::any_of(constantVelocity.begin(), constantVelocity.end(),
                        [](double u) { return u != 0.0; });
@@ -96,7 +98,8 @@ double DriftOperator::velocity(int i, double sauter) const {
   case Model::A: return -kd * (d * d - sauter * sauter);
   case Model::B: return -kd * (d - sauter) * std::fabs(d - sauter);
   case Model::Constant: return constantVelocity[i];
-  case Model::None: break;
+  case Model::None:
+  case Model::Measured: break; // per cell and frame: MeasuredDriftField
   }
   return 0.0;
 }
@@ -114,6 +117,7 @@ PetscErrorCode DriftOperator::setUpSwap(const RunContext &ctx) {
              prefix.c_str(), constantVelocity.size(), nf);
   diameter.resize(nf);
   for (int i = 0; i < nf; ++i) diameter[i] = ctx.fractions.diameter(i);
+  measured.reset();
   d32 = d32Override > 0 ? d32Override : ctx.fractions.inventorySauterDiameter();
   velocityCache.resize(nf);
   fixedUp.resize(nf);
@@ -124,6 +128,14 @@ PetscErrorCode DriftOperator::setUpSwap(const RunContext &ctx) {
     fixedDown[i] = std::max(-velocityCache[i], 0.0);
   }
   setUpTables();
+  if (model == Model::Measured) { // the sweep's per-cell speeds come from the database's field
+    PetscCheck(!localD32 && !hindered && !agitation && agitationName == "none", comm, PETSC_ERR_USER_INPUT,
+               "-%smodel measured drifts with the velocities the database measured; -%slocal_d32, -%shindered "
+               "and -%sagitation do not apply to it",
+               prefix.c_str(), prefix.c_str(), prefix.c_str(), prefix.c_str());
+    measured = std::make_shared<MeasuredDriftField>();
+    PetscCall(measured->setUp(ctx.db, diameter, exchange()));
+  }
   PetscCall(setUpScaling(ctx));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
@@ -155,7 +167,7 @@ void DriftOperator::setUpTables() {
   });
   cellSums.assign(gathered, CellSums{});
   live.assign(gathered, 0);
-  cellUp.assign(localD32 ? gathered * nf : 0, 0.0);
+  cellUp.assign(localD32 || model == Model::Measured ? gathered * nf : 0, 0.0);
   cellDown.assign(cellUp.size(), 0.0);
 }
 
@@ -218,6 +230,7 @@ PetscErrorCode DriftOperator::substepsFor(double dt, double largestScale, int *n
   double umax = 0.0;
   if (!localD32) {
     for (double u : velocityCache) umax = std::max(umax, std::fabs(u));
+    if (measured) umax = measuredSpeed;
   } else {
     const double dmin = *std::min_element(diameter.begin(), diameter.end());
     const double dmax = *std::max_element(diameter.begin(), diameter.end());
@@ -245,6 +258,12 @@ PetscErrorCode DriftOperator::apply(const StepInfo &step, FractionState &state) 
              PETSC_ERR_ARG_OUTOFRANGE, "Drift scaled by agitation was given frame %d of %zu",
              step.frame, scaleByFrame.size());
   const double *scale = scaled ? scaleByFrame[step.frame].data() : nullptr;
+  if (measured) {
+    PetscCheck(step.frame >= 0 && step.frame < measured->numFrames(), comm, PETSC_ERR_ARG_OUTOFRANGE,
+               "Measured drift was given frame %d of %d", step.frame, measured->numFrames());
+    measured->speeds(step.frame, cellUp.data(), cellDown.data());
+    measuredSpeed = measured->largestSpeed(step.frame);
+  }
   PetscCall(substepsFor(dt, scaled ? largestScaleByFrame[step.frame] : 1.0, &n));
   for (int s = 0; s < n; ++s) PetscCall(substep(dt / n, scale, state));
   countStep(n);
@@ -303,7 +322,7 @@ template <int NF> PetscErrorCode DriftOperator::sweep(double dt, const double *s
   const double *floor = dilute.data(), *full = packed.data();
   const double *upFixed = fixedUp.data(), *downFixed = fixedDown.data();
   double *upLocal = cellUp.data(), *downLocal = cellDown.data();
-  const bool hinder = hindered, local = localD32;
+  const bool hinder = hindered, local = localD32, measuredSpeeds = measured != nullptr;
   const PetscScalar *ownMasses = x.massAt(0), *ghostMasses = nullptr; // the ghosts' after gatherEnd()
   PetscScalar *ownChanges = x.changeInMarked(0), *ghostChanges = x.changeInMarked(own);
 
@@ -346,6 +365,7 @@ template <int NF> PetscErrorCode DriftOperator::sweep(double dt, const double *s
           downLocal[c * n + i] = std::max(-u, 0.0);
         }
       }
+      else if (measuredSpeeds) up = upLocal + c * n, down = downLocal + c * n; // filled by apply()
       double U = 0.0, D = 0.0;
       for (int i = 0; i < n; ++i) U += m[i] * up[i], D += m[i] * down[i];
       sums[c] = {M, 1.0 / M, rate, U, D};
@@ -389,7 +409,7 @@ template <int NF> PetscErrorCode DriftOperator::sweep(double dt, const double *s
   const auto end = std::partition_point(driftFaces.begin(), driftFaces.end(),
                                         [&](const DriftFace &f) { return lastOwnCell(f, own) < top; });
   const DriftFace *faces = driftFaces.data(), *below = faces + (end - driftFaces.begin());
-  if (local) swapFaces(std::true_type{}, faces, below);
+  if (local || measuredSpeeds) swapFaces(std::true_type{}, faces, below);
   else swapFaces(std::false_type{}, faces, below);
   // Both cells of a face that swaps are cells that swap.
   if (first <= last) x.markChanged(first, last + 1);
@@ -398,7 +418,7 @@ template <int NF> PetscErrorCode DriftOperator::sweep(double dt, const double *s
 
 PetscErrorCode DriftOperator::view(PetscViewer viewer) const {
   const char *names[] = {"A: u = -kd (d^2 - d32^2)", "B: u = -kd (d - d32)|d - d32|",
-                         "constant velocities", "none"};
+                         "constant velocities", "none", "measured velocities (the database's field)"};
   PetscFunctionBeginUser;
   PetscCall(PetscViewerASCIIPrintf(viewer, "drift: model %s, kd = %g 1/(m s), d32 = %.4g mm (%s)%s; applied every %d step(s)\n",
                                    names[static_cast<int>(model)], kd, d32 * 1e3,
@@ -409,7 +429,11 @@ PetscErrorCode DriftOperator::view(PetscViewer viewer) const {
                                      agitationExponent, agitationMeasureName(agitation->measure()),
                                      agitation->solidWeightedMean(), agitation->maximum(), meanFactor));
   PetscCall(PetscViewerASCIIPushTab(viewer));
-  for (int i = 0; i < nf; ++i)
+  if (measured)
+    PetscCall(PetscViewerASCIIPrintf(viewer, "measured drift field: regions of %d x %d x %d cells, %zu classes, %d frames\n",
+                                     measured->regions().rx, measured->regions().ry, measured->regions().rz,
+                                     measured->classDiameters().size(), measured->numFrames()));
+  for (int i = 0; i < nf && !measured; ++i)
     PetscCall(PetscViewerASCIIPrintf(viewer, "fraction %d (d = %.4g mm): u_d = %+.4g m/s\n", i,
                                      diameter[i] * 1e3, velocityCache[i]));
   if (isSetUp())
