@@ -29,7 +29,7 @@ struct BuildOutputs {
   std::string database = "particles.h5", initOut;
   double gravity = kGravity;
   PetscBool quiet = PETSC_FALSE;
-  DriftRegions driftRegions{1, 1, 1}; // of /extra/measured_drift_field (docs/drift.md, "Measured-drift replay")
+  DriftRegions driftRegions{2, 2, 2}; // of /extra/measured_drift_field (docs/drift.md, "Measured-drift replay")
 };
 
 PetscErrorCode readBuildOptions(MPI_Comm comm, BuildOutputs *o) {
