@@ -39,6 +39,13 @@ if run "build" "$rcfd" build "${common[@]}" -o "$db" -init_out "$work/init.h5" -
   same "T_1 val" "$("$h5print" "$db" /frames/000001/shift_val)" "1 1 1 1"
   grep -q "^snapshots 3, frames 2, cells 4, particles 2" \
     <<<"$("$h5print" "$db" /metadata build_report string)" && ok || fail "build_report attribute"
+  # The measured drift field: one region (2 x 2 x 2 cells by default) holds the mesh.  Frame 0: in
+  # cell 0 the small particle rises 11 mm and the large sinks 1 mm, the cell's bulk (11 m - 8 m) / 9 m
+  # = 1/3 mm; frame 1: each alone in its cell, so no velocity relative to its bulk.
+  same "drift field layout" "$("$h5print" "$db" /extra/measured_drift_field_layout)" "2 2 2 0.001 0.002"
+  same "drift field" "$("$h5print" "$db" /extra/measured_drift_field)" \
+    "$(awk -v m="$m" 'BEGIN { printf "%.17g 1 %.17g %.17g 1 %.17g 0 1 %.17g 0 1 %.17g",
+                              (0.011 - 0.001 / 3) / 0.1, m, (-0.001 - 0.001 / 3) / 0.1, 8 * m, m, 8 * m }')" 1e-14
   # The initial composition: both classes in cell 0, ascending diameters.
   same "init masses" "$("$h5print" "$work/init.h5" /masses)" \
     "$m $(awk -v m="$m" 'BEGIN { printf "%.17g", 8 * m }') 0 0 0 0 0 0"

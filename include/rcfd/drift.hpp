@@ -13,6 +13,7 @@
 namespace rcfd {
 
 class AgitationField;
+class MeasuredDriftField;
 
 /// Drift of each fraction along -gravity by a registered size law
 /// (rcfd/size_law.hpp): u_d,i = k_d g(d_i, d32), e.g. -k_d (d_i^2 - d32^2)
@@ -24,13 +25,17 @@ class AgitationField;
 /// the laws of those names), -drift_kd [the law's unit], -drift_velocities
 /// [m/s per fraction], -drift_d32 [m] (override), -drift_local_d32,
 /// -drift_hindered, -drift_alpha_max, -drift_alpha_min, -drift_max_share,
+/// -drift_model measured (the database's measured velocities per frame and
+/// region, rcfd/measured_drift_field.hpp),
 /// -drift_max_substeps, -drift_every N (the drift of N steps every N steps),
 /// -drift_agitation, -drift_agitation_exponent, -drift_agitation_reference,
 /// -drift_view [viewer].
 class DriftOperator : public SwapOperator {
 public:
   /// SizeLaw: u from the size law (A, B, drag, ...); Constant: given velocities.
-  enum class Model { SizeLaw, Constant, None };
+  /// Measured: the velocities the particle data show per frame and region
+  /// (rcfd/measured_drift_field.hpp, -drift_model measured).
+  enum class Model { SizeLaw, Constant, None, Measured };
   /// Knows the built-in size laws.
   DriftOperator();
   /// Knows the given laws (e.g. an OperatorRegistry's sizeLaws()).
@@ -144,6 +149,10 @@ private:
   std::vector<std::vector<double>> scaleByFrame;
   std::vector<double> largestScaleByFrame;
   double meanFactor = 1.0;
+  // -drift_model measured: the database's field, and the largest |u| of the
+  // step's frame (for the sub-step rule).
+  std::shared_ptr<MeasuredDriftField> measured;
+  double measuredSpeed = 0.0;
 };
 
 } // namespace rcfd

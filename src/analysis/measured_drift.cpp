@@ -58,18 +58,12 @@ MeasuredDrift::MeasuredDrift(SizeClasses c, AxisMap a, BoxSpec m)
   binMass.assign(kAgitationBins, 0.0);
 }
 
-void MeasuredDrift::add(const ParticleSnapshot &before, const ParticleSnapshot &after, double dt) {
-  if (!(dt > 0.0)) throw std::invalid_argument("measured drift: the time between snapshots must be positive");
+std::vector<MatchedParticle> matchParticles(const ParticleSnapshot &before, const ParticleSnapshot &after,
+                                            const SizeClasses &classes, const AxisMap &axes, const BoxSpec &mesh) {
   std::unordered_map<int64_t, std::size_t> later;
   later.reserve(after.size());
   for (std::size_t q = 0; q < after.size(); ++q) later.emplace(after.id[q], q);
-  // Particles seen in both: cell at `before`, class, mass and vertical displacement.
-  struct Moved {
-    int cell, cls;
-    double mass, dz;
-    bool left; // in another cell, or outside, after dt
-  };
-  std::vector<Moved> moved;
+  std::vector<MatchedParticle> moved;
   moved.reserve(before.size());
   for (std::size_t p = 0; p < before.size(); ++p) {
     const auto it = later.find(before.id[p]);
@@ -80,6 +74,12 @@ void MeasuredDrift::add(const ParticleSnapshot &before, const ParticleSnapshot &
     if (cls < 0 || cell < 0) continue;
     moved.push_back({cell, cls, before.mass[p], x1[2] - x0[2], mesh.locate(x1) != cell});
   }
+  return moved;
+}
+
+void MeasuredDrift::add(const ParticleSnapshot &before, const ParticleSnapshot &after, double dt) {
+  if (!(dt > 0.0)) throw std::invalid_argument("measured drift: the time between snapshots must be positive");
+  const std::vector<MatchedParticle> moved = matchParticles(before, after, classes, axes, mesh);
   // The bulk's displacement per cell, mass-weighted.
   std::unordered_map<int, std::pair<double, double>> bulk; // cell -> (sum m dz, sum m)
   std::unordered_map<int, double> leftMass;                 // cell -> mass found elsewhere

@@ -15,6 +15,19 @@
 namespace rcfd {
 
 class SizeLaw;
+/// A particle seen in two snapshots: its cell and class at the first, its
+/// mass, its vertical displacement [m] and whether it is in another cell (or
+/// outside the mesh) at the second.
+struct MatchedParticle {
+  int cell, cls;
+  double mass, dz;
+  bool left;
+};
+/// The particles of `before` matched by id in `after` (rcfd coordinates
+/// after `axes`, cells of `mesh`); those in only one snapshot, outside the
+/// mesh at `before` or of no class are left out.
+std::vector<MatchedParticle> matchParticles(const ParticleSnapshot &before, const ParticleSnapshot &after,
+                                            const SizeClasses &classes, const AxisMap &axes, const BoxSpec &mesh);
 
 class MeasuredDrift {
 public:

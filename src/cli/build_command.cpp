@@ -8,6 +8,7 @@
 #include "cli/particle_input.hpp"
 #include "analysis/measured_drift.hpp"
 #include "analysis/particle_reference.hpp"
+#include "analysis/regional_drift.hpp"
 #include "rcfd/database.hpp"
 #include "base/atomic_file.hpp"
 #include "base/collective.hpp"
@@ -28,11 +29,14 @@ struct BuildOutputs {
   std::string database = "particles.h5", initOut;
   double gravity = kGravity;
   PetscBool quiet = PETSC_FALSE;
+  DriftRegions driftRegions{2, 2, 2}; // of /extra/measured_drift_field (docs/drift.md, "Measured-drift replay")
 };
 
 PetscErrorCode readBuildOptions(MPI_Comm comm, BuildOutputs *o) {
   char db[PETSC_MAX_PATH_LEN], init[PETSC_MAX_PATH_LEN] = "";
   PetscBool setInit = PETSC_FALSE;
+  PetscInt region[3] = {o->driftRegions.rx, o->driftRegions.ry, o->driftRegions.rz}, nregion = 3;
+  PetscBool setRegion = PETSC_FALSE;
   PetscFunctionBeginUser;
   std::snprintf(db, sizeof db, "%s", o->database.c_str());
   PetscOptionsBegin(comm, nullptr,
@@ -47,7 +51,13 @@ PetscErrorCode readBuildOptions(MPI_Comm comm, BuildOutputs *o) {
   PetscCall(checkedReal(PetscOptionsObject, "-gravity",
                         "Magnitude of gravity [m/s^2]", &o->gravity, kPositive));
   PetscCall(PetscOptionsBool("-quiet", "No progress or report", "", o->quiet, &o->quiet, nullptr));
+  PetscCall(checkedIntArray(PetscOptionsObject, "-measured_drift_region",
+                            "Cells nx,ny,nz per region of the measured drift field (-drift_model measured)", region,
+                            &nregion, &setRegion));
   PetscOptionsEnd();
+  PetscCheck(!setRegion || (nregion == 3 && region[0] >= 1 && region[1] >= 1 && region[2] >= 1), comm,
+             PETSC_ERR_USER_INPUT, "-measured_drift_region takes three positive cell counts nx,ny,nz");
+  o->driftRegions = {static_cast<int>(region[0]), static_cast<int>(region[1]), static_cast<int>(region[2])};
   PetscCheck(o->gravity > 0, comm, PETSC_ERR_USER_INPUT, "-gravity must be positive");
   o->database = db;
   if (setInit) o->initOut = init;
@@ -195,11 +205,13 @@ PetscErrorCode buildCommand(MPI_Comm comm) {
     builder.add(first);
     // Each size class's drift relative to its cell's bulk, stored for rcfd calibrate.
     MeasuredDrift measured(SizeClasses::cluster(first.diameter, in.classTolerance), opt.axes, box);
+    RegionalDrift regional(SizeClasses::cluster(first.diameter, in.classTolerance), opt.axes, box, out.driftRegions);
     ParticleSnapshot previous = first;
     for (std::size_t k = 1; k < sel.size(); ++k) {
       ParticleSnapshot next = readParticleSnapshot(in.files[sel[k]], opt.read);
       builder.add(next);
       measured.add(previous, next, dtRec);
+      regional.add(previous, next, dtRec);
       previous = std::move(next);
       const auto now = Clock::now();
       if (talk && (now - lastPrint > std::chrono::seconds(2) || k + 1 == sel.size())) {
@@ -237,11 +249,20 @@ PetscErrorCode buildCommand(MPI_Comm comm) {
                        "leaving share, then the columns of measured_drift (mass share within the bin)");
     writer.writeMatrix("measured_agitation_mean", {measured.meanAgitation()}, 1,
                        "mass-weighted mean leaving share of the matched particles' cells (a bar)");
+    writer.writeMatrix(kMeasuredDriftLayoutName, regional.layoutRow(), static_cast<int>(regional.layoutRow().size()),
+                       "region size of measured_drift_field in cells (nx, ny, nz), then its size classes' "
+                       "diameters [m]");
+    writer.writeMatrix(kMeasuredDriftFieldName, regional.table(), regional.columns(),
+                       "per frame (rows frame-major), region and size class: the mass-weighted mean vertical "
+                       "velocity relative to the bulk solid of the particle's cell, up positive [m/s] (0 where "
+                       "the class has no particle), the particles and their mass [kg]");
     writer.finish();
     if (initial) initial();
     if (talk)
-      std::printf("Wrote %s: %zu frames every %.6g s\n%s\n", out.database.c_str(), rep.frames,
-                  dtRec, rep.summary().c_str());
+      std::printf("Wrote %s: %zu frames every %.6g s\n%s\nmeasured drift field: regions of %d x %d x %d cells, "
+                  "%.0f %% of its occupied entries rest on fewer than 10 particles\n",
+                  out.database.c_str(), rep.frames, dtRec, rep.summary().c_str(), out.driftRegions.rx,
+                  out.driftRegions.ry, out.driftRegions.rz, 100.0 * regional.shareBelow(10));
   }));
   PetscFunctionReturn(PETSC_SUCCESS);
 }

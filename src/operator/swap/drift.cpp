@@ -4,6 +4,7 @@
 #include "database/fluidization_model.hpp"
 
 #include "rcfd/agitation.hpp"
+#include "rcfd/measured_drift_field.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -29,9 +30,10 @@ void DriftOperator::setSizeLaw(const std::string &name) {
 // -drift_model A|B is the size law of that name; -drift_size_law chooses any
 // registered law and overrides -drift_model A|B.
 PetscErrorCode DriftOperator::setFromOptions(MPI_Comm comm) {
-  const char *models[] = {"A", "B", "constant", "none"};
+  const char *models[] = {"A", "B", "constant", "none", "measured"};
   const bool plain = model == Model::SizeLaw && (lawName == "A" || lawName == "B");
-  PetscInt which = model == Model::Constant ? 2 : model == Model::None ? 3 : plain && lawName == "A" ? 0 : 1;
+  PetscInt which = model == Model::Constant ? 2 : model == Model::None ? 3 : model == Model::Measured ? 4
+                   : plain && lawName == "A" ? 0 : 1;
   PetscReal velocities[256] = {0.0}; // -help prints the first entry
   PetscInt nv = 256;
   PetscBool setV = PETSC_FALSE, setModel = PETSC_FALSE, setLaw = PETSC_FALSE, setKd = PETSC_FALSE;
@@ -41,8 +43,10 @@ PetscErrorCode DriftOperator::setFromOptions(MPI_Comm comm) {
   const std::string lawHelp = "Size law of the drift velocity (docs/drift.md): " + known.listing();
   PetscFunctionBeginUser;
   PetscOptionsBegin(comm, prefix.c_str(), "Fractional drift (face swaps along gravity)", "rcfd");
-  PetscCall(PetscOptionsEList("-model", "Drift model: A (d^2), B (d|d|), constant or none (A, B: size laws)", "",
-                              models, 4, models[which], &which, &setModel));
+  PetscCall(PetscOptionsEList("-model",
+                              "Drift model: A (d^2), B (d|d|), constant, none or measured (the database's field; A, "
+                              "B: size laws)",
+                              "", models, 5, models[which], &which, &setModel));
   PetscCall(PetscOptionsString("-size_law", lawHelp.c_str(), "", lawText, lawText, sizeof lawText, &setLaw));
   PetscCall(checkedReal(PetscOptionsObject, "-kd",
                         "Drift constant k_d in the size law's unit: 1/(m s) for A and B (paper: 5e2 for A, 5e3 "
@@ -108,7 +112,7 @@ PetscErrorCode DriftOperator::setFromOptions(MPI_Comm comm) {
                prefix.c_str(), name.c_str(), known.listing().c_str());
     PetscCallCXX(setSizeLaw(name));
   } else if (setModel) {
-    model = chosen == "constant" ? Model::Constant : Model::None;
+    model = chosen == "constant" ? Model::Constant : chosen == "measured" ? Model::Measured : Model::None;
   }
   if (model == Model::SizeLaw) {
     PetscCheck(law, comm, PETSC_ERR_USER_INPUT, "-%ssize_law %s is not a known size law; known: %s",
@@ -141,6 +145,7 @@ PetscErrorCode DriftOperator::setFromOptions(MPI_Comm comm) {
 
 bool DriftOperator::needed(const RunContext &ctx) const {
   if (ctx.fractions.size() < 2 || model == Model::None) return false;
+  if (model == Model::Measured) return true;
   if (model == Model::Constant)
     return std::any_of(constantVelocity.begin(), constantVelocity.end(),
                        [](double u) { return u != 0.0; });
@@ -186,6 +191,15 @@ PetscErrorCode DriftOperator::setUpSwap(const RunContext &ctx) {
     fixedDown[i] = std::max(-velocityCache[i], 0.0);
   }
   setUpTables();
+  measured.reset();
+  if (model == Model::Measured) { // the sweep's per-cell speeds come from the database's field
+    PetscCheck(!localD32 && !hindered && !agitation && agitationName == "none", comm, PETSC_ERR_USER_INPUT,
+               "-%smodel measured drifts with the velocities the database measured; -%slocal_d32, -%shindered "
+               "and -%sagitation do not apply to it",
+               prefix.c_str(), prefix.c_str(), prefix.c_str(), prefix.c_str());
+    measured = std::make_shared<MeasuredDriftField>();
+    PetscCall(measured->setUp(ctx.db, diameter, exchange()));
+  }
   PetscCall(setUpScaling(ctx));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
@@ -245,7 +259,7 @@ void DriftOperator::setUpTables() {
   });
   cellSums.assign(gathered, CellSums{});
   live.assign(gathered, 0);
-  cellUp.assign(localD32 ? gathered * nf : 0, 0.0);
+  cellUp.assign(localD32 || model == Model::Measured ? gathered * nf : 0, 0.0);
   cellDown.assign(cellUp.size(), 0.0);
 }
 
@@ -319,6 +333,7 @@ PetscErrorCode DriftOperator::substepsFor(double dt, double largestScale, int *n
   double umax = 0.0;
   if (!localD32 || model != Model::SizeLaw) {
     for (double u : velocityCache) umax = std::max(umax, std::fabs(u));
+    if (measured) umax = measuredSpeed;
   } else {
     const double dmin = *std::min_element(diameter.begin(), diameter.end());
     const double dmax = *std::max_element(diameter.begin(), diameter.end());
@@ -345,6 +360,12 @@ PetscErrorCode DriftOperator::apply(const StepInfo &step, FractionState &state) 
              PETSC_ERR_ARG_OUTOFRANGE, "Drift scaled by agitation was given frame %d of %zu",
              step.frame, scaleByFrame.size());
   const double *scale = scaled ? scaleByFrame[step.frame].data() : nullptr;
+  if (measured) {
+    PetscCheck(step.frame >= 0 && step.frame < measured->numFrames(), comm, PETSC_ERR_ARG_OUTOFRANGE,
+               "Measured drift was given frame %d of %d", step.frame, measured->numFrames());
+    measured->speeds(step.frame, cellUp.data(), cellDown.data());
+    measuredSpeed = measured->largestSpeed(step.frame);
+  }
   PetscCall(substepsFor(dt, scaled ? largestScaleByFrame[step.frame] : 1.0, &n));
   for (int s = 0; s < n; ++s) PetscCall(substep(dt / n, scale, state));
   countStep(n);
@@ -403,7 +424,7 @@ template <int NF> PetscErrorCode DriftOperator::sweep(double dt, const double *s
   const double *floor = dilute.data(), *full = packed.data();
   const double *upFixed = fixedUp.data(), *downFixed = fixedDown.data();
   double *upLocal = cellUp.data(), *downLocal = cellDown.data();
-  const bool hinder = hindered, local = localD32;
+  const bool hinder = hindered, local = localD32, measuredSpeeds = measured != nullptr;
   const PetscScalar *ownMasses = x.massAt(0), *ghostMasses = nullptr; // the ghosts' after gatherEnd()
   PetscScalar *ownChanges = x.changeInMarked(0), *ghostChanges = x.changeInMarked(own);
 
@@ -446,7 +467,7 @@ template <int NF> PetscErrorCode DriftOperator::sweep(double dt, const double *s
           upLocal[c * n + i] = std::max(u[i], 0.0);
           downLocal[c * n + i] = std::max(-u[i], 0.0);
         }
-      }
+      } else if (measuredSpeeds) up = upLocal + c * n, down = downLocal + c * n; // filled by apply()
       double U = 0.0, D = 0.0;
       for (int i = 0; i < n; ++i) U += m[i] * up[i], D += m[i] * down[i];
       sums[c] = {M, 1.0 / M, rate, U, D};
@@ -490,7 +511,7 @@ template <int NF> PetscErrorCode DriftOperator::sweep(double dt, const double *s
   const auto end = std::partition_point(driftFaces.begin(), driftFaces.end(),
                                         [&](const DriftFace &f) { return lastOwnCell(f, own) < top; });
   const DriftFace *faces = driftFaces.data(), *below = faces + (end - driftFaces.begin());
-  if (local) swapFaces(std::true_type{}, faces, below);
+  if (local || measuredSpeeds) swapFaces(std::true_type{}, faces, below);
   else swapFaces(std::false_type{}, faces, below);
   // Both cells of a face that swaps are cells that swap.
   if (first <= last) x.markChanged(first, last + 1);
@@ -506,7 +527,8 @@ std::string DriftOperator::kdUnit() const {
 
 PetscErrorCode DriftOperator::view(PetscViewer viewer) const {
   const std::string name = model == Model::SizeLaw ? lawName + ": " + law->formula()
-                           : model == Model::Constant ? "constant velocities" : "none";
+                           : model == Model::Constant ? "constant velocities"
+                           : model == Model::Measured ? "measured velocities (the database's field)" : "none";
   PetscFunctionBeginUser;
   PetscCall(PetscViewerASCIIPrintf(viewer, "drift: model %s, kd = %g %s, d32 = %.4g mm (%s)%s; applied every %d step(s)\n",
                                    name.c_str(), kd, kdUnit().c_str(), d32 * 1e3,
@@ -529,7 +551,11 @@ PetscErrorCode DriftOperator::view(PetscViewer viewer) const {
     PetscCall(PetscViewerASCIIPrintf(viewer, "  a_bar as a rate: %.4g 1/s (a_bar / dt_rec, dt_rec = %g s; the unit of -drift_agitation_reference)\n",
                                      agitation->solidWeightedMean() / database().metadata().dtRec, database().metadata().dtRec));
   PetscCall(PetscViewerASCIIPushTab(viewer));
-  for (int i = 0; i < nf; ++i)
+  if (measured)
+    PetscCall(PetscViewerASCIIPrintf(viewer, "measured drift field: regions of %d x %d x %d cells, %zu classes, %d frames\n",
+                                     measured->regions().rx, measured->regions().ry, measured->regions().rz,
+                                     measured->classDiameters().size(), measured->numFrames()));
+  for (int i = 0; i < nf && !measured; ++i)
     PetscCall(PetscViewerASCIIPrintf(viewer, "fraction %d (d = %.4g mm): u_d = %+.4g m/s\n", i,
                                      diameter[i] * 1e3, velocityCache[i]));
   if (isSetUp())
