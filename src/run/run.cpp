@@ -410,7 +410,11 @@ PetscErrorCode Run::Impl::march() {
     const double t = (s + 1) * dt;
     if (r.stopAtSteady) PetscCall(r.steadyAt(s + 1, t, r.dbFrame(frame), false, &stop));
     if (ledgerOn && !conservative) r.ops.addedMass(&added);
-    if (ledgerOn) PetscCall(r.ledger.check(s + 1, r.fstate, s + 1 == r.steps || stop, conservative ? nullptr : &added));
+    if (ledgerOn) {
+      const double start = MPI_Wtime();
+      PetscCall(r.ledger.check(s + 1, r.fstate, s + 1 == r.steps || stop, conservative ? nullptr : &added));
+      r.ledgerSeconds += MPI_Wtime() - start;
+    }
     if (r.switching) PetscCall(r.followSwitches(s + 1, t, frame));
     PetscCall(r.callMonitors(s + 1, t, r.dbFrame(frame), s + 1 == r.steps || stop));
     if (checkpointSteps && ((s + 1) % checkpointSteps == 0 || stop)) { // the files first: the checkpoint records their lengths
@@ -511,6 +515,18 @@ PetscErrorCode Run::solve() {
       total += e.seconds;
     }
     PetscCall(PetscPrintf(r.comm, "  monitors: %.3g s of the wall (%s)\n", total, costs.c_str()));
+    // And each operator (rank 0's wall time in apply(), waiting at its meetings included).
+    costs.clear();
+    total = 0.0;
+    const auto &ops = r.ops.operators();
+    const auto &opSeconds = r.ops.applySeconds();
+    for (size_t k = 0; k < ops.size() && k < opSeconds.size(); ++k) {
+      std::snprintf(item, sizeof item, "%s%s %.3g s", costs.empty() ? "" : ", ", ops[k]->type().c_str(), opSeconds[k]);
+      costs += item;
+      total += opSeconds[k];
+    }
+    PetscCall(PetscPrintf(r.comm, "  operators: %.3g s of the wall (%s); mass ledger %.3g s\n", total, costs.c_str(),
+                          r.ledgerSeconds));
     if (r.switching)
       PetscCall(PetscPrintf(r.comm, "  databases: %ld switches, %d loads in %.3g s (%.3g s per load), at most %d held at once%s\n",
                             r.switching->numSwitches(), r.switching->set().numLoads(), r.switching->set().loadSeconds(),

@@ -97,6 +97,7 @@ struct Run::Impl {
   PetscViewerFormat viewFormat = PETSC_VIEWER_DEFAULT;
   DatabaseLoadOptions loadOptions;
   double wallStart = 0.0, lastProgress = 0.0;
+  double ledgerSeconds = 0.0; // wall time of the mass ledger's checks while stepping
 };
 
 } // namespace rcfd
