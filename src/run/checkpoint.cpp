@@ -160,7 +160,7 @@ PetscErrorCode Run::Impl::writeCheckpoint(long step) const {
   const PetscErrorCode written = collectively(comm, [&] {
     if (rank != 0) return;
     {
-      h5::File f = h5::File::create(*out);
+      h5::File f = h5::File::create(*out, h5::Checksums::fletcher32); // a damaged checkpoint is refused
       // As PETSc's VecView writes a vector of block size nf (VecLoad reads it).
       f.write("/masses", std::vector<double>(masses, masses + gathered), nf > 1 ? static_cast<hsize_t>(nf) : 0);
       f.writeAttr("/", "format", std::string("rcfd-checkpoint"));
@@ -239,6 +239,9 @@ PetscErrorCode Run::Impl::readCheckpoint() {
           throw h5::Error("-restart '" + restartFile + "' holds " + std::to_string(masses) +
                           " masses in /masses, expected " + std::to_string(cells) + " cells x " +
                           std::to_string(nf) + " fractions");
+        // Read here too, so that their checksums are compared and a damaged
+        // chunk is refused with this sentence (VecLoad below reads them again).
+        if (f.checksums() == h5::Checksums::fletcher32) f.read<double>("/masses");
         step = f.readAttrInt("/", "step");
         pathBytes = f.readAttrInt("/", "path_txt_bytes");
         jumpsRecorded = f.hasAttribute("/", "jumps_csv_bytes");
