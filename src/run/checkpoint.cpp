@@ -18,7 +18,9 @@
 //                      num_cells, database (its path), output_dir (absolute),
 //                      path_txt_bytes (length of OUTPUT_DIR/path.txt at the step),
 //                      jumps_csv_bytes (of OUTPUT_DIR/jumps.csv, -1 before its first row;
-//                      absent from an rcfd that wrote jumps.csv at the run's end)
+//                      absent from an rcfd that wrote jumps.csv at the run's end),
+//                      checksums = "fletcher32" (every dataset and HDF5 record checksummed,
+//                      docs/database-format.md "Checksums"; absent from an rcfd before them)
 // Version 1 (before the time series left the checkpoint) is refused with a sentence.
 #include "path/frame_path.hpp"
 #include "base/petsc_compat.hpp"
