@@ -9,7 +9,8 @@
 # jump across the carry (jumps.csv).  Prints a table per carry (with every
 # setting's deviation from the mean of the four) and writes it to
 # bench/results/stitch_lengths.md and the runs' rows to
-# bench/results/stitch_lengths.csv (docs/figures/stitch_lengths.py draws them).
+# bench/results/stitch_lengths.csv, and 1 s means of delta z over time to
+# bench/results/stitch_lengths_series.csv, drawn by bench/stitch_lengths.py into docs/stitch-lengths.png.
 # Runs already made (OUT/<carry>-<lengths>-s<seed>/done) are reused; RUN=0 makes none (the table of
 # those there).  Carry "column-bed" is -carry_type column -carry_column_bed.
 # usage: [CARRIES="remap column"] [SEEDS="1 2 3"] [JOBS=2] [RUN=0] bench/stitch_lengths.sh [BUILD_DIR] [T_END]
@@ -52,6 +53,19 @@ for c in $carries; do for l in $lengths; do for s in $seeds; do
     END { printf "%s,%s,%s,%.3f,%d,%.2e,%.4f\n", c, l, s, 1e3 * dz / k, n, m, (a - b) / b }' \
     "$dir/jumps.csv" "$dir/cog.csv" >>"$csv"
 done; done; done
+# Delta z over time, 1 s means over the seeds, for the figure (bench/stitch_lengths.py -> docs/stitch-lengths.png).
+series=bench/results/stitch_lengths_series.csv
+echo "carry,min_length,max_length,time_s,delta_z_mm,seeds" >"$series"
+for c in $carries; do for l in $lengths; do
+  dirs=()
+  for s in $seeds; do [ -e "$work/$c-${l/:/-}-s$s/done" ] && dirs+=("$work/$c-${l/:/-}-s$s/cog.csv"); done
+  [ ${#dirs[@]} -gt 0 ] || continue
+  awk -F, -v c="$c" -v l="${l/:/,}" -v n=${#dirs[@]} 'FNR > 1 { b = int($1 - 1e-9); if (b < 0) b = 0; s[b] += $5; k[b]++
+      if (b > last) last = b }
+    END { for (b = 0; b <= last; ++b) printf "%s,%s,%g,%.3f,%d\n", c, l, b + 0.5, 1e3 * s[b] / k[b], n }' \
+    "${dirs[@]}" >>"$series"
+done; done
+"${RCFD_PYTHON:-/usr/bin/python3}" bench/stitch_lengths.py "$series" docs/stitch-lengths.png || echo "(no figure: matplotlib missing?)"
 {
   echo "# delta z against the stitched sequences' length, default bed, bi-narrow, B x (a/ā)^2, $tend s"
   echo "($(date -u +%Y-%m-%dT%H:%MZ); seeds $seeds; mean delta z over $((tend / 2))-$tend s; deviation from the mean of the four settings)"
