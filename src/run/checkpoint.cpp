@@ -343,7 +343,8 @@ PetscErrorCode Run::Impl::jumpsFromPathFile() {
   const double dt = db->metadata().dtRec;
   for (std::size_t s = 0; s + 1 < frames.size(); ++s)
     if (frames[s + 1] != frames[s] + 1)
-      PetscCall(jumps->add(static_cast<long>(s + 1), (s + 1) * dt, frames[s], frames[s + 1], "(not recorded)"));
+      PetscCall(jumps->add(static_cast<long>(s + 1), (s + 1) * dt, frames[s], frames[s + 1], "(not recorded)",
+                                 nullptr, nullptr));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
