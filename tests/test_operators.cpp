@@ -241,7 +241,7 @@ void userCarryKind() {
   ErrorCapture error;
   const PetscErrorCode code = carry->setFromOptions(PETSC_COMM_WORLD);
   RCFD_CHECK(code == PETSC_ERR_USER_INPUT);
-  RCFD_CHECK(contains(error.message(), "-carry_type hlod is not a known carry kind; known kinds: hold, level, remap"));
+  RCFD_CHECK(contains(error.message(), "-carry_type hlod is not a known carry kind; known kinds: column, hold, level, remap"));
 }
 
 // -drift_view ascii:FILE and -shift_view ascii:FILE, through a pipeline made

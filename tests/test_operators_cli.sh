@@ -34,7 +34,7 @@ if run "-carry_type level" "$rcfd" "${common[@]}" -path_type random -carry_type 
 fi
 expect_error "-drift_view prints text: give it no value (stdout) or ascii:FILE" \
   "${common[@]}" -drift_view "binary:$work/drift.bin"
-expect_error "-carry_type bogus is not a known carry kind; known kinds: level, remap" \
+expect_error "-carry_type bogus is not a known carry kind; known kinds: column, level, remap" \
   "${common[@]}" -carry_type bogus
 
 echo "$passed passed, $failures failed"

@@ -128,7 +128,7 @@ fi
 if run "run past the database" run_short "$work/wrapped" -t_end 0.3; then
   [ "$(grep -c "wraps to frame 0 at t = 0.2 s" "$work/out.txt")" = 1 ] && ok ||
     fail "wrap note: $(cat "$work/out.txt")"
-  same "jumps.csv" "$(tail -n +3 "$work/wrapped/jumps.csv" | tr ',' ' ')" "2 0.2 1 0"
+  same "jumps.csv" "$(tail -n +3 "$work/wrapped/jumps.csv" | cut -d, -f1-4 | tr ',' ' ')" "2 0.2 1 0"
   # The same directory again with one pass: the stale jumps.csv goes.
   run "run again inside" run_short "$work/wrapped" -quiet &&
     { [ ! -e "$work/wrapped/jumps.csv" ] && ok || fail "a stale jumps.csv stayed"; }

@@ -2,7 +2,8 @@
 # A stitched run restarted from its mid-run checkpoint writes the same files,
 # byte for byte, as one uninterrupted run, at 1 and 2 ranks: restarted into
 # its own output directory (the time series are cut back to the checkpoint's
-# step and appended to) and into another one (they are copied first), with
+# step and appended to) and into another one (they are copied first;
+# jumps.csv, with delta z and z_cog around every carry, among them), with
 # another -t_end.  A restart that would change the physics -- another
 # database of the same mesh, other diameters, another pipeline, another
 # operator option -- is refused with one sentence naming what differs.
@@ -10,7 +11,7 @@
 set -eu
 rcfd=$1 data=$3
 source "$4/tests/script_helpers.sh"
-series=(cog.csv mixing.csv bottom.csv path.txt)
+series=(cog.csv mixing.csv bottom.csv path.txt jumps.csv)
 common=(-db "$data/default.h5" -db_frames 0,99 -quiet -fields 0 -plot 0 -monitor_digits 17 -path_type random
   -path_seed 11 -fractions_diameters 1.459e-3,4.075e-3 -fractions_mass_shares 0.564,0.436 -mixing_index
   -bottom_layer)

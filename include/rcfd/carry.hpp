@@ -13,15 +13,22 @@ namespace rcfd {
 /// frame does not follow its frame (a stitching jump, or replay wrapping),
 /// the state's bulk mass per cell differs from the next frame's alpha_s.
 /// How it is carried is a registered kind (rcfd/carry_kind.hpp):
-///  - remap (default): every cell keeps its composition (mass shares of the
+///  - column (default): in every vertical column the fractions keep their
+///    order by height: each fraction's mass is handed to the next frame's
+///    cells by cumulative bulk mass from the bottom (monotone transport);
+///    solid a column gains or loses crosses between columns at their tops.
+///    The bulk then matches the next frame's to round-off.  Needs a box mesh
+///    with gravity along one of its axes; -carry_column_bed takes the whole
+///    bed as one column (cells by height).
+///  - remap: every cell keeps its composition (mass shares of the
 ///    fractions; a cell that was empty takes its neighbours') and takes the
 ///    next frame's bulk mass; one factor per fraction, the same in every
 ///    cell, then restores each fraction's total exactly.
 ///  - level: sweeps move mixture from over- to under-filled neighbours
 ///    (strictly local, but it cannot move mass far: bubbles in other places
 ///    leave a large mismatch).
-/// Both keep every fraction's total and never make a mass negative.
-/// Options (prefix carry_): -carry_type remap|level|<registered kind>,
+/// All keep every fraction's total and never make a mass negative.
+/// Options (prefix carry_): -carry_type column|remap|level|<registered kind>,
 /// -carry_sweeps (level, per jump, default 20), -carry_sweeps_per_step
 /// (level), -carry_view [viewer].  See docs/paths.md.
 class CarryOperator : public SwapOperator {
@@ -44,7 +51,7 @@ public:
 
 private:
   CarryKindRegistry known;
-  std::string name = "remap";
+  std::string name = "column";
   std::unique_ptr<CarryKind> kind;
 };
 

@@ -1,7 +1,7 @@
 // Carry kinds: how the `carry` operator takes the state across a jump
 // between frames, where the state's bulk mass per cell no longer matches the
 // next frame's alpha_s.  Kinds are registered by name like operators and
-// chosen with -carry_type; rcfd has `remap` (default) and `level` (see
+// chosen with -carry_type; rcfd has `column` (default), `remap` and `level` (see
 // rcfd/carry.hpp, docs/paths.md), and a user adds one with
 //   registry.carryKinds().add("mine", [] { return std::make_unique<MyCarry>(); }, "what it does");
 #pragma once
@@ -48,7 +48,7 @@ using CarryKindFactory = std::function<std::unique_ptr<CarryKind>()>;
 /// CarryOperator made without one).
 class CarryKindRegistry : public NamedFactories<CarryKindFactory> {
 public:
-  /// remap and level.
+  /// column, remap and level.
   static CarryKindRegistry withBuiltins();
   /// Throws std::invalid_argument listing the known kinds if `name` is unknown.
   std::unique_ptr<CarryKind> create(const std::string &name) const {

@@ -94,6 +94,9 @@ struct DatabaseLoadOptions {
 struct DatabaseHeader {
   std::string identity;
   long long formatVersion = 0; ///< of the file (docs/database-format.md, "Versions")
+  /// Whether the file carries checksums (docs/database-format.md, "Checksums"):
+  /// then every byte the load reads is checked; an older file's cannot be.
+  bool checksummed = false;
   Mesh mesh;
   DatabaseMetadata metadata;
   int numFrames = 0;     ///< in the window of DatabaseLoadOptions
@@ -140,6 +143,9 @@ public:
   const std::string &identity() const { return identity_; }
   /// Format version of the file it was loaded from (0: made in memory).
   long long formatVersion() const { return formatVersion_; }
+  /// Whether the file it was loaded from carries checksums, so that what was
+  /// loaded was checked (docs/database-format.md, "Checksums").
+  bool checksummed() const { return checksummed_; }
   const Mesh &mesh() const { return mesh_; }
   const Layout &layout() const { return layout_; }
   const DatabaseMetadata &metadata() const { return meta; }
@@ -181,6 +187,7 @@ public:
 private:
   std::string path_, identity_;
   long long formatVersion_ = 0;
+  bool checksummed_ = false;
   Mesh mesh_;
   Layout layout_;
   DatabaseMetadata meta;

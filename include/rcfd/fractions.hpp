@@ -57,6 +57,15 @@ public:
   void swap() { std::swap(current, spare); }
   /// Total mass of each fraction (collective).
   PetscErrorCode totals(std::vector<double> *perFraction) const;
+  /// Not collective.  This rank's part of totals(), summed cell by cell from
+  /// the first (the order totals() adds in): the sums said with
+  /// setLocalTotals() while they hold, else a pass over the occupied cells.
+  PetscErrorCode localTotals(std::vector<double> *perFraction) const;
+  /// Not collective.  Says, right after writing masses(), what this rank's
+  /// cells hold per fraction, summed as localTotals() sums (an operator that
+  /// read every occupied cell while it wrote them); trusted, like the bound
+  /// below, only until the next write.
+  PetscErrorCode setLocalTotals(const std::vector<double> &perFraction);
   /// Smallest mass in any cell and fraction (collective).
   PetscErrorCode minimum(double *value) const;
 
@@ -80,6 +89,11 @@ private:
     PetscObjectState state = 0;
     PetscInt end = 0;
   } occupied;
+  struct KnownSums { // localTotals() said by a writer, valid for one Vec in one state
+    Vec of = nullptr;
+    PetscObjectState state = 0;
+    std::vector<double> sums;
+  } known;
 };
 
 } // namespace rcfd

@@ -38,24 +38,32 @@ protected:
   PetscErrorCode readZone(PetscOptionItems *PetscOptionsObject, MPI_Comm comm);
   /// Resolves the zone on the mesh and checks it holds solid in some frame.
   PetscErrorCode setUpZone(const RunContext &ctx);
-  /// Collective.  Mass of each fraction in the zone's cells (global) into
-  /// `perFraction` (nf numbers); returns their sum in *total.
-  PetscErrorCode zoneMasses(Vec masses, std::vector<double> *perFraction, double *total) const;
+  /// Collective, one reduction.  Mass of each fraction in the zone's cells
+  /// (global) into `perFraction` (nf numbers) and their sum into *total;
+  /// with `bed` also every fraction's total in the whole bed (in the same
+  /// reduction; the bed's own sums come free when the last writer said them,
+  /// FractionState::setLocalTotals).
+  PetscErrorCode zoneMasses(const FractionState &state, std::vector<double> *perFraction, double *total,
+                            std::vector<double> *bed = nullptr) const;
   /// One line: the zone and its cells, the frames in which it is empty, and
   /// (`bulkNote`, for feed and discharge) whether its cells keep their bulk.
   PetscErrorCode viewZone(PetscViewer viewer, bool bulkNote) const;
   /// Reads -<prefix>keep_bulk inside the options block.
   PetscErrorCode readKeepBulk(PetscOptionItems *PetscOptionsObject);
-  /// Collective.  Before the operator changes its zone's cells (with -keep_bulk):
-  /// remembers every fraction's total and each zone cell's bulk.
-  PetscErrorCode rememberBulk(const FractionState &state);
-  /// Collective.  After it added `change` to the fractions (kg, per fraction)
-  /// in its zone: each zone cell that holds mass is scaled back to its bulk
-  /// before (composition kept), then every fraction in the whole bed by one
-  /// factor, s_i = (total_i before + change_i) / total_i now, so the totals
-  /// are what the ledger expects and every cell keeps its bulk (the
-  /// database's) up to the factors' spread, second order in the change.
-  PetscErrorCode restoreBulk(FractionState &state, const std::vector<double> &change) const;
+  /// Keeping the bulk (-keep_bulk), once the operator has scaled each zone
+  /// cell back to its bulk: the factor of every fraction of the whole bed,
+  /// s_i = (bed_i + change_i) / (bed_i + zoneChange_i), that makes the
+  /// totals what the ledger expects.  `bed`: the totals before the operator;
+  /// `change`: what it added (kg, per fraction); `zoneChange`: what its
+  /// zone's cells gained, rescale included, which each operator knows from
+  /// its zone's sums without reading the bed again.
+  static std::vector<double> bedFactors(const std::vector<double> &bed, const std::vector<double> &change,
+                                        const std::vector<double> &zoneChange);
+  /// Not collective.  Multiplies every fraction of the occupied cells by its
+  /// factor (nothing when all are 1), and says the state's bound (`end`, the
+  /// occupied end before the operator: it put no mass into an empty cell)
+  /// and this rank's totals, summed in the same pass.
+  PetscErrorCode scaleBed(FractionState &state, const std::vector<double> &factor, PetscInt end) const;
 
   MPI_Comm comm = MPI_COMM_NULL;
   int nf = 0;
@@ -64,7 +72,6 @@ protected:
   int emptyFrames_ = 0, frames = 0;
   std::vector<double> added; // [kg] per fraction since the start (removed: negative)
   PetscBool keepBulk = PETSC_TRUE;
-  std::vector<double> totalsBefore, cellBulkBefore; // scratch of rememberBulk
 };
 
 /// Growth in the spray zone (-growth_zone, default "spray").  A global

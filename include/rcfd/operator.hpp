@@ -154,6 +154,9 @@ public:
   void addedMass(std::vector<double> *perFraction) const;
   const std::vector<std::unique_ptr<Operator>> &operators() const { return ops; }
   const std::vector<std::string> &skipped() const { return left; }
+  /// This rank's wall time [s] spent in each operator's apply() so far, in
+  /// the order of operators() (waiting at its collectives included).
+  const std::vector<double> &applySeconds() const { return seconds; }
   /// Collective.  Views every operator given -<prefix>view in the viewer
   /// that option names (plain -drift_view: stdout), and flushes it.
   PetscErrorCode viewRequested() const;
@@ -166,6 +169,7 @@ private:
   std::vector<std::unique_ptr<Operator>> ops;
   std::vector<RequestedView> views; // one per operator once setFromOptions ran
   std::vector<std::string> left;
+  std::vector<double> seconds; // per operator, see applySeconds()
   bool isSetUp = false;
 };
 

@@ -9,6 +9,7 @@
 #include <memory>
 #include <stdexcept>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace rcfd {
@@ -19,6 +20,27 @@ namespace rcfd::h5 {
 
 struct Error : std::runtime_error {
   using std::runtime_error::runtime_error;
+};
+
+/// A read refused because the bytes stored no longer match their checksum:
+/// the file was changed after it was written (a flipped bit on disk, a bad
+/// copy, an edit outside HDF5).  `object` is what failed ("/frames/000012/
+/// shift_col", or the file itself when HDF5's superblock fails).
+struct Damaged : Error {
+  Damaged(const std::string &what, std::string object) : Error(what), object(std::move(object)) {}
+  std::string object;
+  /// The end of every such sentence: what happened and what to do.
+  static constexpr const char *reason =
+      "its bytes do not match their checksum: the file changed after it was written; restore it or make it again";
+};
+
+/// What a file does to detect changed bits (docs/database-format.md, "Checksums").
+enum class Checksums {
+  none,      ///< HDF5's defaults: nothing detects a changed bit
+  fletcher32 ///< every dataset chunked with HDF5's Fletcher-32 filter (a checksum per chunk) and all
+             ///< of HDF5's own records (superblock, object headers with their attributes, chunk
+             ///< indexes, link heaps) in HDF5 1.10's file format, which checksums each; the root
+             ///< attribute `checksums` = "fletcher32" says so
 };
 
 /// Owner of one hid_t with the matching close function.
@@ -70,6 +92,7 @@ public:
       writeError = std::move(other.writeError);
       file = std::move(other.file);
       name = std::move(other.name);
+      protection = other.protection;
     }
     return *this;
   }
@@ -77,12 +100,13 @@ public:
   /// Open for reading; with comm != MPI_COMM_NULL through MPI-IO (collective).
   static File openRead(const std::string &path, MPI_Comm comm);
   /// Create (truncate) for writing by one process.
-  static File create(const std::string &path);
+  static File create(const std::string &path, Checksums checksums = Checksums::none);
   /// Create target's temporary for writing by one process; messages name target.path().
-  static File create(const AtomicFile &target);
+  static File create(const AtomicFile &target, Checksums checksums = Checksums::none);
   /// Create (truncate) for writing by all processes of comm through MPI-IO.
   static File createParallel(const std::string &path, MPI_Comm comm);
-  /// Open an existing file for read-write by one process.
+  /// Open an existing file for read-write by one process; what it adds to a
+  /// file with checksums gets them too.
   static File openReadWrite(const std::string &path);
 
   /// Close the file, flushing it, and throw naming it if HDF5 could not
@@ -92,6 +116,15 @@ public:
 
   hid_t id() const { return file; }
   const std::string &path() const { return name; }
+  /// Whether the file protects its contents (the root attribute `checksums`);
+  /// every dataset read from such a file is checked to carry the checksum filter.
+  Checksums checksums() const { return protection; }
+  /// Reads every dataset of the file whole, so that each chunk's checksum is
+  /// compared (HDF5's records on the way are compared as they are read), and
+  /// checks that each non-empty dataset has one.  Throws Damaged naming the
+  /// first object that fails; returns the number of datasets and their bytes.
+  /// Meaningful for files with checksums().
+  std::pair<long long, double> verifyAll() const;
 
   bool exists(const std::string &object) const;
   void requireGroup(const std::string &group) const; // throws naming what is missing
@@ -133,6 +166,10 @@ private:
   std::unique_ptr<int> writeError; // the first failed write's errno (files opened for writing)
   Id file;
   std::string name; // for messages: the final name of an atomic file
+  Checksums protection = Checksums::none; // of what is written and read
+
+  void adoptChecksums(); // reads the root attribute `checksums`
+  void requireChecksum(hid_t dataset, const std::string &name) const;
 };
 
 } // namespace rcfd::h5

@@ -307,7 +307,7 @@ struct LocalFrame {
 };
 
 LocalFrame readLocalFrame(const h5::File &f, long long version, int weightBits, int k, const Layout &layout,
-                          bool withShift) {
+                          bool withShift) try {
   const std::string g = frameGroup(k);
   const std::string where = "database '" + f.path() + "', frame " + std::to_string(k);
   f.requireGroup(g);
@@ -328,6 +328,8 @@ LocalFrame readLocalFrame(const h5::File &f, long long version, int weightBits, 
   if (version >= 3) readLocalRowsMoving(f, g, where, layout, cellRuns, weightBits, &fr.shift);
   else readLocalRowsFull(f, g, where, layout, cellRuns, &fr.shift);
   return fr;
+} catch (const h5::Damaged &d) {
+  throwDamagedFrame(d, f, k);
 }
 
 } // namespace
@@ -379,7 +381,7 @@ DatabaseWriter::DatabaseWriter(const std::string &path, const Mesh &mesh, const 
   impl->cells = mesh.numCells();
   impl->hash.add(std::vector<double>{static_cast<double>(impl->cells), meta.dtRec, meta.solidDensity, meta.gravity[0],
                                      meta.gravity[1], meta.gravity[2]});
-  impl->file = h5::File::create(impl->out);
+  impl->file = h5::File::create(impl->out, h5::Checksums::fletcher32);
   const h5::File &f = impl->file;
   f.writeAttr("/", "format", std::string(kFormatName));
   f.writeAttr("/", "format_version", formatVersion);
@@ -491,7 +493,12 @@ PetscErrorCode framesFilled(MPI_Comm comm, const h5::File &file, int first, int 
       if (!file.exists(frameGroup(k)) || !file.exists(name)) continue;
       const auto dims = file.extents(name);
       if (dims.size() != 1 || dims[0] != static_cast<hsize_t>(n)) continue;
-      const auto alpha = file.read<double>(name);
+      std::vector<double> alpha;
+      try {
+        alpha = file.read<double>(name);
+      } catch (const h5::Damaged &d) {
+        throwDamagedFrame(d, file, k);
+      }
       for (int c = 0; c < n; ++c)
         if (alpha[c] > 0.0) ++(*filled)[c];
     }
@@ -520,6 +527,7 @@ PetscErrorCode openHeader(MPI_Comm comm, const std::string &path, h5::File *file
   // could not open the file.
   PetscCall(collectively(comm, [&] {
     *file = h5::File::openRead(path, comm);
+    h->checksummed = file->checksums() == h5::Checksums::fletcher32;
     h->formatVersion = checkFormat(*file);
     h->metadata = readMetadata(*file);
     h->identity = readIdentity(*file);
@@ -575,7 +583,13 @@ PetscErrorCode Database::load(MPI_Comm comm, const std::string &path,
   db->meta = header.metadata;
   db->identity_ = header.identity;
   db->formatVersion_ = header.formatVersion;
+  db->checksummed_ = header.checksummed;
   db->mesh_ = std::move(header.mesh);
+  if (!header.checksummed)
+    PetscCall(PetscPrintf(comm,
+                          "Note: database '%s' has no checksums (an older rcfd wrote it), so damage to it cannot be "
+                          "detected; rcfd coarsen %s -factor 1,1,1 -o NEW writes a copy that has them\n",
+                          path.c_str(), path.c_str()));
   PetscCall(frameWindow(comm, path, options, K, &first, &last));
   if (options.layout) { // a database set's one partition: no work to count
     PetscCheck(options.layout->numCells() == db->mesh_.numCells(), comm, PETSC_ERR_ARG_INCOMP,

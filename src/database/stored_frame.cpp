@@ -37,6 +37,15 @@ std::string frameGroup(int k) {
   return name;
 }
 
+void throwDamagedFrame(const h5::Damaged &damaged, const h5::File &f, int k) {
+  const std::string group = frameGroup(k) + "/";
+  const std::string what = damaged.object.rfind(group, 0) == 0 ? "dataset " + damaged.object.substr(group.size())
+                                                                : "'" + damaged.object + "'";
+  throw h5::Damaged("database '" + f.path() + "', frame " + std::to_string(k) + ": " + what + " is damaged (" +
+                        h5::Damaged::reason + ")",
+                    damaged.object);
+}
+
 void writeStoredFrame(const h5::File &f, const std::string &group, const FrameRecord &frame, long long version,
                       int weightBits) {
   const CsrMatrix &T = frame.shift;
@@ -140,7 +149,7 @@ std::vector<double> readStoredWeights(const h5::File &f, const std::string &grou
   return val;
 }
 
-FrameRecord readStoredFrame(const h5::File &f, int k, int cells) {
+FrameRecord readStoredFrame(const h5::File &f, int k, int cells) try {
   const std::string g = frameGroup(k);
   FrameRecord r;
   r.alphaS = f.read<double>(g + "/alpha_s");
@@ -180,6 +189,8 @@ FrameRecord readStoredFrame(const h5::File &f, int k, int cells) {
     T.rowPtr.push_back(static_cast<int64_t>(T.col.size()));
   }
   return r;
+} catch (const h5::Damaged &d) {
+  throwDamagedFrame(d, f, k);
 }
 
 } // namespace rcfd

@@ -18,6 +18,10 @@ namespace rcfd {
 /// "/frames/000012" for k = 12.
 std::string frameGroup(int k);
 
+/// Throws `damaged` (met while reading frame k of `f`) again as the sentence
+/// of the frame: "database 'F', frame 12: dataset shift_col is damaged (...)".
+[[noreturn]] void throwDamagedFrame(const h5::Damaged &damaged, const h5::File &f, int k);
+
 /// Writes `frame` as group `group` in format `version`: 2 (and 1) full CSR
 /// (shift_row_ptr int64, shift_col, shift_val); 3 its moving rows only
 /// (moving_row, moving_row_ptr int32 or int64 as the entries need,

@@ -32,7 +32,7 @@ bool TimeWindow::contains(double t) const {
 PetscErrorCode LayerSampler::masses(const MonitorContext &ctx, const std::vector<double> **perLayer) {
   PetscFunctionBeginUser;
   if (ctx.step != cachedStep || ctx.time != cachedTime) {
-    PetscCall(layers.fractionMasses(ctx.state.masses(), ctx.state.numFractions(), &cached));
+    PetscCall(layers.fractionMasses(ctx.state, &cached));
     cachedStep = ctx.step;
     cachedTime = ctx.time;
   }

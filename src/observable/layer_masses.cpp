@@ -43,11 +43,23 @@ PetscErrorCode HorizontalLayers::setUp(const Database &db) {
 }
 
 PetscErrorCode HorizontalLayers::fractionMasses(Vec masses, int nf, std::vector<double> *perLayer) const {
+  return sumLayers(masses, nf, static_cast<PetscInt>(layerOfLocal.size()), perLayer);
+}
+
+PetscErrorCode HorizontalLayers::fractionMasses(const FractionState &state, std::vector<double> *perLayer) const {
+  PetscInt end;
+  PetscFunctionBeginUser;
+  PetscCall(state.occupiedEnd(&end));
+  PetscCall(sumLayers(state.masses(), state.numFractions(), end, perLayer));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode HorizontalLayers::sumLayers(Vec masses, int nf, PetscInt end, std::vector<double> *perLayer) const {
   PetscFunctionBeginUser;
   std::vector<double> local(centre.size() * nf, 0.0);
   const PetscScalar *m;
   PetscCall(VecGetArrayRead(masses, &m));
-  for (std::size_t c = 0; c < layerOfLocal.size(); ++c)
+  for (PetscInt c = 0; c < end; ++c)
     for (int i = 0; i < nf; ++i) local[layerOfLocal[c] * nf + i] += m[c * nf + i];
   PetscCall(VecRestoreArrayRead(masses, &m));
   perLayer->assign(local.size(), 0.0);

@@ -24,10 +24,14 @@ public:
   double volume(int l) const { return layerVolume[l]; }
   /// Collective: mass [kg] of each fraction in each layer, [l * nf + i], the same on every rank.
   PetscErrorCode fractionMasses(Vec masses, int nf, std::vector<double> *perLayer) const;
+  /// The same for the state, reading only the cells that may hold mass
+  /// (FractionState::occupiedEnd; the empty ones add nothing, same bits).
+  PetscErrorCode fractionMasses(const FractionState &state, std::vector<double> *perLayer) const;
   /// Collective: solid volume sum(alpha_s V) [m^3] of each layer for one frame's alpha_s.
   PetscErrorCode solidVolumes(Vec alpha, std::vector<double> *perLayer) const;
 
 private:
+  PetscErrorCode sumLayers(Vec masses, int nf, PetscInt end, std::vector<double> *perLayer) const;
   MPI_Comm comm = MPI_COMM_NULL;
   std::vector<int> layerOfLocal;
   std::vector<double> localVolume, centre, layerVolume;

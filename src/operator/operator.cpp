@@ -84,7 +84,12 @@ PetscErrorCode Pipeline::setUp(const RunContext &ctx) {
 
 PetscErrorCode Pipeline::apply(const StepInfo &step, FractionState &state) {
   PetscFunctionBeginUser;
-  for (auto &op : ops) PetscCall(op->apply(step, state));
+  seconds.resize(ops.size(), 0.0);
+  for (size_t k = 0; k < ops.size(); ++k) {
+    const double start = MPI_Wtime();
+    PetscCall(ops[k]->apply(step, state));
+    seconds[k] += MPI_Wtime() - start;
+  }
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 

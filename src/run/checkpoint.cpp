@@ -18,7 +18,9 @@
 //                      num_cells, database (its path), output_dir (absolute),
 //                      path_txt_bytes (length of OUTPUT_DIR/path.txt at the step),
 //                      jumps_csv_bytes (of OUTPUT_DIR/jumps.csv, -1 before its first row;
-//                      absent from an rcfd that wrote jumps.csv at the run's end)
+//                      absent from an rcfd that wrote jumps.csv at the run's end),
+//                      checksums = "fletcher32" (every dataset and HDF5 record checksummed,
+//                      docs/database-format.md "Checksums"; absent from an rcfd before them)
 // Version 1 (before the time series left the checkpoint) is refused with a sentence.
 #include "path/frame_path.hpp"
 #include "base/petsc_compat.hpp"
@@ -160,7 +162,7 @@ PetscErrorCode Run::Impl::writeCheckpoint(long step) const {
   const PetscErrorCode written = collectively(comm, [&] {
     if (rank != 0) return;
     {
-      h5::File f = h5::File::create(*out);
+      h5::File f = h5::File::create(*out, h5::Checksums::fletcher32); // a damaged checkpoint is refused
       // As PETSc's VecView writes a vector of block size nf (VecLoad reads it).
       f.write("/masses", std::vector<double>(masses, masses + gathered), nf > 1 ? static_cast<hsize_t>(nf) : 0);
       f.writeAttr("/", "format", std::string("rcfd-checkpoint"));
@@ -239,6 +241,9 @@ PetscErrorCode Run::Impl::readCheckpoint() {
           throw h5::Error("-restart '" + restartFile + "' holds " + std::to_string(masses) +
                           " masses in /masses, expected " + std::to_string(cells) + " cells x " +
                           std::to_string(nf) + " fractions");
+        // Read here too, so that their checksums are compared and a damaged
+        // chunk is refused with this sentence (VecLoad below reads them again).
+        if (f.checksums() == h5::Checksums::fletcher32) f.read<double>("/masses");
         step = f.readAttrInt("/", "step");
         pathBytes = f.readAttrInt("/", "path_txt_bytes");
         jumpsRecorded = f.hasAttribute("/", "jumps_csv_bytes");
@@ -338,7 +343,8 @@ PetscErrorCode Run::Impl::jumpsFromPathFile() {
   const double dt = db->metadata().dtRec;
   for (std::size_t s = 0; s + 1 < frames.size(); ++s)
     if (frames[s + 1] != frames[s] + 1)
-      PetscCall(jumps->add(static_cast<long>(s + 1), (s + 1) * dt, frames[s], frames[s + 1], "(not recorded)"));
+      PetscCall(jumps->add(static_cast<long>(s + 1), (s + 1) * dt, frames[s], frames[s + 1], "(not recorded)",
+                                 nullptr, nullptr));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 

@@ -9,6 +9,7 @@
 #include "rcfd/observables.hpp"
 
 #include <string>
+#include <vector>
 
 namespace rcfd {
 
@@ -16,10 +17,15 @@ class JumpsFile {
 public:
   /// On several databases the frames are those of the database in use, and a
   /// column names it; on one, the file is what it always was.
-  JumpsFile(MPI_Comm comm, const std::string &outputDir, bool severalDatabases);
+  /// `labels`: the fractions' column labels (FractionSet::label).
+  JumpsFile(MPI_Comm comm, const std::string &outputDir, bool severalDatabases, std::vector<std::string> labels);
   /// Collective: the step from `from` to `to` (the database in use's frames)
   /// ending at `time`; `database` names the database in use (several only).
-  PetscErrorCode add(long step, double time, int from, int to, const std::string &database);
+  /// `before` and `after`: the bed just before and just after the carry
+  /// (delta_z and each fraction's z_cog), or null when not recorded (the
+  /// rows an older checkpoint's run did not write: "nan").
+  PetscErrorCode add(long step, double time, int from, int to, const std::string &database,
+                     const BedSample *before, const BedSample *after);
   /// Collective: writes the rows so far (nothing before the first jump).
   PetscErrorCode flush();
   /// Collective, at the run's end: flush(); without a jump, removes the file
@@ -35,6 +41,7 @@ private:
   MPI_Comm comm;
   std::string path;
   bool several;
+  int nf;
   CsvSeries series;
 };
 

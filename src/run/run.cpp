@@ -262,7 +262,10 @@ PetscErrorCode Run::setUp() {
       r.comm, r.outputDir + "/path.txt",
       "# frame of each step of this run; replay it with -path_type recorded -path_file FILE; " +
           r.path->describe()); // the layout of writePathFile
-  r.jumps = std::make_unique<JumpsFile>(r.comm, r.outputDir, r.switching != nullptr);
+  std::vector<std::string> labels;
+  for (int i = 0; i < r.set.size(); ++i) labels.push_back(r.set.label(i));
+  r.jumps = std::make_unique<JumpsFile>(r.comm, r.outputDir, r.switching != nullptr, std::move(labels));
+  PetscCall(r.jumpCog.setUp(*r.db, r.set)); // the databases of a set share the mesh and layout
   r.isSetUp = true;
   if (r.restartFile.empty())
     PetscCall(setInitialState(InitialState{r.initKind, r.initFile}, *r.db, r.set, r.solidDensity, r.fstate));
@@ -341,6 +344,28 @@ PetscErrorCode Run::Impl::progress(long step, double time, bool last) {
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
+// A step taken as a jump: the operators one by one (as Pipeline::apply), with
+// the bed measured just before and just after the carry, against the frame
+// the state is carried onto (at the step's end when no operator carries).
+PetscErrorCode Run::Impl::applyAcrossJump(const StepInfo &info, BedSample *before, BedSample *after) {
+  bool measured = false;
+  PetscFunctionBeginUser;
+  const Vec alpha = db->alphaS(info.nextFrame);
+  const double t = info.time + info.dt;
+  for (const auto &op : ops.operators()) {
+    const bool carry = !measured && op->type() == "carry";
+    if (carry) PetscCall(jumpCog.measure(t, fstate.masses(), alpha, solidDensity, before));
+    PetscCall(op->apply(info, fstate));
+    if (carry) PetscCall(jumpCog.measure(t, fstate.masses(), alpha, solidDensity, after));
+    measured = measured || carry;
+  }
+  if (!measured) {
+    PetscCall(jumpCog.measure(t, fstate.masses(), alpha, solidDensity, before));
+    *after = *before;
+  }
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
 // The time loop of solve(), up to the path file; an error returns to solve(),
 // which reports it in the output directory.
 PetscErrorCode Run::Impl::march() {
@@ -392,9 +417,6 @@ PetscErrorCode Run::Impl::march() {
     r.lastStep = s + 1;
     PetscCall(r.pathFile->add(std::to_string(frame)));
     if (r.keepHistory) r.frames.push_back(frame);
-    if (info.jump)
-      PetscCall(r.jumps->add(s + 1, (s + 1) * dt, info.frame, info.nextFrame,
-                             r.switching ? r.switching->activeName() : std::string()));
     const bool wraps = info.jump && info.nextFrame == 0; // not a blend's jump inside it
     if (wraps && !wrapNoted && r.path->kind() == "replay") {
       wrapNoted = true;
@@ -405,12 +427,21 @@ PetscErrorCode Run::Impl::march() {
                               "after jumps are listed in %s/jumps.csv)\n",
                               info.nextFrame, (s + 1) * dt, r.outputDir.c_str()));
     }
-    PetscCall(r.ops.apply(info, r.fstate));
+    if (info.jump) {
+      BedSample before, after;
+      PetscCall(r.applyAcrossJump(info, &before, &after));
+      PetscCall(r.jumps->add(s + 1, (s + 1) * dt, info.frame, info.nextFrame,
+                             r.switching ? r.switching->activeName() : std::string(), &before, &after));
+    } else PetscCall(r.ops.apply(info, r.fstate));
     frame = next;
     const double t = (s + 1) * dt;
     if (r.stopAtSteady) PetscCall(r.steadyAt(s + 1, t, r.dbFrame(frame), false, &stop));
     if (ledgerOn && !conservative) r.ops.addedMass(&added);
-    if (ledgerOn) PetscCall(r.ledger.check(s + 1, r.fstate, s + 1 == r.steps || stop, conservative ? nullptr : &added));
+    if (ledgerOn) {
+      const double start = MPI_Wtime();
+      PetscCall(r.ledger.check(s + 1, r.fstate, s + 1 == r.steps || stop, conservative ? nullptr : &added));
+      r.ledgerSeconds += MPI_Wtime() - start;
+    }
     if (r.switching) PetscCall(r.followSwitches(s + 1, t, frame));
     PetscCall(r.callMonitors(s + 1, t, r.dbFrame(frame), s + 1 == r.steps || stop));
     if (checkpointSteps && ((s + 1) % checkpointSteps == 0 || stop)) { // the files first: the checkpoint records their lengths
@@ -511,6 +542,18 @@ PetscErrorCode Run::solve() {
       total += e.seconds;
     }
     PetscCall(PetscPrintf(r.comm, "  monitors: %.3g s of the wall (%s)\n", total, costs.c_str()));
+    // And each operator (rank 0's wall time in apply(), waiting at its meetings included).
+    costs.clear();
+    total = 0.0;
+    const auto &ops = r.ops.operators();
+    const auto &opSeconds = r.ops.applySeconds();
+    for (size_t k = 0; k < ops.size() && k < opSeconds.size(); ++k) {
+      std::snprintf(item, sizeof item, "%s%s %.3g s", costs.empty() ? "" : ", ", ops[k]->type().c_str(), opSeconds[k]);
+      costs += item;
+      total += opSeconds[k];
+    }
+    PetscCall(PetscPrintf(r.comm, "  operators: %.3g s of the wall (%s); mass ledger %.3g s\n", total, costs.c_str(),
+                          r.ledgerSeconds));
     if (r.switching)
       PetscCall(PetscPrintf(r.comm, "  databases: %ld switches, %d loads in %.3g s (%.3g s per load), at most %d held at once%s\n",
                             r.switching->numSwitches(), r.switching->set().numLoads(), r.switching->set().loadSeconds(),

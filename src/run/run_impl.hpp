@@ -33,6 +33,8 @@ struct Run::Impl {
   PetscErrorCode flushMonitors();
   PetscErrorCode steadyAt(long step, double time, int frame, bool anyDue, bool *steady); // -stop_at_steady
   PetscErrorCode march();                               // solve()'s time loop
+  /// A jump's step: the operators, and the bed just before and after the carry.
+  PetscErrorCode applyAcrossJump(const StepInfo &info, BedSample *before, BedSample *after);
   PetscErrorCode reportFailure(PetscErrorCode status); // OUTPUT_DIR/FAILED; returns the error
   PetscErrorCode progress(long step, double time, bool last);
   PetscErrorCode writeCheckpoint(long step) const; // src/run/checkpoint.cpp
@@ -80,6 +82,7 @@ struct Run::Impl {
   Answers answers; // the monitors a case asks for by option (profiles, halves, ...)
   std::unique_ptr<CsvSeries> pathFile; // OUTPUT_DIR/path.txt, the frame of every step, appended
   std::unique_ptr<JumpsFile> jumps;    // OUTPUT_DIR/jumps.csv, the steps taken as jumps, appended
+  CentreOfGravity jumpCog;             // measures the bed on both sides of a jump's carry
   std::vector<int> frames;             // the same, in memory, only with keepHistory
   long startStep = 0, lastStep = 0;    // lastStep: the step being made, for a failure report
   bool isSetUp = false, solved = false, keepHistory = false;
@@ -97,6 +100,7 @@ struct Run::Impl {
   PetscViewerFormat viewFormat = PETSC_VIEWER_DEFAULT;
   DatabaseLoadOptions loadOptions;
   double wallStart = 0.0, lastProgress = 0.0;
+  double ledgerSeconds = 0.0; // wall time of the mass ledger's checks while stepping
 };
 
 } // namespace rcfd

@@ -34,12 +34,18 @@ PetscErrorCode DischargeOperator::setUp(const RunContext &ctx) {
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
+// Cost: the zone's cells and one reduction (its sums, and the bed's totals
+// with -keep_bulk); with -keep_bulk one pass over the occupied cells for the
+// bed's factors (none when the zone was emptied: they are 1).  What leaves is
+// known from the zone's sums: share * inZone, or all of it.
 PetscErrorCode DischargeOperator::apply(const StepInfo &step, FractionState &state) {
-  std::vector<double> inZone;
+  std::vector<double> inZone, bed;
   double solid;
+  PetscInt end;
   PetscFunctionBeginUser;
   const double wanted = rate * step.dt + owedMass;
-  PetscCall(zoneMasses(state.masses(), &inZone, &solid));
+  PetscCall(state.occupiedEnd(&end));
+  PetscCall(zoneMasses(state, &inZone, &solid, keepBulk ? &bed : nullptr));
   if (!(solid > 0.0)) { // nothing to take: owed
     owedMass = wanted;
     ++emptySteps;
@@ -49,25 +55,30 @@ PetscErrorCode DischargeOperator::apply(const StepInfo &step, FractionState &sta
   const double share = all ? 1.0 : wanted / solid;
   owedMass = all ? wanted - solid : 0.0;
   limitedCount += all;
-  std::vector<double> out(nf, 0.0);
-  if (keepBulk) PetscCall(rememberBulk(state));
   PetscScalar *m;
   PetscCall(VecGetArray(state.masses(), &m));
-  for (PetscInt c : zone->localCells())
+  for (PetscInt c : zone->localCells()) {
+    PetscScalar *cell = m + c * nf;
+    double bulkBefore = 0.0;
     for (int i = 0; i < nf; ++i) {
-      PetscScalar &mass = m[c * nf + i];
-      const double taken = all ? mass : mass * share; // <= mass: never negative
-      out[i] += taken;
-      mass = all ? 0.0 : mass - taken;
+      bulkBefore += cell[i];
+      cell[i] = all ? 0.0 : cell[i] - cell[i] * share; // never negative
     }
-  PetscCall(VecRestoreArray(state.masses(), &m));
-  PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, out.data(), nf, MPI_DOUBLE, MPI_SUM, comm));
-  if (keepBulk) {
-    std::vector<double> change(nf);
-    for (int i = 0; i < nf; ++i) change[i] = -out[i];
-    PetscCall(restoreBulk(state, change));
+    if (!keepBulk || all) continue; // an emptied cell stays empty
+    double bulk = 0.0; // back to the cell's bulk before: its composition is kept
+    for (int i = 0; i < nf; ++i) bulk += cell[i];
+    if (bulk > 0.0)
+      for (int i = 0; i < nf; ++i) cell[i] *= bulkBefore / bulk;
   }
-  for (int i = 0; i < nf; ++i) added[i] -= out[i];
+  PetscCall(VecRestoreArray(state.masses(), &m));
+  std::vector<double> change(nf);
+  for (int i = 0; i < nf; ++i) change[i] = -(all ? inZone[i] : inZone[i] * share);
+  if (keepBulk) { // the zone keeps its masses (scaled back), or is emptied
+    std::vector<double> zoneChange(nf, 0.0);
+    if (all) zoneChange = change;
+    PetscCall(scaleBed(state, bedFactors(bed, change, zoneChange), end));
+  } else PetscCall(state.setOccupiedEnd(end));
+  for (int i = 0; i < nf; ++i) added[i] += change[i];
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 

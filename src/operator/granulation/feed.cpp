@@ -43,28 +43,46 @@ PetscErrorCode FeedOperator::setUp(const RunContext &ctx) {
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
+// Cost: the zone's cells and one reduction (its sums, and the bed's totals
+// with -keep_bulk); with -keep_bulk one pass over the occupied cells for the
+// bed's factors, whose sums the next reader of the totals gets for free.
 PetscErrorCode FeedOperator::apply(const StepInfo &step, FractionState &state) {
-  std::vector<double> inZone;
+  std::vector<double> inZone, bed;
   double solid;
+  PetscInt end;
   PetscFunctionBeginUser;
   for (int i = 0; i < nf; ++i) held[i] += rate * step.dt * shares[i];
-  PetscCall(zoneMasses(state.masses(), &inZone, &solid));
+  PetscCall(state.occupiedEnd(&end));
+  PetscCall(zoneMasses(state, &inZone, &solid, keepBulk ? &bed : nullptr));
   if (!(solid > 0.0)) { // nowhere to put it: held back for the next step with solid in the zone
     ++heldSteps;
     PetscFunctionReturn(PETSC_SUCCESS);
   }
   // Each cell of the zone takes its share of the zone's solid; empty cells take none.
-  if (keepBulk) PetscCall(rememberBulk(state));
   PetscScalar *m;
   PetscCall(VecGetArray(state.masses(), &m));
   for (PetscInt c : zone->localCells()) {
+    PetscScalar *cell = m + c * nf;
     double cellSolid = 0.0;
-    for (int i = 0; i < nf; ++i) cellSolid += m[c * nf + i];
+    for (int i = 0; i < nf; ++i) cellSolid += cell[i];
     const double share = cellSolid / solid;
-    for (int i = 0; i < nf; ++i) m[c * nf + i] += held[i] * share;
+    for (int i = 0; i < nf; ++i) cell[i] += held[i] * share;
+    if (!keepBulk) continue;
+    double bulk = 0.0; // back to the cell's bulk before, its new composition kept
+    for (int i = 0; i < nf; ++i) bulk += cell[i];
+    if (bulk > 0.0)
+      for (int i = 0; i < nf; ++i) cell[i] *= cellSolid / bulk;
   }
   PetscCall(VecRestoreArray(state.masses(), &m));
-  if (keepBulk) PetscCall(restoreBulk(state, held));
+  if (keepBulk) {
+    // Every cell that holds solid took held * cellSolid / solid and was scaled by
+    // solid / (solid + fed): the zone now holds (inZone + held) solid / (solid + fed).
+    double fed = 0.0;
+    for (double h : held) fed += h;
+    std::vector<double> zoneChange(nf);
+    for (int i = 0; i < nf; ++i) zoneChange[i] = (inZone[i] + held[i]) * (solid / (solid + fed)) - inZone[i];
+    PetscCall(scaleBed(state, bedFactors(bed, held, zoneChange), end));
+  } else PetscCall(state.setOccupiedEnd(end)); // mass went only where there was some
   for (int i = 0; i < nf; ++i) {
     added[i] += held[i];
     held[i] = 0.0;

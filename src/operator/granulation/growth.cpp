@@ -55,36 +55,47 @@ PetscErrorCode GrowthOperator::setUp(const RunContext &ctx) {
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
+// Cost: the zone's cells and two reductions (its projected area before, what
+// moved after); an open top keeping the bulk adds the bed's totals to the
+// first and a pass over the occupied cells for the bed's factors.
 PetscErrorCode GrowthOperator::apply(const StepInfo &step, FractionState &state) {
   PetscScalar *m;
+  PetscInt end;
   PetscFunctionBeginUser;
+  const bool restore = openTop && keepBulk && mass == Mass::Transfer; // number mode departs from the bulk anyway
+  PetscCall(state.occupiedEnd(&end));
+  std::vector<double> first(1, 0.0); // the sum over the zone of m_i / d_i (proportional to N_i d_i^2), the bed's totals
+  if (restore) {
+    std::vector<double> own;
+    PetscCall(state.localTotals(&own));
+    first.insert(first.end(), own.begin(), own.end());
+  }
   PetscCall(VecGetArray(state.masses(), &m));
-  double area = 0.0; // sum over the zone of m_i / d_i, proportional to N_i d_i^2
   for (PetscInt c : zone->localCells())
-    for (int i = 0; i < nf; ++i) area += m[c * nf + i] / diameter[i];
-  PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, &area, 1, MPI_DOUBLE, MPI_SUM, comm));
+    for (int i = 0; i < nf; ++i) first[0] += m[c * nf + i] / diameter[i];
+  PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, first.data(), static_cast<int>(first.size()), MPI_DOUBLE, MPI_SUM, comm));
+  const double area = first[0];
   const double toMove = fraction * rate * step.dt;
   if (!(area > 0.0)) { // nothing in the spray zone: nothing grows this step
     PetscCall(VecRestoreArray(state.masses(), &m));
+    PetscCall(state.setOccupiedEnd(end));
     missedMass += toMove;
     ++emptySteps;
     PetscFunctionReturn(PETSC_SUCCESS);
   }
   const double k = toMove / area;
-  const bool restore = openTop && keepBulk && mass == Mass::Transfer; // number mode departs from the bulk anyway
-  if (restore) { // mass leaves the spray cells: remember their bulk (collective)
-    PetscCall(VecRestoreArray(state.masses(), &m));
-    PetscCall(rememberBulk(state));
-    PetscCall(VecGetArray(state.masses(), &m));
-  }
   const auto grows = [&](int i) { return next[i] >= 0 || openTop; }; // an open top's growth leaves
-  std::vector<double> sums(nf + 1, 0.0), out(nf); // moved per class, then the limited mass
+  // Moved per class, the limited mass, then (restore) what the zone's cells gained.
+  std::vector<double> sums(restore ? 2 * nf + 1 : nf + 1, 0.0), out(nf);
+  double *zoneChange = sums.data() + nf + 1;
   for (PetscInt c : zone->localCells()) {
     PetscScalar *cell = m + c * nf;
+    double bulkBefore = 0.0;
     for (int i = 0; i < nf; ++i) { // from the cell's masses before this step's transfers
       const double wanted = grows(i) ? k * cell[i] / diameter[i] : 0.0;
       out[i] = std::min(wanted, static_cast<double>(cell[i]));
       sums[nf] += wanted - out[i];
+      bulkBefore += cell[i];
     }
     for (int i = 0; i < nf; ++i) {
       if (!grows(i)) continue;
@@ -94,9 +105,18 @@ PetscErrorCode GrowthOperator::apply(const StepInfo &step, FractionState &state)
       const double ratio = diameter[next[i]] / diameter[i];
       cell[next[i]] += mass == Mass::Number ? out[i] * ratio * ratio * ratio : out[i];
     }
+    if (!restore) continue;
+    double bulk = 0.0; // the oversize left a hole: back to the cell's bulk, composition kept
+    for (int i = 0; i < nf; ++i) bulk += cell[i];
+    const double back = bulk > 0.0 ? bulkBefore / bulk : 1.0;
+    for (int i = 0; i < nf; ++i) {
+      const double before = cell[i];
+      cell[i] *= back;
+      zoneChange[i] += cell[i] - before; // the transfers within the cell sum to nothing but the oversize
+    }
   }
   PetscCall(VecRestoreArray(state.masses(), &m));
-  PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, sums.data(), nf + 1, MPI_DOUBLE, MPI_SUM, comm));
+  PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, sums.data(), static_cast<int>(sums.size()), MPI_DOUBLE, MPI_SUM, comm));
   std::vector<double> change(nf, 0.0); // this step's, per class
   for (int i = 0; i < nf; ++i) {
     if (!grows(i)) continue;
@@ -114,7 +134,11 @@ PetscErrorCode GrowthOperator::apply(const StepInfo &step, FractionState &state)
     }
   }
   for (int i = 0; i < nf; ++i) added[i] += change[i];
-  if (restore) PetscCall(restoreBulk(state, change));
+  if (restore) {
+    std::vector<double> bed(first.begin() + 1, first.end()), gained(nf);
+    for (int i = 0; i < nf; ++i) gained[i] = change[i] + zoneChange[i]; // the transfers, then the rescale
+    PetscCall(scaleBed(state, bedFactors(bed, change, gained), end));
+  } else PetscCall(state.setOccupiedEnd(end)); // mass moved only within cells
   limitedMass += sums[nf];
   PetscFunctionReturn(PETSC_SUCCESS);
 }

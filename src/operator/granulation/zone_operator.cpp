@@ -58,15 +58,24 @@ PetscErrorCode ZoneOperator::setUpZone(const RunContext &ctx) {
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
-PetscErrorCode ZoneOperator::zoneMasses(Vec masses, std::vector<double> *perFraction, double *total) const {
+// The zone's sums cell by cell and the bed's, reduced together: one meeting.
+PetscErrorCode ZoneOperator::zoneMasses(const FractionState &state, std::vector<double> *perFraction, double *total,
+                                        std::vector<double> *bed) const {
   const PetscScalar *m;
   PetscFunctionBeginUser;
-  perFraction->assign(nf, 0.0);
-  PetscCall(VecGetArrayRead(masses, &m));
+  std::vector<double> sums(bed ? 2 * nf : nf, 0.0);
+  PetscCall(VecGetArrayRead(state.masses(), &m));
   for (PetscInt c : zone->localCells())
-    for (int i = 0; i < nf; ++i) (*perFraction)[i] += m[c * nf + i];
-  PetscCall(VecRestoreArrayRead(masses, &m));
-  PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, perFraction->data(), nf, MPI_DOUBLE, MPI_SUM, comm));
+    for (int i = 0; i < nf; ++i) sums[i] += m[c * nf + i];
+  PetscCall(VecRestoreArrayRead(state.masses(), &m));
+  if (bed) {
+    std::vector<double> own;
+    PetscCall(state.localTotals(&own));
+    std::copy(own.begin(), own.end(), sums.begin() + nf);
+  }
+  PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, sums.data(), static_cast<int>(sums.size()), MPI_DOUBLE, MPI_SUM, comm));
+  perFraction->assign(sums.begin(), sums.begin() + nf);
+  if (bed) bed->assign(sums.begin() + nf, sums.end());
   *total = 0.0;
   for (double v : *perFraction) *total += v;
   PetscFunctionReturn(PETSC_SUCCESS);
@@ -81,41 +90,30 @@ PetscErrorCode ZoneOperator::readKeepBulk(PetscOptionItems *PetscOptionsObject) 
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
-PetscErrorCode ZoneOperator::rememberBulk(const FractionState &state) {
-  const PetscScalar *m;
-  PetscFunctionBeginUser;
-  PetscCall(state.totals(&totalsBefore));
-  cellBulkBefore.assign(zone->localCells().size(), 0.0);
-  PetscCall(VecGetArrayRead(state.masses(), &m));
-  for (std::size_t k = 0; k < zone->localCells().size(); ++k)
-    for (int i = 0; i < nf; ++i) cellBulkBefore[k] += m[zone->localCells()[k] * nf + i];
-  PetscCall(VecRestoreArrayRead(state.masses(), &m));
-  PetscFunctionReturn(PETSC_SUCCESS);
+std::vector<double> ZoneOperator::bedFactors(const std::vector<double> &bed, const std::vector<double> &change,
+                                             const std::vector<double> &zoneChange) {
+  std::vector<double> factor(bed.size(), 1.0);
+  for (std::size_t i = 0; i < bed.size(); ++i) {
+    const double now = bed[i] + zoneChange[i]; // the bed's total after the zone's cells changed
+    if (now > 0.0) factor[i] = std::max(0.0, bed[i] + change[i]) / now;
+  }
+  return factor;
 }
 
-PetscErrorCode ZoneOperator::restoreBulk(FractionState &state, const std::vector<double> &change) const {
-  PetscScalar *m;
-  PetscInt n;
-  std::vector<double> now;
+PetscErrorCode ZoneOperator::scaleBed(FractionState &state, const std::vector<double> &factor, PetscInt end) const {
   PetscFunctionBeginUser;
-  PetscCall(VecGetArray(state.masses(), &m));
-  for (std::size_t k = 0; k < zone->localCells().size(); ++k) {
-    PetscScalar *cell = m + zone->localCells()[k] * nf;
-    double bulk = 0.0;
-    for (int i = 0; i < nf; ++i) bulk += cell[i];
-    if (bulk > 0.0)
-      for (int i = 0; i < nf; ++i) cell[i] *= cellBulkBefore[k] / bulk;
+  if (std::all_of(factor.begin(), factor.end(), [](double f) { return f == 1.0; })) {
+    PetscCall(state.setOccupiedEnd(end));
+    PetscFunctionReturn(PETSC_SUCCESS);
   }
-  PetscCall(VecRestoreArray(state.masses(), &m));
-  PetscCall(state.totals(&now));
-  std::vector<double> factor(nf, 1.0);
-  for (int i = 0; i < nf; ++i)
-    if (now[i] > 0.0) factor[i] = std::max(0.0, totalsBefore[i] + change[i]) / now[i];
-  PetscCall(VecGetLocalSize(state.masses(), &n));
+  std::vector<double> sums(nf, 0.0); // as FractionState::localTotals adds: cell by cell
+  PetscScalar *m;
   PetscCall(VecGetArray(state.masses(), &m));
-  for (PetscInt c = 0; c < n; c += nf)
-    for (int i = 0; i < nf; ++i) m[c + i] *= factor[i];
+  for (PetscInt k = 0; k < end * nf; k += nf)
+    for (int i = 0; i < nf; ++i) sums[i] += (m[k + i] *= factor[i]);
   PetscCall(VecRestoreArray(state.masses(), &m));
+  PetscCall(state.setOccupiedEnd(end)); // an empty cell stays empty
+  PetscCall(state.setLocalTotals(sums));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 

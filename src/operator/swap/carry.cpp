@@ -10,6 +10,8 @@ PetscErrorCode CarryKind::setFromOptions(MPI_Comm, const std::string &) { return
 CarryKindRegistry CarryKindRegistry::withBuiltins() {
   CarryKindRegistry r;
   r.add("remap", makeRemapCarry, "each cell keeps its composition and takes the next frame's bulk");
+  r.add("column", makeColumnCarry,
+        "monotone transport by height in every column, solid gained or lost across columns at their tops");
   r.add("level", makeLevelCarry, "sweeps move mixture from over- to under-filled neighbours");
   return r;
 }

@@ -9,5 +9,6 @@ namespace rcfd {
 
 std::unique_ptr<CarryKind> makeRemapCarry(); // carry_remap.cpp
 std::unique_ptr<CarryKind> makeLevelCarry(); // carry_level.cpp
+std::unique_ptr<CarryKind> makeColumnCarry(); // carry_column.cpp
 
 } // namespace rcfd

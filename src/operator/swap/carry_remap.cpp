@@ -1,4 +1,4 @@
-// The `remap` carry kind (default): composition kept, bulk from the next frame.
+// The `remap` carry kind (the default before `column`): composition kept, bulk from the next frame.
 #include "operator/swap/carry_kinds.hpp"
 #include "base/petsc_compat.hpp"
 
