@@ -1,5 +1,7 @@
 #include "cli/argument_check.hpp"
 
+#include "base/input_file.hpp"
+
 #include <cctype>
 #include <cerrno>
 #include <cstdlib>
@@ -72,6 +74,7 @@ std::string checkOptionsFiles(int argc, char **argv) {
     if (std::strcmp(argv[i], "-options_file") != 0 && std::strcmp(argv[i], "-options_file_yaml") != 0)
       continue;
     const std::string path = argv[i + 1];
+    if (const std::string problem = notRegularFile(path); !problem.empty()) return "-options_file: " + problem;
     std::ifstream in(path);
     if (!in) return "-options_file '" + path + "' cannot be read: " + std::strerror(errno);
     if (!endsWith(path, ".yaml") && !endsWith(path, ".yml") && std::strcmp(argv[i], "-options_file_yaml") != 0)
