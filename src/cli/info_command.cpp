@@ -1,7 +1,7 @@
 #include "cli/commands.hpp"
 #include "base/petsc_compat.hpp"
 
-#include "analysis/bed_dynamics.hpp"
+#include "observable/bed_dynamics.hpp"
 #include "rcfd/database.hpp"
 
 #include <filesystem>

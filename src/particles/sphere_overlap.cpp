@@ -1,4 +1,4 @@
-#include "builders/particles/sphere_overlap.hpp"
+#include "particles/sphere_overlap.hpp"
 
 #include <algorithm>
 #include <cmath>

@@ -1,4 +1,4 @@
-#include "builders/particles/particle_dump.hpp"
+#include "particles/particle_dump.hpp"
 
 #include "base/csv.hpp"
 #include "base/input_file.hpp"
