@@ -3,7 +3,7 @@
 // fires once, Lacey's mixing index, bed dynamics and the database distance.
 #include "check.hpp"
 
-#include "analysis/bed_dynamics.hpp"
+#include "observable/bed_dynamics.hpp"
 #include "observable/min_fluidization.hpp"
 #include "observable/mixing_index.hpp"
 
