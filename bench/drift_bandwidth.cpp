@@ -112,7 +112,7 @@ int main(int argc, char **argv) {
       PetscCall(shift.apply(step, st));
       const double t1 = MPI_Wtime();
       if (timed) {
-        double b;
+        double b = 0.0;
         PetscCall(bytesOfStep(count, st.masses(), nf, scaled, &b, &touching, &both));
         bytes += b;
       }

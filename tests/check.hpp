@@ -25,6 +25,20 @@ inline bool close(double a, double b, double tol) {
   return std::fabs(a - b) <= tol * scale;
 }
 
+/// A value in a message: every digit that tells it from its neighbour (%.17g),
+/// or, for a tolerance, three significant digits (%.3g), so that 1e-14 is not 0.000000.
+inline std::string digits(double v, const char *format = "%.17g") {
+  char text[40];
+  std::snprintf(text, sizeof text, format, v);
+  return text;
+}
+
+/// The message of a failed RCFD_CHECK_CLOSE.
+inline std::string closeFailure(const char *aText, double a, const char *bText, double b, double tol) {
+  return std::string(aText) + " = " + digits(a) + ", " + bText + " = " + digits(b) + ", tol " +
+         digits(tol, "%.3g");
+}
+
 /// Whether f() throws an exception whose message contains `text`; prints
 /// the message when it does not.
 template <typename F> bool throwsWith(F &&f, const std::string &text) {
@@ -50,9 +64,7 @@ template <typename F> bool throwsWith(F &&f, const std::string &text) {
   do {                                                                                             \
     const double rcfd_a_ = (a), rcfd_b_ = (b);                                                     \
     if (!rcfd::test::close(rcfd_a_, rcfd_b_, (tol)))                                               \
-      rcfd::test::fail(__FILE__, __LINE__,                                                         \
-                       std::string(#a " = ") + std::to_string(rcfd_a_) + ", " #b " = " +           \
-                           std::to_string(rcfd_b_) + ", tol " + std::to_string(tol));              \
+      rcfd::test::fail(__FILE__, __LINE__, rcfd::test::closeFailure(#a, rcfd_a_, #b, rcfd_b_, (tol))); \
   } while (0)
 
 /// Exit status for main(): 0 when every check passed.

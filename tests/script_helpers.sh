@@ -29,13 +29,29 @@ expect_error() {
   fi
 }
 
-# same "label" "actual values" "expected values" [tolerance]: element-wise,
-# relative to max(1, |expected|).
+# same [--nan] "label" "actual values" "expected values" [tolerance]: element-wise; numbers
+# within tolerance relative to max(1, |expected|), words (a header, a label) equal.  A "nan"
+# or "inf" fails, even against itself (awks disagree on what "nan" - 0.5 is: mawk's NaN
+# compares as equal to any number); with --nan a "nan" matches a "nan" in the same place.
 same() {
-  if awk -v a="$2" -v b="$3" -v tol="${4:-1e-12}" 'BEGIN {
-      na = split(a, x, /[ \n]+/); nb = split(b, y, /[ \n]+/);
+  local nan=0
+  if [ "$1" = --nan ]; then
+    nan=1
+    shift
+  fi
+  if awk -v a="$2" -v b="$3" -v tol="${4:-1e-12}" -v nan=$nan 'BEGIN {
+      gsub(/^[ \t\n]+|[ \t\n]+$/, "", a); gsub(/^[ \t\n]+|[ \t\n]+$/, "", b);
+      na = split(a, x, /[ \t\n]+/); nb = split(b, y, /[ \t\n]+/);
       if (na != nb) exit 1;
-      for (i = 1; i <= na; ++i) { d = x[i] - y[i]; if (d < 0) d = -d;
+      number = "^[-+]?([0-9]+[.]?[0-9]*|[.][0-9]+)([eE][-+]?[0-9]+)?$";
+      special = "^[-+]?(nan|inf|infinity)$";
+      for (i = 1; i <= na; ++i) {
+        if (tolower(x[i]) ~ special || tolower(y[i]) ~ special) {
+          if (nan && tolower(x[i]) == "nan" && tolower(y[i]) == "nan") continue;
+          exit 1
+        }
+        if (x[i] !~ number || y[i] !~ number) { if (x[i] != y[i]) exit 1; continue }
+        d = x[i] - y[i]; if (d < 0) d = -d;
         s = x[i] < 0 ? -x[i] : x[i]; if (s < 1) s = 1; if (d > tol * s) exit 1 }
       exit 0 }'; then ok; else fail "$1: got '$(echo $2)', expected '$(echo $3)'"; fi
 }

@@ -3,8 +3,8 @@
 // fires once, Lacey's mixing index, bed dynamics and the database distance.
 #include "check.hpp"
 
-#include "analysis/bed_dynamics.hpp"
 #include "database/min_fluidization.hpp"
+#include "observable/bed_dynamics.hpp"
 #include "observable/mixing_index.hpp"
 
 #include <cmath>

@@ -317,7 +317,7 @@ PetscErrorCode sameAsReference(const std::string &dir) {
     RCFD_CHECK(mine.size() == theirs.size() && mine.size() > 2);
     for (std::size_t r = 0; r < std::min(mine.size(), theirs.size()); ++r)
       for (std::size_t c = 0; c < theirs[r].size(); ++c) { // the run adds d_over_d32 at the end of halves
-        if (r == 0 || c == 0 && std::string(name) == "halves.csv") RCFD_CHECK(mine[r][c] == theirs[r][c]);
+        if (r == 0 || (c == 0 && std::string(name) == "halves.csv")) RCFD_CHECK(mine[r][c] == theirs[r][c]);
         else RCFD_CHECK_CLOSE(number(mine, r, c), number(theirs, r, c), 1e-8);
       }
   }

@@ -86,6 +86,15 @@ void csvReader(const std::string &dir) {
              !csv::parseNumber("1e999", v));
 }
 
+// The suite's own message for a failed closeness check: a tolerance of 1e-14 and values
+// that differ in the 17th digit are printed as they are (not 0.000000 and 0.300000).
+void checkMessages() {
+  RCFD_CHECK(rcfd::test::closeFailure("a", 0.1 + 0.2, "b", 0.3, 1e-14) ==
+             "a = 0.30000000000000004, b = 0.29999999999999999, tol 1e-14");
+  RCFD_CHECK(rcfd::test::closeFailure("a", -2.5e-300, "b", 1e300, 0.125) ==
+             "a = -2.5e-300, b = 1.0000000000000001e+300, tol 0.125");
+}
+
 } // namespace
 
 int main() {
@@ -94,6 +103,7 @@ int main() {
   if (!dir) return 1;
   atomicFile(dir);
   csvReader(dir);
+  checkMessages();
   // The public header repeats the defaults of src/base/constants.hpp.
   const DatabaseMetadata meta;
   RCFD_CHECK(meta.solidDensity == kDefaultSolidDensity);

@@ -5,7 +5,7 @@
 #include "state_access.hpp"
 #include "base/petsc_compat.hpp"
 
-#include "analysis/bed_dynamics.hpp"
+#include "observable/bed_dynamics.hpp"
 #include "rcfd/database.hpp"
 
 #include <cstdio>

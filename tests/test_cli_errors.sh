@@ -40,6 +40,23 @@ printf 'db: x.h5\n\tt_end: 5\n' >"$work/tab.yaml"
 expect_error "line 2 is indented with a tab" run -options_file "$work/tab.yaml"
 printf 'db: "x.h5\n' >"$work/quote.yaml"
 expect_error "line 1 opens a quote it does not close" run -options_file "$work/quote.yaml"
+# A key given twice: YAML forbids it and PETSc would take the last value without a word.
+printf 'db: x.h5\nt_end: 0.1\n# t_end: 2\nfields: false\nt_end: 5\n' >"$work/twice.yaml"
+expect_error "-options_file '$work/twice.yaml' gives 't_end' on line 2 and again on line 5" \
+  run -options_file "$work/twice.yaml"
+# ... also inside a nested mapping, and as a nested key and its flat option name.
+printf 'drift:\n  kd: 5e3\n  model: B\n  kd: 6e3\n' >"$work/nested.yaml"
+expect_error "-options_file '$work/nested.yaml' gives 'drift_kd' on line 2 and again on line 4" \
+  run -options_file "$work/nested.yaml"
+printf 'drift_kd: 5e3\ndrift:\n  model: B\n  kd: 6e3\nt_end: 1\n' >"$work/flat.yaml"
+expect_error "-options_file '$work/flat.yaml' gives 'drift_kd' on line 1 and again on line 4" \
+  run -options_file "$work/flat.yaml"
+# The same name under two parents is two options (read: carry_kd is then unknown); a key repeated in
+# another file is a later file's choice.
+printf 'drift:\n  kd: 5e3\ncarry:\n  kd: 5e3\n' >"$work/two-parents.yaml"
+printf 'drift_kd: 6e3\n' >"$work/later.yaml"
+expect_error "Unknown option -carry_kd" run -options_file "$work/two-parents.yaml" \
+  -options_file "$work/later.yaml" -db "$work/none.h5"
 expect_error "-fractions_diameters is empty" run -db "$db" -fractions_diameters ""
 expect_error "-fractions_mass_shares was given without -fractions_diameters" run -db "$db" \
   -fractions_mass_shares 0.5,0.5

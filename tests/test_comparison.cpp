@@ -3,7 +3,7 @@
 // ensemble scored by its mean, the bottom layer's d32 with a gap, profiles,
 // the halves' size distributions, the database distance, window labels that
 // read back exactly, and bad input refused naming the file.
-#include "analysis/bed_dynamics.hpp"
+#include "observable/bed_dynamics.hpp"
 #include "analysis/class_scores.hpp"
 #include "analysis/comparison.hpp"
 #include "analysis/halves_comparison.hpp"

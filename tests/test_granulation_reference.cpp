@@ -186,7 +186,7 @@ public:
   }
   PetscErrorCode apply(const StepInfo &step, FractionState &state) override {
     std::vector<double> zoneMass;
-    double solid;
+    double solid = 0.0;
     PetscScalar *m;
     PetscFunctionBeginUser;
     for (int i = 0; i < nf; ++i) held[i] += rate * (1.0 + feedError) * step.dt * shares[i];
@@ -218,7 +218,7 @@ public:
   PetscErrorCode setUp(const RunContext &ctx) override { return setUpZone(ctx); }
   PetscErrorCode apply(const StepInfo &step, FractionState &state) override {
     std::vector<double> zoneMass;
-    double solid;
+    double solid = 0.0;
     PetscScalar *m;
     PetscFunctionBeginUser;
     const double wanted = rate * step.dt + owed;

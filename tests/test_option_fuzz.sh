@@ -42,7 +42,7 @@ for cmd in run synth build; do
     rc=$?
     lines=$(grep -c . "$work/err.txt")
     if [ $rc -eq 124 ]; then
-      ok # slow but alive (a huge but valid value)
+      fail "rcfd $cmd ${args[*]}: no answer in 20 s (a hang is a failure)"
     elif [ $rc -ge 128 ] || grep -q "PETSC ERROR\|terminate called\|Segmentation\|Aborted" "$work/err.txt"; then
       fail "rcfd $cmd ${args[*]}: exit $rc: $(head -3 "$work/err.txt")"
     elif [ $rc -ne 0 ] && { [ "$lines" -ne 1 ] || ! grep -q "^rcfd $cmd: error: " "$work/err.txt"; }; then

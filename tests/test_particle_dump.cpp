@@ -1,7 +1,7 @@
 // Particle snapshot readers: LIGGGHTS/LAMMPS dumps in any column order,
 // plain and gzip, CSV snapshots, and the message of every error.
 #include "check.hpp"
-#include "builders/particles/particle_dump.hpp"
+#include "particles/particle_dump.hpp"
 
 #include <zlib.h>
 

@@ -4,7 +4,7 @@
 // boxes around any point share the sphere exactly; disk-rectangle areas.
 #include "check.hpp"
 
-#include "builders/particles/sphere_overlap.hpp"
+#include "particles/sphere_overlap.hpp"
 
 #include <cmath>
 

@@ -5,7 +5,7 @@
 // over the recorded span (halves, frame use of a random path) and the standard
 // errors of the halves on series of known autocorrelation.
 #include "check.hpp"
-#include "analysis/bed_dynamics.hpp"
+#include "observable/bed_dynamics.hpp"
 #include "base/random.hpp"
 #include "analysis/span_statistics.hpp"
 #include "builders/synthetic/synthetic_bed.hpp"

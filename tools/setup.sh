@@ -19,5 +19,7 @@ if [ ${#missing[@]} -gt 0 ]; then
 fi
 
 echo "== building (Release)"
-cmake -S . -B build -DCMAKE_BUILD_TYPE=Release >/dev/null
+# RCFD_WERROR=ON (CI, .ci/run): a compiler warning stops the build.  Not passed otherwise, so
+# that a build configured once keeps its setting.
+cmake -S . -B build -DCMAKE_BUILD_TYPE=Release ${RCFD_WERROR:+-DRCFD_WERROR=$RCFD_WERROR} >/dev/null
 cmake --build build --parallel 2

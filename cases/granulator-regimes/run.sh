@@ -16,6 +16,7 @@ out=${1:-$root/rcfd-output/granulator-regimes}
 np=${NP:-2}
 export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
 bubbling=$root/build/regimes-1.1.h5 calm=$root/build/regimes-0.9.h5
+mkdir -p "$root/build" # absent in a checkout used with an installed rcfd (RCFD=...)
 [ -s "$bubbling" ] || "$rcfd" synth -o "$bubbling" -synth_nucleation steady -synth_superficial_velocity 1.1 -quiet
 [ -s "$calm" ] || "$rcfd" synth -o "$calm" -synth_nucleation steady -synth_superficial_velocity 0.9 -quiet
 run=(mpiexec -n "$np" "$rcfd" run -options_file "$root/cases/granulator/case.yaml"

@@ -14,7 +14,8 @@ db=${DB:-$root/build/default-bed.h5}
 out=${1:-$root/rcfd-output/granulator}
 np=${NP:-2}
 export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
-[ -s "$db" ] || "$rcfd" synth -o "$db" -quiet
+# build/ is absent in a checkout used with an installed rcfd (RCFD=...).
+[ -s "$db" ] || { mkdir -p "$(dirname "$db")" && "$rcfd" synth -o "$db" -quiet; }
 runs=(mpiexec -n "$np" "$rcfd" run -options_file "$root/cases/granulator/case.yaml" -db "$db")
 growth=(-growth_rate 1 -growth_transfer_fraction 0.01)
 flow=(-feed_rate 0.2 -discharge_rate 0.2 -discharge_sample_interval 1)

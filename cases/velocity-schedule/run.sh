@@ -16,6 +16,7 @@ np=${NP:-2}
 export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
 bed=(-synth_cells 20,5,70 -synth_frames 200 -synth_nucleation steady -synth_seed 1 -quiet)
 slow=$root/build/velocity-1.1.h5 middle=$root/build/velocity-1.2.h5 fast=$root/build/velocity-1.3.h5
+mkdir -p "$root/build" # absent in a checkout used with an installed rcfd (RCFD=...)
 [ -s "$slow" ] || "$rcfd" synth -o "$slow" "${bed[@]}" -synth_superficial_velocity 1.1
 [ -s "$middle" ] || "$rcfd" synth -o "$middle" "${bed[@]}" -synth_superficial_velocity 1.2
 [ -s "$fast" ] || "$rcfd" synth -o "$fast" "${bed[@]}" -synth_superficial_velocity 1.3

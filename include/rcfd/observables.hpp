@@ -20,7 +20,7 @@
 
 #include "rcfd/database.hpp"
 #include "rcfd/fractions.hpp"
-#include "rcfd/operator.hpp"
+#include "rcfd/run_context.hpp"
 
 #include <functional>
 #include <string>

@@ -1,6 +1,6 @@
 #include "analysis/comparison.hpp"
 
-#include "analysis/bed_dynamics.hpp"
+#include "observable/bed_dynamics.hpp"
 #include "base/atomic_file.hpp"
 
 #include <algorithm>

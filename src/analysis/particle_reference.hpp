@@ -17,9 +17,9 @@
 // All heights are rcfd z (after the AxisMap), SI units.
 #pragma once
 
-#include "builders/particles/cell_shares.hpp"
-#include "builders/particles/particle_dump.hpp"
-#include "builders/particles/size_classes.hpp"
+#include "particles/cell_shares.hpp"
+#include "particles/particle_dump.hpp"
+#include "particles/size_classes.hpp"
 #include "rcfd/mesh.hpp"
 
 #include <limits>

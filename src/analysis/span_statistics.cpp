@@ -1,6 +1,6 @@
 #include "analysis/span_statistics.hpp"
 
-#include "analysis/bed_dynamics.hpp"
+#include "observable/bed_dynamics.hpp"
 
 #include <cmath>
 #include <limits>

@@ -1,5 +1,7 @@
 #include "base/csv.hpp"
 
+#include "base/input_file.hpp"
+
 #include <limits>
 
 #include <algorithm>
@@ -43,6 +45,7 @@ bool parseNumber(std::string_view t, double &v) {
 }
 
 Table Table::read(const std::string &path, const std::string &what) {
+  requireRegularFile(path);
   std::ifstream in(path);
   if (!in) throw std::runtime_error("cannot open the " + what + " '" + path + "'.");
   Table t;

@@ -2,6 +2,7 @@
 
 #include "base/atomic_file.hpp"
 #include "base/h5_write_driver.hpp"
+#include "base/input_file.hpp"
 
 #include <algorithm>
 #include <cstdint>
@@ -132,6 +133,7 @@ coalesce(const std::vector<std::pair<hsize_t, hsize_t>> &runs, size_t maxPieces)
 
 File File::openRead(const std::string &path, MPI_Comm comm) {
   silenceHdf5();
+  if (const std::string problem = notRegularFile(path); !problem.empty()) throw Error(problem);
   if (H5Fis_hdf5(path.c_str()) <= 0) {
     FILE *probe = std::fopen(path.c_str(), "rb");
     if (!probe) throw Error("cannot open file '" + path + "': it does not exist or is not readable");

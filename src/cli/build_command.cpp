@@ -125,7 +125,13 @@ PetscErrorCode buildCommand(MPI_Comm comm) {
       throw std::runtime_error("the window and stride select " + std::to_string(sel.size()) +
                                " snapshot of the " + std::to_string(in.files.size()) + " " +
                                in.origin() + "; a database frame needs two.");
-    const double dtRec = uniformInterval(in.times, sel);
+    double dtRec = 0.0;
+    try {
+      dtRec = uniformInterval(in.times, sel);
+    } catch (const std::runtime_error &e) { // name where the times came from
+      throw std::runtime_error((in.timesFile.empty() ? "-dump_dt" : "-times '" + in.timesFile + "'") +
+                               std::string(": ") + e.what());
+    }
     ParticleBuildOptions opt = in.buildOptions();
     const ParticleSnapshot first = readParticleSnapshot(in.files[sel.front()], opt.read);
     opt.mesh = resolveMesh(in.mesh, first, opt.axes);

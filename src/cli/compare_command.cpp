@@ -9,7 +9,7 @@
 #include "base/petsc_compat.hpp"
 
 #include "base/checked_options.hpp"
-#include "analysis/bed_dynamics.hpp"
+#include "observable/bed_dynamics.hpp"
 #include "analysis/class_scores.hpp"
 #include "analysis/comparison.hpp"
 #include "analysis/halves_comparison.hpp"

@@ -1,9 +1,9 @@
 #include "cli/commands.hpp"
 #include "base/petsc_compat.hpp"
 
-#include "analysis/bed_dynamics.hpp"
 #include "base/collective.hpp"
 #include "base/h5.hpp"
+#include "observable/bed_dynamics.hpp"
 #include "rcfd/database.hpp"
 
 #include <filesystem>

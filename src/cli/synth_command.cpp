@@ -73,8 +73,10 @@ PetscErrorCode readSynthOptions(MPI_Comm comm, SyntheticBedOptions *o, std::stri
                        "Strips of the distributor along x that steady nucleation visits in shuffled rounds"
                        " (about a bubble wide)", &strips, 1, 1000));
   o->nucleationStrips = static_cast<int>(strips);
+  // At most an hour: a larger warm-up (1e9 s) is a typo that would keep synth busy for days.
+  constexpr ValueRange kWarmUp{0.0, 3600.0, true, true, "a time in [0, 3600] s"};
   PetscCall(checkedReal(PetscOptionsObject, "-synth_warm_up",
-                        "Simulated time before frame 0 [s]", &o->warmUpTime, kNonNegative));
+                        "Simulated time before frame 0 [s]", &o->warmUpTime, kWarmUp));
   PetscCall(checkedReal(PetscOptionsObject, "-synth_superficial_velocity",
                         "Superficial gas velocity U [m/s]: sets bubble sizes and nucleation by two-phase theory"
                         " (docs/synthetic.md; not given: the default bed, which stands for 1.1 m/s)",

@@ -164,7 +164,7 @@ private:
 };
 
 /// bed_dynamics.csv: the bed's centre of gravity at every sample gives its
-/// mean and Delta z_CoG = mean |z_CoG - mean z_CoG| (analysis/bed_dynamics.hpp),
+/// mean and Delta z_CoG = mean |z_CoG - mean z_CoG| (observable/bed_dynamics.hpp),
 /// printed at the end of the run.
 class BedDynamicsMonitor final : public Monitor {
 public:

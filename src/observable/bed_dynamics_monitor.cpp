@@ -2,7 +2,7 @@
 #include "observable/answers.hpp"
 #include "base/petsc_compat.hpp"
 
-#include "analysis/bed_dynamics.hpp"
+#include "observable/bed_dynamics.hpp"
 
 #include <cstdio>
 #include <numeric>

@@ -1,6 +1,7 @@
 #include "path/frame_path.hpp"
 
 #include "base/atomic_file.hpp"
+#include "base/input_file.hpp"
 #include "base/petsc_compat.hpp"
 
 #include "path/builtin_paths.hpp"
@@ -146,6 +147,7 @@ void writePathFile(const std::string &filename, const std::vector<int> &frames,
 }
 
 std::vector<int> readPathFile(const std::string &filename) {
+  requireRegularFile(filename);
   std::ifstream in(filename);
   if (!in) throw std::runtime_error("cannot open the path file " + filename);
   std::vector<int> frames;

@@ -78,13 +78,15 @@ private:
     PetscOptionsHasName(nullptr, nullptr, "-help", &help);
     return help;
   }
+  // The start of a message: the file the frames came from, if any.
+  std::string where() const { return file_.empty() ? "recorded path" : "recorded path '" + file_ + "'"; }
   void check() const {
     const int K = numFrames();
     if (frames_.empty())
-      throw std::invalid_argument("recorded path: the list of frames is empty");
+      throw std::invalid_argument(where() + ": the list of frames is empty");
     for (std::size_t s = 0; s < frames_.size(); ++s)
       if (frames_[s] < 0 || frames_[s] >= K)
-        throw std::invalid_argument("recorded path: step " + std::to_string(s) + " uses frame " +
+        throw std::invalid_argument(where() + ": step " + std::to_string(s) + " uses frame " +
                                     std::to_string(frames_[s]) + ", outside the database's [0, " +
                                     std::to_string(K - 1) + "]");
   }

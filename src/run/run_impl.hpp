@@ -6,7 +6,7 @@
 
 #include "observable/answers.hpp"
 #include "observable/cog_monitor.hpp"
-#include "observable/mass_account_monitor.hpp"
+#include "operator/mass_account_monitor.hpp"
 #include "run/jumps_file.hpp"
 #include "switching/database_switcher.hpp"
 

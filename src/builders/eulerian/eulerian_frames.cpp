@@ -1,6 +1,7 @@
 #include "builders/eulerian/eulerian_frames.hpp"
 
 #include "base/atomic_file.hpp"
+#include "base/input_file.hpp"
 #include "base/random.hpp"
 #include "database/csr.hpp"
 
@@ -276,6 +277,7 @@ CsrMatrix widenSupport(const CsrMatrix &T, const std::vector<double> &m,
 // ------------------------------------------------------------------ files
 
 EulerianRows readEulerianRows(const std::string &path) {
+  requireRegularFile(path);
   std::ifstream in(path, std::ios::binary);
   if (!in) throw std::runtime_error("cannot open Eulerian frame '" + path + "'.");
   std::ostringstream buffer;

@@ -43,8 +43,8 @@
 // masses of all four kinds are in the report.
 #pragma once
 
-#include "builders/particles/cell_shares.hpp"
-#include "builders/particles/particle_dump.hpp"
+#include "particles/cell_shares.hpp"
+#include "particles/particle_dump.hpp"
 #include "rcfd/frames.hpp"
 #include "rcfd/mesh.hpp"
 

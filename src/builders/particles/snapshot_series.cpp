@@ -1,5 +1,7 @@
 #include "builders/particles/snapshot_series.hpp"
 
+#include "base/input_file.hpp"
+
 #include <glob.h>
 
 #include <algorithm>
@@ -68,6 +70,7 @@ std::vector<std::string> globSnapshotFiles(const std::string &pattern) {
 }
 
 std::vector<std::string> readSnapshotList(const std::string &path) {
+  requireRegularFile(path);
   std::ifstream in(path);
   if (!in) throw std::runtime_error("cannot open the snapshot list '" + path + "'.");
   const std::filesystem::path dir = std::filesystem::path(path).parent_path();

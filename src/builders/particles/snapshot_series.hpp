@@ -4,9 +4,9 @@
 // std::invalid_argument for bad arguments) with one sentence naming the file.
 #pragma once
 
-#include "builders/particles/cell_shares.hpp"
-#include "builders/particles/particle_dump.hpp"
-#include "builders/particles/size_classes.hpp"
+#include "particles/cell_shares.hpp"
+#include "particles/particle_dump.hpp"
+#include "particles/size_classes.hpp"
 #include "rcfd/mesh.hpp"
 
 #include <array>

@@ -1,4 +1,4 @@
-#include "observable/mass_account_monitor.hpp"
+#include "operator/mass_account_monitor.hpp"
 #include "base/petsc_compat.hpp"
 #include "base/number_rows.hpp"
 

@@ -1,4 +1,4 @@
-#include "analysis/bed_dynamics.hpp"
+#include "observable/bed_dynamics.hpp"
 #include "base/petsc_compat.hpp"
 
 #include "rcfd/zone.hpp"

@@ -1,6 +1,6 @@
-#include "builders/particles/cell_shares.hpp"
+#include "particles/cell_shares.hpp"
 
-#include "builders/particles/sphere_overlap.hpp"
+#include "particles/sphere_overlap.hpp"
 #include "base/constants.hpp"
 
 #include <algorithm>

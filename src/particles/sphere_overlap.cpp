@@ -1,4 +1,4 @@
-#include "builders/particles/sphere_overlap.hpp"
+#include "particles/sphere_overlap.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -20,6 +20,13 @@ constexpr double kWeights[8] = {0.1894506104550685, 0.1826034150449236, 0.169156
                                 0.1495959888165767, 0.1246289712555339, 0.0951585116824928,
                                 0.0622535239386479, 0.0271524594117541};
 
+// Sorts the few values of [first, first + n) in place.  std::sort here makes GCC 12 warn
+// (-Warray-bounds) about its branch for more than 16 values, which a 6-value array never takes.
+void sortFew(double *first, std::size_t n) {
+  for (std::size_t i = 1; i < n; ++i)
+    for (std::size_t j = i; j > 0 && first[j] < first[j - 1]; --j) std::swap(first[j], first[j - 1]);
+}
+
 } // namespace
 
 double diskRectangleArea(double r, double x0, double x1, double y0, double y1) {
@@ -35,7 +42,7 @@ double diskRectangleArea(double r, double x0, double x1, double y0, double y1) {
       for (double v : {-x, x})
         if (v > a && v < b) cuts[n++] = v;
     }
-  std::sort(cuts, cuts + n);
+  sortFew(cuts, n);
   double area = 0.0;
   for (std::size_t i = 0; i + 1 < n; ++i) {
     const double lo = cuts[i], hi = cuts[i + 1];

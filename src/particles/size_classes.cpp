@@ -1,4 +1,4 @@
-#include "builders/particles/size_classes.hpp"
+#include "particles/size_classes.hpp"
 
 #include <algorithm>
 #include <cmath>

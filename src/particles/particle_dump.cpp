@@ -1,6 +1,7 @@
-#include "builders/particles/particle_dump.hpp"
+#include "particles/particle_dump.hpp"
 
 #include "base/csv.hpp"
+#include "base/input_file.hpp"
 #include "base/constants.hpp"
 
 #include <zlib.h>
@@ -39,6 +40,7 @@ std::string quoted(std::string_view s) {
 class LineReader {
 public:
   explicit LineReader(std::string path) : path_(std::move(path)) {
+    requireRegularFile(path_);
     errno = 0;
     file_ = gzopen(path_.c_str(), "rb");
     if (!file_)

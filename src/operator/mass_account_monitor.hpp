@@ -3,6 +3,7 @@
 #pragma once
 
 #include "rcfd/observables.hpp"
+#include "rcfd/operator.hpp"
 
 #include "observable/answers.hpp"
 #include <memory>
