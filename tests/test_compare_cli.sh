@@ -153,7 +153,7 @@ if run "compare 20 runs" "$rcfd" compare -reference "$work/ref.csv" -rcfd "${run
   same "20 runs scored" "$(($(grep -vc "^#" "$work/many-scores.csv") - 1))" 20 0
 fi
 expect_error "-mesh_cells takes at most 3 comma-separated values" build -dumps "$work/none.*" -mesh_cells 2,2,2,2
-expect_error "-calibrate_models takes at most 2 comma-separated values" calibrate -calibrate_models A,B,A \
+expect_error "-calibrate_models names the size law 'A' twice" calibrate -calibrate_models A,B,A \
   -reference "$work/ref.csv"
 
 # ---- bad input: one sentence naming the file.

@@ -94,8 +94,13 @@ for np in 1 2; do
     -restart "$work/stop$np/checkpoint.h5" -output_dir "$work/on$np" &&
     [ "$(tail -1 "$work/on$np/product.csv" | cut -d, -f1)" = 5 ] && ok || fail "np$np: a restart without -stop_at_steady did not go on to 5 s"
 done
+# bulk_mismatch is a difference of two nearly equal sums: the granulator's feed and discharge sum
+# their zone per rank, so it differs in the 10th digit between 1 and 2 ranks (as in test_rank_equivalence).
 for f in product mass_account cog; do
-  "$compare" "$work/stop1/$f.csv" "$work/stop2/$f.csv" 1e-10 1e-14 >/dev/null && ok || fail "stopped runs: 1 and 2 ranks differ in $f.csv"
+  tolerance=()
+  [ $f = cog ] && tolerance=(bulk_mismatch=1e-12)
+  "$compare" "$work/stop1/$f.csv" "$work/stop2/$f.csv" 1e-10 1e-14 "${tolerance[@]}" >/dev/null && ok ||
+    fail "stopped runs: 1 and 2 ranks differ in $f.csv"
 done
 
 short=("${chamber[@]}" -t_end 0.05 -output_dir "$work/bad")

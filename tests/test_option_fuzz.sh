@@ -41,7 +41,11 @@ for cmd in run synth build; do
     timeout 20 "$rcfd" $cmd ${base[$cmd]} "${args[@]}" >/dev/null 2>"$work/err.txt"
     rc=$?
     lines=$(grep -c . "$work/err.txt")
-    if [ $rc -eq 124 ]; then
+    # A run given a huge -t_end is a long run, not a hang: it has written rows of cog.csv (the small
+    # database's 60 frames take well under a second). No row in 20 s is a hang, and a failure.
+    if [ $rc -eq 124 ] && [ "$cmd" = run ] && [ "$(grep -vc '^#' "$work/out/cog.csv" 2>/dev/null)" -gt 10 ]; then
+      ok
+    elif [ $rc -eq 124 ]; then
       fail "rcfd $cmd ${args[*]}: no answer in 20 s (a hang is a failure)"
     elif [ $rc -ge 128 ] || grep -q "PETSC ERROR\|terminate called\|Segmentation\|Aborted" "$work/err.txt"; then
       fail "rcfd $cmd ${args[*]}: exit $rc: $(head -3 "$work/err.txt")"

@@ -64,10 +64,14 @@ PetscErrorCode DriftCalibration::setFromOptions() {
              "-calibrate_from %s is not known; use cog or measured", from);
   PetscCheck(setRef || source == "measured", comm, PETSC_ERR_USER_INPUT,
              "No reference given: pass -reference REF/cog.csv (made by rcfd reference)");
-  for (const auto &m : given)
+  for (std::size_t i = 0; i < given.size(); ++i) {
+    const std::string &m = given[i];
     PetscCheck(registry.sizeLaws().has(m), comm, PETSC_ERR_USER_INPUT,
                "-calibrate_models: size law '%s' is not known; use any of %s", m.c_str(),
                registry.sizeLaws().listing().c_str());
+    PetscCheck(std::find(given.begin(), given.begin() + i, m) == given.begin() + i, comm, PETSC_ERR_USER_INPUT,
+               "-calibrate_models names the size law '%s' twice", m.c_str());
+  }
   objectiveName = objective;
   PetscCheck(objectiveName == "rms" || objectiveName == "seg", comm, PETSC_ERR_USER_INPUT,
              "-calibrate_objective %s is not known; use rms or seg", objective);
