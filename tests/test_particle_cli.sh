@@ -120,6 +120,15 @@ run_short() { # run_short DIR [options]
     -fractions_mass_shares 0.111111111111,0.888888888889 -pipeline shift -fields false \
     -plot false -output_dir "$dir" "$@"
 }
+# -init_out writes checksums: a flipped bit in the masses is refused with rcfd's sentence naming the
+# file (PETSc's VecLoad used to report only HDF5's failure to close it).
+h5bytes=$(dirname "$2")/h5_bytes
+cp "$work/init.h5" "$work/damaged-init.h5"
+"$h5bytes" "$work/damaged-init.h5" flip $(($("$h5bytes" "$work/init.h5" locate /masses) + 8)) 2
+[ "$("$h5print" "$work/init.h5" / checksums string)" = fletcher32 ] && ok || fail "-init_out wrote no checksums"
+expect_error "HDF5 file '$work/damaged-init.h5': '/masses' is damaged" run -db "$db" -init file \
+  -init_file "$work/damaged-init.h5" -fractions_diameters 0.001,0.002 -fractions_mass_shares 0.111111111111,0.888888888889 \
+  -output_dir "$work/refused-init"
 if run "run with the default t_end" run_short "$work/one-pass"; then
   same "one pass: rows" "$(tail -n +2 "$work/one-pass/cog.csv" | cut -d, -f1 | paste -sd' ')" "0 0.1"
   [ ! -e "$work/one-pass/jumps.csv" ] && ok || fail "a run inside its database wrote jumps.csv"

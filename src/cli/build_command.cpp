@@ -84,7 +84,7 @@ void writeInitialMasses(const std::string &path, const std::vector<double> &mass
                         const SizeClasses &classes, const std::vector<double> &shares,
                         const std::string &note) {
   AtomicFile target(path);
-  h5::File f = h5::File::create(target);
+  h5::File f = h5::File::create(target, h5::Checksums::fletcher32); // a damaged init file is refused
   f.write("/masses", masses, static_cast<hsize_t>(classes.diameter.size()));
   f.writeAttr("/masses", "diameters", classes.diameter);
   f.writeAttr("/masses", "mass_shares", shares);

@@ -33,7 +33,7 @@ void coarsenInitialMasses(const std::string &in, const std::string &out, const C
   for (int c = 0; c < fineCells; ++c)
     for (std::size_t i = 0; i < nf; ++i) masses[coarse.coarseOf[c] * nf + i] += fine[c * nf + i];
   AtomicFile file(out);
-  h5::File g = h5::File::create(file.temporaryPath());
+  h5::File g = h5::File::create(file.temporaryPath(), h5::Checksums::fletcher32);
   g.write("/masses", masses, static_cast<hsize_t>(nf));
   for (const char *a : {"diameters", "mass_shares"})
     if (f.hasAttribute("/masses", a)) g.writeAttr("/masses", a, f.readAttrDoubles("/masses", a));
