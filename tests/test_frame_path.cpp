@@ -569,6 +569,83 @@ void testLeastUsed() {
   RCFD_CHECK(throwsWith([&] { makeFramePath("replay", K, {}, r); }, "leastUsed"));
 }
 
+// The clock window (issue 28): every jump of step n lands within W frames of
+// the clock min(n, K - 1) on one of the best matches among the frames there
+// outside the band; past the database's end the path stays in its last
+// frames; a saved state continues identically and does not cross to a path
+// without the window; bad windows are refused with their name.
+void testClockWindow() {
+  const int K = 200, W = 10, candidates = 4;
+  const auto R = makeMatrix(K, 21);
+  for (const char *kind : {"random", "markov"})
+    for (bool leastUsed : {false, true}) {
+      PathParams q;
+      q.candidates = candidates;
+      q.clockWindow = W;
+      q.leastUsed = leastUsed;
+      q.seed = 9;
+      auto a = makeFramePath(kind, K, R, q);
+      const auto steps = run(*a, 3 * K);
+      const int band = std::max(1, W / 6);
+      bool inWindow = true, best = true, consecutive = true, late = true;
+      int jumps = 0;
+      for (std::size_t n = 1; n < steps.size(); ++n) {
+        const int f = steps[n].frame, i = steps[n - 1].frame;
+        const int c = std::min<int>(static_cast<int>(n), K - 1);
+        if (n >= static_cast<std::size_t>(K)) late = late && f >= K - 1 - W;
+        if (!steps[n].jump) {
+          consecutive = consecutive && f == i + 1;
+          continue;
+        }
+        ++jumps;
+        inWindow = inWindow && std::abs(f - c) <= W && std::abs(i - (f - 1)) >= band;
+        const auto allowed = [&](int from, int j) {
+          return std::abs(j + 1 - c) <= W && std::abs(from - j) >= band;
+        };
+        const auto top = bestMatches(R, K, i, candidates, allowed);
+        best = best && std::find(top.begin(), top.end(), f - 1) != top.end();
+      }
+      std::printf("%s path (leastUsed %d), clock window %d: %d jumps in %d steps\n", kind, leastUsed,
+                  W, jumps, 3 * K);
+      RCFD_CHECK(jumps > 10);
+      RCFD_CHECK(inWindow && best && consecutive && late);
+      RCFD_CHECK(a->describe().find("clockWindow=10") != std::string::npos);
+      // Restored mid-run (past the end too), it continues identically.
+      for (int at : {123, 250}) {
+        auto c = makeFramePath(kind, K, R, q);
+        run(*c, at);
+        const auto state = c->saveState();
+        const auto cont = run(*c, 300);
+        auto d = makeFramePath(kind, K, R, q);
+        d->restoreState(state);
+        RCFD_CHECK(same(run(*d, 300), cont));
+        PathParams off = q;
+        off.clockWindow.reset();
+        RCFD_CHECK(throwsWith([&] { makeFramePath(kind, K, R, off)->restoreState(state); },
+                              "other parameters"));
+      }
+    }
+  PathParams z;
+  z.clockWindow = 0;
+  RCFD_CHECK(throwsWith([&] { makeFramePath("random", K, R, z); }, "clockWindow must be at least 1"));
+  z.clockWindow = 6;
+  z.band = 7;
+  RCFD_CHECK(throwsWith([&] { makeFramePath("markov", K, R, z); }, "when the path follows the clock"));
+  z.band.reset();
+  RCFD_CHECK(throwsWith([&] { makeFramePath("quarter", K, R, z); }, "clockWindow"));
+  // A database shorter than the window: the band is dropped where it leaves no target.
+  const int k = 4;
+  PathParams small;
+  small.clockWindow = 6;
+  small.band = 6;
+  small.minLength = 1;
+  small.maxLength = 1;
+  const auto tiny = run(*makeFramePath("random", k, makeMatrix(k, 3), small), 50);
+  bool valid = true;
+  for (const auto &s : tiny) valid = valid && s.frame >= 0 && s.frame < k;
+  RCFD_CHECK(valid);
+}
+
 } // namespace
 
 int main() {
@@ -582,6 +659,7 @@ int main() {
   testSeeds();
   testSaveRestore();
   testLeastUsed();
+  testClockWindow();
   testRecorded();
   testBadParameters();
   return RCFD_TEST_RESULT();

@@ -48,6 +48,14 @@ struct PathParams {
   /// that its next sequence starts with (ties drawn at random), so that frames
   /// are used about equally often (issue 15).  false (default): uniform draw.
   bool leastUsed = false;
+  /// random and markov: follow the run's clock.  A jump at step n may only
+  /// target frames J + 1 within clockWindow frames of c = min(startFrame + n,
+  /// K - 1), the frame a replay would use (past the database's end, its last
+  /// frame).  For databases that record a transient (a bed that bubbles hard,
+  /// then settles): without it a stitched path draws the late bed early and
+  /// the early bed late (docs/paths.md).  band then defaults to
+  /// max(1, clockWindow / 6) and must not exceed clockWindow.  Unset: off.
+  std::optional<int> clockWindow;
 };
 
 /// Adds replay, random, markov, quarter and recorded to a registry.

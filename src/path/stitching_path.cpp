@@ -33,6 +33,7 @@ struct StitchingConfig {
   double meanInterval = 0.0;
   int candidates = 1;
   bool leastUsed = false; ///< jump to the least-used candidate (PathParams::leastUsed)
+  int clockWindow = 0;    ///< PathParams::clockWindow; 0: off
 };
 
 /// For every frame i, the `width` best allowed targets j (smallest R[i][j],
@@ -124,6 +125,7 @@ void configureStitching(const std::string &kind, int K, const std::vector<double
 
   if (quarter) {
     refuseUnused(kind, p.band.has_value(), "band");
+    refuseUnused(kind, p.clockWindow.has_value(), "clockWindow");
     // Quarter q holds the frames i with floor(4 i / K) = q; targets come from
     // quarter (q + 2) mod 4.
     const auto q = [K](int i) { return static_cast<int>(4LL * i / K); };
@@ -132,6 +134,20 @@ void configureStitching(const std::string &kind, int K, const std::vector<double
         "quarter jumps need at least 8 frames, so that the last quarter holds a frame with a "
         "successor",
         table, count);
+  } else if (p.clockWindow) {
+    c.clockWindow = *p.clockWindow;
+    if (c.clockWindow < 1)
+      throw std::invalid_argument(pathParameterError(kind, "clockWindow must be at least 1 frame, not " +
+                                                       std::to_string(c.clockWindow)));
+    c.band = p.band.value_or(std::max(1, c.clockWindow / 6));
+    // band <= clockWindow leaves targets outside the band in every window of
+    // a database longer than the window (a sequence ends within
+    // clockWindow + 1 frames of the clock); clockTarget() drops the band
+    // where a short database leaves none.
+    if (c.band < 1 || c.band > c.clockWindow)
+      throw std::invalid_argument(pathParameterError(
+          kind, "band " + std::to_string(c.band) + " must lie in [1, clockWindow = " +
+                    std::to_string(c.clockWindow) + "] when the path follows the clock"));
   } else {
     c.band = p.band.value_or(std::max(1, K / 10));
     if (c.band < 1)
@@ -154,7 +170,8 @@ void configureStitching(const std::string &kind, int K, const std::vector<double
 
 /// Sequences of consecutive frames; at the end of a sequence at frame i the
 /// next one starts at J + 1, J drawn from the precomputed best matches of i.
-/// Only the jump table is kept, not the K x K matrix.
+/// Only the jump table is kept, not the K x K matrix; a path that follows the
+/// clock keeps the band of it that its jumps can reach instead.
 class StitchingPath final : public FramePath {
 public:
   /// Waits for setFromOptions() and setUp().  In runs a jump draws among
@@ -196,6 +213,7 @@ public:
     if (cfg_.ending == Ending::UniformLength) os << " band=" << cfg_.band;
     os << " candidates=" << cfg_.candidates;
     if (cfg_.leastUsed) os << " leastUsed";
+    if (cfg_.clockWindow > 0) os << " clockWindow=" << cfg_.clockWindow;
     return os.str();
   }
 
@@ -207,7 +225,7 @@ protected:
     }
     const int i = frame();
     if (sequenceEnds(i)) {
-      const int s = (cfg_.leastUsed ? leastUsedTarget(i) : drawnTarget(i)) + 1;
+      const int s = jumpTarget(i) + 1;
       beginSequence(s);
       jump = true;
       return counted(s);
@@ -227,6 +245,11 @@ protected:
     h.add(cfg_.meanInterval);
     if (cfg_.leastUsed) h.add(std::string("leastUsed")); // absent: the hash of earlier versions
     for (int v : table_) h.add(static_cast<std::uint64_t>(v));
+    if (cfg_.clockWindow > 0) { // absent: the hash of earlier versions
+      h.add(std::string("clockWindow"));
+      h.add(static_cast<std::uint64_t>(cfg_.clockWindow));
+      for (double r : nearby_) h.add(r);
+    }
     return h.value();
   }
   void saveExtra(std::vector<std::uint64_t> &out) const override {
@@ -254,6 +277,7 @@ private:
     setNumFrames(K);
     std::string kind = cfg_.kind;
     configureStitching(kind, K, R, params_, cfg_, table_, count_);
+    if (cfg_.clockWindow > 0) keepNearbyRecurrence(K, R);
     rng_ = Xoshiro256(cfg_.seed);
     jumpProbability_ = 1.0 / (1.0 + cfg_.meanInterval);
     use_.assign(cfg_.leastUsed ? K : 0, 0);
@@ -265,12 +289,51 @@ private:
     return f;
   }
 
-  /// Jump target J of a sequence ending at frame i: one of its best matches,
-  /// drawn uniformly.
-  int drawnTarget(int i) {
-    const int n = count_[i];
-    const int pick = n > 1 ? static_cast<int>(rng_.below(static_cast<std::uint64_t>(n))) : 0;
-    return table_[static_cast<std::size_t>(i) * cfg_.candidates + pick];
+  /// Jump target J of a sequence ending at frame i: one of its best matches
+  /// (row, n of them, best first), least used or drawn uniformly.
+  int jumpTarget(int i) {
+    if (cfg_.clockWindow > 0) clockTargets(i);
+    const int *row = cfg_.clockWindow > 0 ? near_.data()
+                                          : table_.data() + static_cast<std::size_t>(i) * cfg_.candidates;
+    const int n = cfg_.clockWindow > 0 ? static_cast<int>(near_.size()) : count_[i];
+    if (cfg_.leastUsed) return leastUsedTarget(row, n);
+    return row[n > 1 ? static_cast<int>(rng_.below(static_cast<std::uint64_t>(n))) : 0];
+  }
+
+  /// Distances D = 2 clockWindow + 2 on either side of every frame: all a
+  /// clock-following jump can reach, since a sequence ends within
+  /// clockWindow + 1 of the clock and its target lies within clockWindow.
+  int nearbyReach() const { return 2 * cfg_.clockWindow + 2; }
+  void keepNearbyRecurrence(int K, const std::vector<double> &R) {
+    const int D = nearbyReach(), width = 2 * D + 1;
+    nearby_.assign(static_cast<std::size_t>(K) * width, 0.0);
+    for (int i = 0; i < K; ++i)
+      for (int j = std::max(0, i - D); j <= std::min(K - 1, i + D); ++j)
+        nearby_[static_cast<std::size_t>(i) * width + (j - i + D)] = R[static_cast<std::size_t>(i) * K + j];
+  }
+
+  /// The clock-following targets of frame i into near_, best first: frames J
+  /// with J + 1 within clockWindow of the clock and |i - J| >= band (without
+  /// the band if a short database leaves none), the `candidates` best.
+  void clockTargets(int i) {
+    const int K = numFrames(), W = cfg_.clockWindow, D = nearbyReach();
+    const auto clock = std::min<std::uint64_t>(static_cast<std::uint64_t>(cfg_.start) + steps(),
+                                               static_cast<std::uint64_t>(K - 1));
+    const int c = static_cast<int>(clock);
+    const int lo = std::max({0, c - 1 - W, i - D}), hi = std::min({K - 2, c - 1 + W, i + D});
+    near_.clear();
+    for (int j = lo; j <= hi; ++j)
+      if (std::abs(i - j) >= cfg_.band) near_.push_back(j);
+    if (near_.empty())
+      for (int j = lo; j <= hi; ++j) near_.push_back(j);
+    if (near_.empty()) // cannot happen: the clock and i are within D
+      throw std::logic_error("clock-following path: no jump target from frame " + std::to_string(i));
+    const double *row = nearby_.data() + static_cast<std::size_t>(i) * (2 * D + 1);
+    const auto r = [row, i, D](int j) { return row[j - i + D]; };
+    const auto better = [r](int a, int b) { return r(a) < r(b) || (r(a) == r(b) && a < b); };
+    const int n = std::min<int>(cfg_.candidates, static_cast<int>(near_.size()));
+    std::partial_sort(near_.begin(), near_.begin() + n, near_.end(), better);
+    near_.resize(n);
   }
 
   /// The best match J of frame i whose next frames J+1 ... J+minLength (the
@@ -279,9 +342,8 @@ private:
   /// frames and must not look less used for it); ties drawn uniformly.
   /// Integers only (means compared by cross-multiplication), so every rank
   /// and platform picks the same target.
-  int leastUsedTarget(int i) {
-    const int n = count_[i], K = numFrames();
-    const int *row = table_.data() + static_cast<std::size_t>(i) * cfg_.candidates;
+  int leastUsedTarget(const int *row, int n) {
+    const int K = numFrames();
     std::uint64_t fewest = 0, fewestFrames = 0; // the least mean use so far, as a fraction
     ties_.clear();
     for (int c = 0; c < n; ++c) {
@@ -339,6 +401,8 @@ private:
   int used_ = 0;   // frames of the current sequence used so far
   std::vector<std::uint64_t> use_; // leastUsed: steps spent in each frame so far
   std::vector<int> ties_;          // leastUsed: scratch for the tied targets
+  std::vector<double> nearby_;     // clockWindow: R within nearbyReach() of each frame
+  std::vector<int> near_;          // clockWindow: scratch for the targets of a jump
 };
 
 
@@ -348,6 +412,7 @@ PetscErrorCode StitchingPath::setFromOptions(MPI_Comm comm) {
   PetscInt seed = static_cast<PetscInt>(params_.seed), start = params_.startFrame;
   PetscInt minLength = params_.minLength.value_or(-1), maxLength = params_.maxLength.value_or(-1);
   PetscInt band = params_.band.value_or(-1), candidates = params_.candidates;
+  PetscInt clockWindow = params_.clockWindow.value_or(-1);
   PetscBool leastUsed = params_.leastUsed ? PETSC_TRUE : PETSC_FALSE;
   PetscReal meanInterval = params_.meanIntervalSteps.value_or(-1.0);
   char norm[32];
@@ -375,6 +440,11 @@ PetscErrorCode StitchingPath::setFromOptions(MPI_Comm comm) {
                           "Mean extra steps before a jump (default: K/10)", &meanInterval, kNonNegative));
   PetscCall(PetscOptionsInt("-candidates", "Jump to one of this many best matches, at random", "",
                             candidates, &candidates, nullptr));
+  if (!quarter)
+    PetscCall(PetscOptionsInt("-clock_window",
+                              "Jump only to frames within this many of the run's clock, the frame a replay "
+                              "would use (for databases that record a transient; default: off)",
+                              "", clockWindow, &clockWindow, nullptr));
   PetscCall(PetscOptionsBool("-least_used",
                              "Jump to the candidate whose next frames the path has used least "
                              "(evens out how often frames are used)",
@@ -398,6 +468,7 @@ PetscErrorCode StitchingPath::setFromOptions(MPI_Comm comm) {
   if (minLength > 0) params_.minLength = static_cast<int>(minLength);
   if (maxLength > 0) params_.maxLength = static_cast<int>(maxLength);
   if (band > 0) params_.band = static_cast<int>(band);
+  if (clockWindow > 0) params_.clockWindow = static_cast<int>(clockWindow);
   if (meanInterval >= 0) params_.meanIntervalSteps = meanInterval;
   params_.candidates = static_cast<int>(candidates);
   params_.leastUsed = leastUsed == PETSC_TRUE;
