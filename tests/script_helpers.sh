@@ -84,3 +84,19 @@ write_two_particle_dumps() {
   printf '# index time\n0 0.1\n1 0.2\n2 0.3\n' >"$work/dump/times.txt"
   common=(-dumps "$work/dump/dump.*.txt" -times "$work/dump/times.txt" -mesh_cells 2,1,2)
 }
+
+# The example projects of docs/examples against the installed package (test_user_*_example*.sh):
+# install_build BUILD PREFIX CMAKE: the library and the program built (a no-op when they are) and
+# installed into PREFIX; build_example NAME SOURCE_DIR PREFIX CMAKE CXX: docs/examples/NAME
+# configured against PREFIX only (the source tree is on no path it sees) and built in $work/NAME.
+# Both stop the test at a failure.
+install_build() {
+  "$3" --build "$1" --target rcfd_lib rcfd >"$work/build.log" 2>&1 || { cat "$work/build.log"; exit 1; }
+  "$3" --install "$1" --prefix "$2" >"$work/install.log"
+}
+build_example() {
+  "$4" -S "$2/docs/examples/$1" -B "$work/$1" -DCMAKE_BUILD_TYPE=Release -DCMAKE_CXX_COMPILER="$5" \
+    -DCMAKE_PREFIX_PATH="$3" >"$work/configure.log" 2>&1 || { cat "$work/configure.log"; exit 1; }
+  grep -q "$3/lib/cmake/rcfd" "$work/$1/CMakeCache.txt" || fail "$1 did not find rcfd in the installed prefix"
+  "$4" --build "$work/$1" >"$work/$1.log" 2>&1 || { cat "$work/$1.log"; exit 1; }
+}

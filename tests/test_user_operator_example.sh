@@ -15,9 +15,7 @@ mkdir -p "$work"
 source "$src/tests/script_helpers.sh"
 
 # The library and program must be built (no-op when they are) before they are installed.
-"$cmake" --build "$build" --target rcfd_lib rcfd >"$work/build.log" 2>&1 ||
-  { cat "$work/build.log"; exit 1; }
-"$cmake" --install "$build" --prefix "$work/prefix" >"$work/install.log"
+install_build "$build" "$work/prefix" "$cmake"
 for f in include/rcfd/operator.hpp include/rcfd/run.hpp bin/rcfd lib/cmake/rcfd/rcfdConfig.cmake \
   lib/cmake/rcfd/rcfdConfigVersion.cmake lib/cmake/rcfd/rcfdTargets.cmake; do
   [ -e "$work/prefix/$f" ] && ok || fail "cmake --install did not install $f"
@@ -25,16 +23,11 @@ done
 
 # Configured against the installed package only: the source tree is not on
 # any path the example sees.
-"$cmake" -S "$src/docs/examples/user-operator" -B "$work/example" -DCMAKE_BUILD_TYPE=Release \
-  -DCMAKE_CXX_COMPILER="$cxx" -DCMAKE_PREFIX_PATH="$work/prefix" >"$work/configure.log" 2>&1 ||
-  { cat "$work/configure.log"; exit 1; }
-grep -q "$work/prefix/lib/cmake/rcfd" "$work/example/CMakeCache.txt" ||
-  fail "the example did not find rcfd in the installed prefix"
-"$cmake" --build "$work/example" >"$work/example.log" 2>&1 || { cat "$work/example.log"; exit 1; }
+build_example user-operator "$src" "$work/prefix" "$cmake" "$cxx"
 
 "$work/prefix/bin/rcfd" synth -o "$work/bed.h5" -synth_cells 6,2,12 -synth_frames 20 -quiet
 rate=0.5
-run "decay at 2 ranks" mpiexec -n 2 "$work/example/user_operator" -db "$work/bed.h5" -t_end 1 \
+run "decay at 2 ranks" mpiexec -n 2 "$work/user-operator/user_operator" -db "$work/bed.h5" -t_end 1 \
   -pipeline shift,decay -decay_rate $rate -monitor_digits 17 -fields 0 -plot 0 -quiet \
   -output_dir "$work/out" -decay_view
 grep -q "decay: rate 0.5 1/s" "$work/out.txt" || fail "-decay_view did not print the operator"

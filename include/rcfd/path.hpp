@@ -16,23 +16,10 @@
 // restoreState() (written into checkpoints), so a kind keeps everything that
 // decides its continuation in the words of saveExtra().
 //
-// Adding a path rule:
-//
-//   class EveryOther : public rcfd::FramePath {
-//     std::string kind() const override { return "everyother"; }
-//     std::string describe() const override { return "everyother"; }
-//   protected:
-//     int advance(bool &jump) override {
-//       const int f = frame() < 0 ? 0 : frame() + 2;   // frame() = previous frame
-//       jump = frame() >= 0;                           // a step that is not +1 is a jump
-//       return f % numFrames();
-//     }
-//     std::uint64_t fingerprint() const override { return 42; }
-//     void saveExtra(std::vector<std::uint64_t> &) const override {}
-//     void restoreExtra(const std::uint64_t *, std::size_t) override {}
-//   };
-//   paths.add("everyother", [] { return std::make_unique<EveryOther>(); }, "frames 0, 2, 4, ...");
-//   rcfd::Run run(comm, operators, paths);    // then -path_type everyother
+// Adding a path rule: derive from FramePath (kind, describe, advance, and for
+// checkpoints fingerprint, saveExtra, restoreExtra), add a factory to a
+// PathRegistry and hand it to Run; docs/examples/user-path-rule is such a
+// project, built against the installed library by the test suite.
 #pragma once
 
 #include "rcfd/database.hpp"

@@ -8,18 +8,10 @@
 // only globally reduced signals, and what decides its continuation is in
 // saveState() (written into checkpoints).
 //
-// Adding a rule:
-//
-//   class Alternate : public rcfd::SwitchRule {
-//     std::string kind() const override { return "alternate"; }
-//     std::string describe() const override { return "alternate every 100 steps"; }
-//     SwitchDecision decide(const rcfd::SwitchDecision &active, const rcfd::SwitchSignals &s) override {
-//       const int next = s.step % 100 == 0 ? (active.database + 1) % numDatabases() : active.database;
-//       return {next, double(s.step)};
-//     }
-//   };
-//   rules.add("alternate", [] { return std::make_unique<Alternate>(); }, "...");
-//   rcfd::Run run(comm, operators, paths);  run.useSwitchRules(rules);
+// Adding a rule: derive from SwitchRule (kind, describe, decide), add a
+// factory to a SwitchRuleRegistry and hand it to Run::useSwitchRules;
+// docs/examples/user-switch-rule is such a project, built against the
+// installed library by the test suite.
 #pragma once
 
 #include "rcfd/database.hpp"

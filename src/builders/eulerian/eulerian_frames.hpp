@@ -2,6 +2,13 @@
 // rCFD users already have.  Serial and PETSc-free; every fault throws
 // std::runtime_error with one sentence naming the file (and line).
 //
+// The files: eulerian_reader.cpp (frame files read and placed on the mesh),
+// eulerian_writer.cpp (frames written, the velocity a shift implies),
+// eulerian_tracing.cpp (tracers through the solid velocity field),
+// eulerian_balancing.cpp (the traced shift made mass-consistent),
+// eulerian_frame_builder.cpp (options, the builder and its report);
+// eulerian_cells.hpp holds what they share about the mesh's cells.
+//
 // File format (one file per frame, one line per cell, any cell order):
 //   x y z alpha Ux Uy Uz Usx Usy Usz
 // x y z: cell centre [m]; alpha: VOID fraction (alpha_s = 1 - alpha);

@@ -1,0 +1,148 @@
+// The parts of a database file around its frames: format attributes, mesh,
+// metadata and identity (database_header.hpp).
+#include "database/database_header.hpp"
+
+#include "database/content_hash.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <vector>
+
+namespace rcfd {
+namespace {
+
+// Operating conditions (format version 2): optional attributes on /metadata.
+constexpr const char *kConditionNames[3] = {"superficial_velocity", "gas_density", "gas_kinematic_viscosity"};
+
+void readConditions(const h5::File &f, OperatingConditions *c) {
+  double *value[3] = {&c->superficialVelocity, &c->gasDensity, &c->gasKinematicViscosity};
+  for (int i = 0; i < 3; ++i) {
+    if (!f.hasAttribute("/metadata", kConditionNames[i])) continue;
+    *value[i] = f.readAttrDouble("/metadata", kConditionNames[i]);
+    if (!(*value[i] > 0) || !std::isfinite(*value[i]))
+      throw h5::Error("database '" + f.path() + "': /metadata " + kConditionNames[i] +
+                      " must be a positive number");
+  }
+}
+
+} // namespace
+
+void writeMesh(const h5::File &f, const Mesh &mesh) {
+  f.createGroup("/mesh");
+  if (mesh.isBox()) {
+    const BoxSpec &b = mesh.boxSpec();
+    f.writeAttr("/mesh", "kind", std::string("box"));
+    f.writeAttr("/mesh", "box_cells", std::vector<long long>{b.nx, b.ny, b.nz});
+    f.writeAttr("/mesh", "box_origin", std::vector<double>(b.origin.begin(), b.origin.end()));
+    f.writeAttr("/mesh", "box_length", std::vector<double>(b.length.begin(), b.length.end()));
+  } else {
+    f.writeAttr("/mesh", "kind", std::string("unstructured"));
+  }
+  auto flat = [](const std::vector<Vec3> &v) {
+    std::vector<double> out;
+    out.reserve(3 * v.size());
+    for (const auto &p : v) out.insert(out.end(), p.begin(), p.end());
+    return out;
+  };
+  auto ints = [](const std::vector<int> &v) { return std::vector<int32_t>(v.begin(), v.end()); };
+  f.write("/mesh/cell_centres", flat(mesh.cellCentre), 3);
+  f.write("/mesh/cell_volumes", mesh.cellVolume);
+  f.write("/mesh/face_owner", ints(mesh.faceOwner));
+  f.write("/mesh/face_neighbour", ints(mesh.faceNeighbour));
+  f.write("/mesh/face_area", flat(mesh.faceArea), 3);
+  f.write("/mesh/boundary_owner", ints(mesh.boundaryOwner));
+  f.write("/mesh/boundary_patch", ints(mesh.boundaryPatch));
+  f.write("/mesh/boundary_area", flat(mesh.boundaryArea), 3);
+}
+
+Mesh readMesh(const h5::File &f) {
+  f.requireGroup("/mesh");
+  const std::string kind = f.readAttrString("/mesh", "kind");
+  if (kind != "box")
+    throw h5::Error("database '" + f.path() + "' has a mesh of kind '" + kind +
+                    "'; this version of rcfd reads box meshes only");
+  const auto n = f.readAttrInts("/mesh", "box_cells");
+  const auto origin = f.readAttrDoubles("/mesh", "box_origin");
+  const auto length = f.readAttrDoubles("/mesh", "box_length");
+  if (n.size() != 3 || origin.size() != 3 || length.size() != 3 || n[0] < 1 || n[1] < 1 ||
+      n[2] < 1 || !(length[0] > 0 && length[1] > 0 && length[2] > 0))
+    throw h5::Error("database '" + f.path() +
+                    "': /mesh attributes box_cells, box_origin and box_length must hold three "
+                    "positive values each");
+  BoxSpec spec;
+  spec.nx = static_cast<int>(n[0]);
+  spec.ny = static_cast<int>(n[1]);
+  spec.nz = static_cast<int>(n[2]);
+  std::copy(origin.begin(), origin.end(), spec.origin.begin());
+  std::copy(length.begin(), length.end(), spec.length.begin());
+  Mesh mesh = Mesh::box(spec);
+  // The stored arrays must describe the same mesh as the box attributes.
+  const auto volumes = f.read<double>("/mesh/cell_volumes");
+  if (volumes.size() != static_cast<size_t>(mesh.numCells()))
+    throw h5::Error("database '" + f.path() + "': /mesh/cell_volumes has " +
+                    std::to_string(volumes.size()) + " cells but the box is " +
+                    std::to_string(spec.nx) + " x " + std::to_string(spec.ny) + " x " +
+                    std::to_string(spec.nz) + " = " + std::to_string(mesh.numCells()) + " cells");
+  return mesh;
+}
+
+void writeConditions(const h5::File &f, const OperatingConditions &c) {
+  const double value[3] = {c.superficialVelocity, c.gasDensity, c.gasKinematicViscosity};
+  for (int i = 0; i < 3; ++i)
+    if (std::isfinite(value[i])) f.writeAttr("/metadata", kConditionNames[i], value[i]);
+}
+
+// The file's format version, one this rcfd reads.
+long long checkFormat(const h5::File &f) {
+  if (!f.hasAttribute("/", "format") || f.readAttrString("/", "format") != kFormatName)
+    throw h5::Error("'" + f.path() + "' is not an rcfd database (its root has no attribute format = \"" +
+                    kFormatName + "\")");
+  const long long version = f.readAttrInt("/", "format_version");
+  if (version < 1 || version > kDatabaseFormatVersion)
+    throw h5::Error("database '" + f.path() + "' has format version " + std::to_string(version) +
+                    ", this rcfd reads versions 1 to " + std::to_string(kDatabaseFormatVersion));
+  return version;
+}
+
+// The identity a run's checkpoint records (docs/database-format.md, "Identity").
+std::string readIdentity(const h5::File &f) {
+  if (f.hasAttribute("/", "content_hash")) return "content " + f.readAttrString("/", "content_hash");
+  ContentHash made; // an older file: when and how it was made, and its size
+  if (f.hasAttribute("/", "created")) made.add(f.readAttrString("/", "created"));
+  if (f.hasAttribute("/metadata", "source")) made.add(f.readAttrString("/metadata", "source"));
+  if (f.hasAttribute("/frames", "num_frames")) made.add(std::to_string(f.readAttrInt("/frames", "num_frames")));
+  return "made " + made.hex();
+}
+
+DatabaseMetadata readMetadata(const h5::File &f) {
+  f.requireGroup("/metadata");
+  DatabaseMetadata m;
+  m.dtRec = f.readAttrDouble("/metadata", "dt_rec");
+  m.solidDensity = f.readAttrDouble("/metadata", "solid_density");
+  const auto g = f.readAttrDoubles("/metadata", "gravity");
+  if (g.size() != 3) throw h5::Error("database '" + f.path() + "': /metadata gravity must have 3 components");
+  std::copy(g.begin(), g.end(), m.gravity.begin());
+  if (f.hasAttribute("/metadata", "source")) m.source = f.readAttrString("/metadata", "source");
+  if (f.hasAttribute("/metadata", "units")) m.units = f.readAttrString("/metadata", "units");
+  readConditions(f, &m.conditions); // version 2; absent in version 1
+  if (f.hasAttribute("/metadata", "weight_bits")) {
+    const long long bits = f.readAttrInt("/metadata", "weight_bits");
+    if (bits < 1 || bits > kMaxWeightBits)
+      throw h5::Error("database '" + f.path() + "': /metadata weight_bits is " + std::to_string(bits) +
+                      ", expected the number of bits of its quantised weights, 1 to " +
+                      std::to_string(kMaxWeightBits));
+    m.weightBits = static_cast<int>(bits);
+  }
+  if (!(m.dtRec > 0) || !std::isfinite(m.dtRec))
+    throw h5::Error("database '" + f.path() + "': dt_rec must be a positive number of seconds");
+  if (!(m.solidDensity > 0))
+    throw h5::Error("database '" + f.path() + "': solid_density must be positive");
+  if (!(std::hypot(g[0], g[1], g[2]) > 0))
+    throw h5::Error("database '" + f.path() + "': gravity must not be the zero vector");
+  if (m.units != "SI")
+    throw h5::Error("database '" + f.path() + "' is in units '" + m.units + "'; rcfd expects SI");
+  return m;
+}
+
+} // namespace rcfd
