@@ -28,6 +28,9 @@ expect_error "-init file needs -init_file FILE" run -db "$db" -init file
 expect_error "-db_frames 5:2 is outside" run -db "$db" -db_frames 5,2
 expect_error "Unknown option -bogus" info "$db" -bogus
 expect_error "cannot open file 'nope.h5'" info nope.h5
+expect_error "-extra_csv takes NAME,FILE" info "$db" -extra_csv measured_drift_field
+expect_error "has no dataset /extra/measured_drift_field to write with -extra_csv" info "$db" \
+  -extra_csv "measured_drift_field,$work/field.csv"
 
 # Words PETSc would ignore, options files it cannot read, lists that are empty or repeat.
 expect_error "unexpected argument 'strayword'" run -db "$db" strayword

@@ -46,6 +46,12 @@ if run "build" "$rcfd" build "${common[@]}" -o "$db" -init_out "$work/init.h5" -
   same "drift field" "$("$h5print" "$db" /extra/measured_drift_field)" \
     "$(awk -v m="$m" 'BEGIN { printf "%.17g 1 %.17g %.17g 1 %.17g 0 1 %.17g 0 1 %.17g",
                               (0.011 - 0.001 / 3) / 0.1, m, (-0.001 - 0.001 / 3) / 0.1, 8 * m, m, 8 * m }')" 1e-14
+  # rcfd info -extra_csv writes the same numbers as CSV (a header c0 ... c5, one row per frame and region).
+  if run "info -extra_csv" "$rcfd" info "$db" -extra_csv "measured_drift_field,$work/field.csv"; then
+    same "drift field csv" "$(grep -v '^#' "$work/field.csv" | tail -n +2 | tr ',' ' ')" \
+      "$("$h5print" "$db" /extra/measured_drift_field)" 0
+    same "drift field csv header" "$(grep -v '^#' "$work/field.csv" | head -1 | tr -d 'c' | tr ',' ' ')" "0 1 2 3 4 5" 0
+  fi
   # The initial composition: both classes in cell 0, ascending diameters.
   same "init masses" "$("$h5print" "$work/init.h5" /masses)" \
     "$m $(awk -v m="$m" 'BEGIN { printf "%.17g", 8 * m }') 0 0 0 0 0 0"
