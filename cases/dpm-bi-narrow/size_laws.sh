@@ -7,7 +7,8 @@
 # with each bed's own classes, and the figure drift-size-laws.png (the classes of all beds against
 # d_i/d32 with each law's curve; docs/drift.md), and drift-size-means.png with drift_size_means.csv
 # (the same drift against d_i over the inventory's d32 and d43 and over the local mixture's d32 and
-# d43, from the field rcfd info -extra_csv writes, with one common curve per law; docs/drift.md).
+# d43, from the field rcfd info -extra_csv writes, with one common curve per law, and the local bins
+# scored like for like against the inventory d32; docs/drift.md).
 # Environment: RCFD, SHARED (default
 # ../shared/reference).  A few minutes for the databases the first time, seconds afterwards.
 set -euo pipefail

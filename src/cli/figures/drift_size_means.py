@@ -17,7 +17,10 @@ Curves: u = k G(x), x = d / d_mean, G(1) = 0 (no drift at the mean size):
 A -(x^2 - 1), B -(x - 1)|x - 1|, drag 1/x - 1, log -ln x, power x^-m - 1.
 k (and power's m, a scan of [0.05, 5] in steps of 0.01) by least squares of
 all beds' points, each weighted by its share of its bed's mass so that each
-bed counts once; the score is the RMS residual with the same weights.
+bed counts once; the score is the RMS residual with the same weights.  The
+local bins are also scored like for like against the inventory's d32: each
+bin predicted by the mass-weighted mean over its classes of k G(d_i / d32)
+(the bars hatched; a class's drift then does not depend on its region).
 
 Each bed is a directory holding measured_law_fits.csv and measured_drift.csv
 (rcfd calibrate -calibrate_from measured), measured_drift_field.csv and
@@ -46,6 +49,7 @@ LAW_STYLE = {"A": ("0.45", "--"), "B": ("tab:brown", ":"), "drag": ("tab:red", "
 MEANS = [("inventory d32", "$d_i / d_{32}$ (inventory)"), ("inventory d43", "$d_i / d_{43}$ (inventory)"),
          ("local d32", "$d_i / d_{32}$ of the region's mixture"),
          ("local d43", "$d_i / d_{43}$ of the region's mixture")]
+LIKE_FOR_LIKE = "inventory d32 on local bins"
 BIN_WIDTH = 0.05  # of ln x
 MIN_BIN_SHARE = 0.002
 
@@ -64,7 +68,8 @@ def classes(directory):
 
 
 def local_points(directory, frames, kind):
-    """Binned (x, u, se, share) of one bed against the local mixture's mean `kind` (d32 or d43)."""
+    """Binned (x, u, se, share, then the bin's mass fraction of each class) of one bed against the
+    local mixture's mean `kind` (d32 or d43)."""
     layout = matrix(os.path.join(directory, "measured_drift_field_layout.csv"))[0]
     field = matrix(os.path.join(directory, "measured_drift_field.csv"))
     d = layout[3:]
@@ -80,8 +85,9 @@ def local_points(directory, frames, kind):
         mean = (mass[keep] * d).sum(axis=1) / total[keep]
     x = d[None, :] / mean[:, None]
     u, mass, frame = u[keep], mass[keep], np.repeat(frame[keep][:, None], len(d), axis=1)
+    cls = np.broadcast_to(np.arange(len(d)), mass.shape)
     used = mass > 0
-    x, u, mass, frame = x[used], u[used], mass[used], frame[used]
+    x, u, mass, frame, cls = x[used], u[used], mass[used], frame[used], cls[used]
     bins = np.round(np.log(x) / BIN_WIDTH).astype(int)
     out = []
     for b in np.unique(bins):
@@ -95,19 +101,22 @@ def local_points(directory, frames, kind):
         seen = per_frame_mass > 0
         means = per_frame[seen] / per_frame_mass[seen]
         se = means.std(ddof=1) / np.sqrt(seen.sum()) if seen.sum() > 1 else np.nan
-        out.append(((m * x[inside]).sum() / m.sum(), (m * v).sum() / m.sum(), se, share))
+        composition = np.bincount(cls[inside], weights=m, minlength=len(d)) / m.sum()
+        out.append(np.concatenate([[(m * x[inside]).sum() / m.sum(), (m * v).sum() / m.sum(), se, share],
+                                   composition]))
     return np.array(out)
 
 
-def fit_common(points, law):
-    """k, m, RMS of all beds and per bed of u = k G(x) through every bed's points (x, u, se, share)."""
+def fit_common(points, law, shape=None):
+    """k, m, RMS of all beds and per bed of u = k G(x) through every bed's points (x, u, se, share);
+    shape(m) instead gives G of all points (all beds in turn) for another predictor."""
     x = np.concatenate([p[:, 0] for p in points])
     u = np.concatenate([p[:, 1] for p in points])
     w = np.concatenate([p[:, 3] / p[:, 3].sum() for p in points])
     bed = np.concatenate([np.full(len(p), i) for i, p in enumerate(points)])
     best = None
     for m in (np.arange(5, 501) / 100.0 if law == "power" else [np.nan]):
-        g = SHAPES[law](x, m)
+        g = SHAPES[law](x, m) if shape is None else shape(m)
         k = (w * g * u).sum() / (w * g * g).sum()
         r = u - k * g
         chi = (w * r * r).sum()
@@ -143,6 +152,13 @@ def main():
                 points[name].append(local_points(directory, frames, name.split()[1]))
     laws = list(SHAPES)
     fits = {(name, law): fit_common(points[name], law) for name, _ in MEANS for law in laws}
+    # Like for like: the bins of the local d32 predicted from each class's d_i / inventory d32 (the
+    # bin's mass-weighted mean of the law over its classes) instead of from the bin's local x.
+    inventory = [np.column_stack([d / (s.sum() / (s / d).sum())]) for d, _, _, s in beds]
+    for law in laws:
+        def on_local(m, law=law):
+            return np.concatenate([p[:, 4:] @ SHAPES[law](x[:, 0], m) for p, x in zip(points["local d32"], inventory)])
+        fits[(LIKE_FOR_LIKE, law)] = fit_common(points["local d32"], law, on_local)
 
     colours = ["tab:blue", "tab:orange", "tab:green", "tab:red", "tab:purple"]
     markers = ["o", "s", "^", "D", "v"]
@@ -173,28 +189,33 @@ def main():
         ax.set_title(f"against {name}" + (" (bins, mass-weighted)" if local else " (classes)"), fontsize=10)
         ax.legend(loc="upper right", fontsize=7, frameon=False)
     # Scores: RMS of the common curve per mean and law, and per bed for the best law.
+    scored = [name for name, _ in MEANS] + [LIKE_FOR_LIKE]
+    names = {LIKE_FOR_LIKE: "inventory d32, scored on the local d32's bins"}
+    bar_colours = ["tab:cyan", "tab:blue", "gold", "tab:olive", "tab:pink"]
+    width = 0.8 / len(scored)
     ax = axes[4]
-    width = 0.8 / len(MEANS)
-    for j, (name, _) in enumerate(MEANS):
+    for j, name in enumerate(scored):
         rms = [1e3 * fits[(name, law)][2] for law in laws]
-        ax.bar(np.arange(len(laws)) + (j - (len(MEANS) - 1) / 2) * width, rms, width, label=name,
-               color=["tab:cyan", "tab:blue", "gold", "tab:olive"][j])
+        ax.bar(np.arange(len(laws)) + (j - (len(scored) - 1) / 2) * width, rms, width,
+               label=names.get(name, name), color=bar_colours[j], hatch="//" if name == LIKE_FOR_LIKE else None)
     ax.set_xticks(np.arange(len(laws)))
     ax.set_xticklabels(laws)
     ax.set_ylabel("RMS residual of one common curve [mm/s]")
     ax.set_title("collapse: all beds, each weighted once", fontsize=10)
-    ax.legend(fontsize=8, frameon=False)
+    ax.set_ylim(0, 1.75 * max(fits[key][2] for key in fits) * 1e3)
+    ax.legend(fontsize=8, frameon=False, loc="upper right")
     ax = axes[5]
-    for j, (name, _) in enumerate(MEANS):
+    for j, name in enumerate(scored):
         best_law = min(laws, key=lambda law: fits[(name, law)][2])
         per_bed = [1e3 * v for v in fits[(name, best_law)][3]]
-        ax.bar(np.arange(len(labels)) + (j - (len(MEANS) - 1) / 2) * width, per_bed, width,
-               label=f"{name} ({best_law})", color=["tab:cyan", "tab:blue", "gold", "tab:olive"][j])
+        ax.bar(np.arange(len(labels)) + (j - (len(scored) - 1) / 2) * width, per_bed, width,
+               label=f"{names.get(name, name)} ({best_law})", color=bar_colours[j],
+               hatch="//" if name == LIKE_FOR_LIKE else None)
     ax.set_xticks(np.arange(len(labels)))
     ax.set_xticklabels(labels, fontsize=8)
     ax.set_ylabel("RMS residual per bed [mm/s]")
     ax.set_title("per bed, the best law of each mean", fontsize=10)
-    ax.legend(fontsize=8, frameon=False)
+    ax.legend(fontsize=8, frameon=False, loc="upper left")
     if args.title:
         fig.suptitle(args.title)
     fig.tight_layout()
@@ -203,12 +224,12 @@ def main():
         with open(args.table, "w", newline="") as f:
             out = csv.writer(f)
             out.writerow(["mean", "law", "k_m_s", "m", "rms_m_s"] + [f"rms_{label}_m_s" for label in labels])
-            for name, _ in MEANS:
+            for name in [name for name, _ in MEANS] + [LIKE_FOR_LIKE]:
                 for law in laws:
                     k, m, rms, per_bed = fits[(name, law)]
                     out.writerow([name, law, f"{k:.6g}", "" if np.isnan(m) else f"{m:.2f}", f"{rms:.4g}"]
                                  + [f"{v:.4g}" for v in per_bed])
-    for name, _ in MEANS:
+    for name in [name for name, _ in MEANS] + [LIKE_FOR_LIKE]:
         print(f"{name}: " + ", ".join(f"{law} {1e3 * fits[(name, law)][2]:.2f}" for law in laws) + " mm/s RMS")
 
 
