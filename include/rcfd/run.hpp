@@ -49,6 +49,8 @@ public:
   /// Setters applied after setFromOptions and before setUp; they override the options.
   void setOutputDirectory(const std::string &directory);
   void setQuiet(bool quiet);
+  /// -quiet: no progress or messages on stdout.
+  bool quiet() const;
   /// Keep the centre-of-gravity samples and the frames of every step in
   /// memory as well (history(), framesUsed()); off by default, since they
   /// grow with the run's length (the files cog.csv and path.txt hold them).

@@ -36,8 +36,9 @@ PetscErrorCode runEnsemble(MPI_Comm comm, const OperatorRegistry &registry, Pets
     member.setWriteFields(false);
     PetscCall(member.setUp());
     db = member.sharedDatabase();
-    PetscCall(PetscPrintf(comm, "Ensemble member %d of %d (path seed %llu)\n", (int)k + 1, (int)members,
-                          (unsigned long long)(seed + k)));
+    if (!member.quiet())
+      PetscCall(PetscPrintf(comm, "Ensemble member %d of %d (path seed %llu)\n", (int)k + 1, (int)members,
+                            (unsigned long long)(seed + k)));
     PetscCall(member.solve());
     csvs.push_back(dir + "/cog.csv");
   }

@@ -76,6 +76,25 @@ void checkRecurrence(int K, const std::vector<double> &R, const std::string &kin
                     std::to_string(e % K) + ") is not finite"));
 }
 
+/// How much more frames far apart differ than frames nearby: the mean of R
+/// over pairs at least K/2 apart over its mean at K/10 ... K/4 apart.  About 1
+/// or below for a steady bed (the synthetic default bed: 0.88); above for a
+/// database that records a transient (the shared CFD-DEM beds: 1.17-1.30).
+/// 0 when K < 8 (no such pairs).
+double recurrenceTrend(int K, const std::vector<double> &R) {
+  if (K < 8) return 0.0;
+  double near = 0.0, far = 0.0;
+  std::size_t nNear = 0, nFar = 0;
+  for (int i = 0; i < K; ++i)
+    for (int j = 0; j < K; ++j) {
+      const int d = std::abs(i - j);
+      const double r = R[static_cast<std::size_t>(i) * K + j];
+      if (d >= std::max(1, K / 10) && d <= K / 4) near += r, ++nNear;
+      if (d >= K / 2) far += r, ++nFar;
+    }
+  return near > 0.0 ? (far / nFar) / (near / nNear) : 0.0;
+}
+
 void refuseUnused(const std::string &kind, bool set, const char *name) {
   if (set)
     throw std::invalid_argument(pathParameterError(kind, std::string("the parameter ") + name +
@@ -198,6 +217,8 @@ public:
     PetscCall(PetscViewerASCIIPrintf(viewer, "  %s recurrence matrix, %s\n",
                                      recurrenceNormName(norm_),
                                      stored_ ? "stored in the database" : "computed by this run"));
+    PetscCall(PetscViewerASCIIPrintf(viewer, "  frames far apart differ %.3g times as much as frames nearby%s\n",
+                                     trend_, trend_ > kTransientTrend ? " (a transient)" : ""));
     PetscFunctionReturn(PETSC_SUCCESS);
   }
 
@@ -403,6 +424,10 @@ private:
   std::vector<int> ties_;          // leastUsed: scratch for the tied targets
   std::vector<double> nearby_;     // clockWindow: R within nearbyReach() of each frame
   std::vector<int> near_;          // clockWindow: scratch for the targets of a jump
+  double trend_ = 0.0;             // recurrenceTrend() of the database
+  /// Above it setUp() notes a transient: between the synthetic bed's 0.88
+  /// and the CFD-DEM beds' 1.17.
+  static constexpr double kTransientTrend = 1.1;
 };
 
 
@@ -492,6 +517,13 @@ PetscErrorCode StitchingPath::setUp(const PathContext &ctx) {
                                 "'rcfd recurrence %s' to reuse it)\n",
                           recurrenceNormName(norm_), K, ctx.db.path().c_str()));
   PetscCall(collectively(comm, [&] { build(K, R); }, PETSC_ERR_USER_INPUT));
+  trend_ = recurrenceTrend(K, R);
+  if (!ctx.quiet && cfg_.clockWindow == 0 && trend_ > kTransientTrend)
+    PetscCall(PetscPrintf(comm,
+                          "Note: frames far apart in %s differ %.2f times as much as frames nearby: it records "
+                          "a transient, which a stitched path scrambles in time; -%sclock_window follows "
+                          "it (docs/paths.md, \"Databases that record a transient\")\n",
+                          ctx.db.path().c_str(), trend_, optionsPrefix().c_str()));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
