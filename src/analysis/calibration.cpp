@@ -2,9 +2,11 @@
 #include "base/petsc_compat.hpp"
 
 #include "base/checked_options.hpp"
+#include "analysis/batched_replay.hpp"
 #include "analysis/measured_drift.hpp"
 #include "base/atomic_file.hpp"
 #include "base/collective.hpp"
+#include "base/input_file.hpp"
 #include "rcfd/agitation.hpp"
 #include "rcfd/run.hpp"
 #include "rcfd/swaps.hpp"
@@ -13,6 +15,7 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <fstream>
 #include <sstream>
 
 namespace rcfd {
@@ -22,7 +25,7 @@ DriftCalibration::DriftCalibration(MPI_Comm comm, const OperatorRegistry &regist
 DriftCalibration::~DriftCalibration() = default;
 
 PetscErrorCode DriftCalibration::setFromOptions() {
-  char ref[PETSC_MAX_PATH_LEN] = "", objective[16] = "rms", from[16] = "cog";
+  char ref[PETSC_MAX_PATH_LEN] = "", objective[16] = "rms", from[16] = "cog", laws[PETSC_MAX_PATH_LEN] = "";
   PetscInt nrange = 2, nwindow = 2;
   std::vector<std::string> given;
   PetscReal range[2] = {kdLo, kdHi}, window[2] = {windowBegin, windowEnd};
@@ -56,13 +59,23 @@ PetscErrorCode DriftCalibration::setFromOptions() {
                         &offset, {-1e9, 1e9, true, true, "a finite time in s"}));
   PetscCall(checkedRealArray(PetscOptionsObject, "-score_window", "Window t0,t1 [s] of the Eq. 7 means", window,
                              &nwindow, &setWindow));
+  PetscCall(PetscOptionsBool("-calibrate_batch",
+                             "Run the replays that share the database and path as one state (the shift read once "
+                             "per frame for all; the same bits); false: one by one",
+                             "", batch, &batch, nullptr));
+  PetscCall(PetscOptionsString("-calibrate_candidates",
+                               "File of replays to run and score instead of a search, one per line: NAME then its "
+                               "drift options (e.g. B-leaving2 -drift_model B -drift_kd 1.732e4 -drift_agitation "
+                               "leaving -drift_agitation_exponent 2); each writes OUTPUT_DIR/NAME/cog.csv",
+                               "", laws, laws, sizeof laws, nullptr));
   PetscOptionsEnd();
   PetscCall(PetscOptionsHasName(nullptr, nullptr, "-help", &help));
   if (help) PetscFunctionReturn(PETSC_SUCCESS);
   source = from;
   PetscCheck(source == "cog" || source == "measured", comm, PETSC_ERR_USER_INPUT,
              "-calibrate_from %s is not known; use cog or measured", from);
-  PetscCheck(setRef || source == "measured", comm, PETSC_ERR_USER_INPUT,
+  candidatesFile = laws;
+  PetscCheck(setRef || source == "measured" || !candidatesFile.empty(), comm, PETSC_ERR_USER_INPUT,
              "No reference given: pass -reference REF/cog.csv (made by rcfd reference)");
   for (std::size_t i = 0; i < given.size(); ++i) {
     const std::string &m = given[i];
@@ -109,48 +122,104 @@ PetscErrorCode DriftCalibration::setUp() {
   for (const auto &op : first.pipeline().operators())
     if (auto *d = dynamic_cast<DriftOperator *>(op.get())) meanFactor = d->meanAgitationFactor();
   sauter = first.fractions().inventorySauterDiameter();
+  std::string why;
+  canBatch = batch && BatchedReplay::batchable(first, &why);
+  if (batch && !canBatch) PetscCall(PetscPrintf(comm, "Note: the replays run one by one: %s\n", why.c_str()));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
-/// Runs the case with the given model and k_d and scores it.
-PetscErrorCode DriftCalibration::evaluate(const std::string &model, double log10kd, DeltaZScore *score,
-                                          double exponent, double shape) {
+// The drift operator of the run's pipeline set to the point's law, k_d,
+// shape and agitation exponent (typed setters, between setFromOptions and setUp).
+PetscErrorCode DriftCalibration::configureDrift(Run &run, const Point &p) {
   PetscFunctionBeginUser;
-  Run run(comm, registry);
-  run.setDefaultOutputDirectory("rcfd-calibrate");
-  run.useDatabase(db);
-  PetscCall(run.setFromOptions());
-  run.setQuiet(true);
   run.keepHistory(true); // the samples it scores
-  run.setWriteFields(false);
   DriftOperator *drift = nullptr;
   for (const auto &op : run.pipeline().operators())
     if (auto *d = dynamic_cast<DriftOperator *>(op.get())) drift = d;
   PetscCheck(drift, comm, PETSC_ERR_USER_INPUT,
              "rcfd calibrate fits the drift operator, but -pipeline has none (add drift)");
-  PetscCallCXX(drift->setSizeLaw(model));
-  if (std::isfinite(shape)) drift->sizeLaw()->setShapeParameter(shape);
-  drift->setKd(std::pow(10.0, log10kd));
-  if (exponent >= 0.0) {
+  PetscCallCXX(drift->setSizeLaw(p.model));
+  if (std::isfinite(p.shape)) drift->sizeLaw()->setShapeParameter(p.shape);
+  drift->setKd(std::pow(10.0, p.log10kd));
+  if (p.exponent >= 0.0) {
     if (!leaving) {
       auto field = std::make_shared<AgitationField>();
       PetscCall(field->setUp(*db, AgitationMeasure::LeavingShare));
       leaving = field;
     }
     drift->useAgitation(leaving);
-    drift->setAgitationExponent(exponent);
+    drift->setAgitationExponent(p.exponent);
   }
-  PetscCall(run.setUp());
-  PetscCall(run.solve());
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode DriftCalibration::scoreSamples(const std::vector<BedSample> &samples, DeltaZScore *score) const {
   DeltaZSeries s;
-  for (const BedSample &b : run.history()) {
+  PetscFunctionBeginUser;
+  for (const BedSample &b : samples) {
     s.time.push_back(b.time + offset);
     s.deltaZ.push_back(b.deltaZ);
   }
   PetscCall(collectively(
       comm, [&] { *score = scoreDeltaZ(reference, s, windowBegin, windowEnd); }, PETSC_ERR_USER_INPUT));
-  scan.push_back({model, std::pow(10.0, log10kd), *score});
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+void DriftCalibration::record(const std::string &model, double log10kd, const DeltaZScore &score) {
+  scan.push_back({model, std::pow(10.0, log10kd), score});
   ++count;
+}
+
+/// Runs the case with the given model and k_d and scores it.
+PetscErrorCode DriftCalibration::evaluate(const std::string &model, double log10kd, DeltaZScore *score,
+                                          double exponent, double shape) {
+  PetscFunctionBeginUser;
+  PetscCall(replayOne(Point{model, log10kd, exponent, shape}, score));
+  record(model, log10kd, *score);
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+// One run of its own (its cog.csv in OUTPUT_DIR), scored, not recorded.
+PetscErrorCode DriftCalibration::replayOne(const Point &p, DeltaZScore *score) {
+  PetscFunctionBeginUser;
+  const double start = MPI_Wtime();
+  Run run(comm, registry);
+  run.setDefaultOutputDirectory("rcfd-calibrate");
+  run.useDatabase(db);
+  PetscCall(run.setFromOptions());
+  run.setQuiet(true);
+  run.setWriteFields(false);
+  PetscCall(configureDrift(run, p));
+  PetscCall(run.setUp());
+  PetscCall(run.solve());
+  PetscCall(scoreSamples(run.history(), score));
+  replaySeconds += MPI_Wtime() - start;
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+// Several points: one batched state when the runs allow it (their cog.csv in
+// OUTPUT_DIR/scan/MODEL-KD), else one by one (cog.csv in OUTPUT_DIR).
+PetscErrorCode DriftCalibration::replayAll(const std::vector<Point> &points, std::vector<DeltaZScore> *scores) {
+  PetscFunctionBeginUser;
+  scores->assign(points.size(), DeltaZScore{});
+  if (!canBatch || points.size() < 2) {
+    for (std::size_t k = 0; k < points.size(); ++k) PetscCall(replayOne(points[k], &(*scores)[k]));
+    PetscFunctionReturn(PETSC_SUCCESS);
+  }
+  const double start = MPI_Wtime();
+  std::vector<BatchedReplay::Candidate> candidates;
+  for (const Point &p : points) {
+    char name[64];
+    std::snprintf(name, sizeof name, "%s-%.6g", p.model.c_str(), std::pow(10.0, p.log10kd));
+    candidates.push_back({outputDirectory + "/scan/" + name, "", [this, p](Run &run) { return configureDrift(run, p); }});
+  }
+  BatchedReplay batched(comm, registry);
+  batched.useDatabase(db);
+  PetscCall(batched.solve(candidates));
+  for (std::size_t k = 0; k < points.size(); ++k) PetscCall(scoreSamples(batched.history(static_cast<int>(k)), &(*scores)[k]));
+  replaySeconds += MPI_Wtime() - start;
+  batchedRuns += static_cast<int>(points.size());
+  batches += batched.batches();
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
@@ -158,38 +227,55 @@ double DriftCalibration::objective(const DeltaZScore &s) const {
   return objectiveName == "rms" ? s.rmsRelative : std::fabs(s.segregationError);
 }
 
+void DriftCalibration::searchRange(const std::string &model, double *lo, double *hi) const {
+  const bool velocityUnit = std::string(registry.sizeLaws().create(model)->unitOfK()) == "m/s";
+  *lo = std::log10(rangeGiven || !velocityUnit ? kdLo : 1e-4);
+  *hi = std::log10(rangeGiven || !velocityUnit ? kdHi : 1.0);
+}
+
 // Coarse scan, then golden section in the bracket around the best point.
-PetscErrorCode DriftCalibration::search(const std::string &model, Result *result) {
+PetscErrorCode DriftCalibration::search(const std::string &model, const std::vector<DeltaZScore> &ahead,
+                                        Result *result) {
   // k of a dimensionless law is a velocity: without -calibrate_kd_range its
   // search spans 0.1 mm/s to 1 m/s instead of the 1/(m s) range of A and B.
-  const bool velocityUnit = std::string(registry.sizeLaws().create(model)->unitOfK()) == "m/s";
-  const double lo = std::log10(rangeGiven || !velocityUnit ? kdLo : 1e-4);
-  const double hi = std::log10(rangeGiven || !velocityUnit ? kdHi : 1.0);
+  double lo, hi;
   PetscFunctionBeginUser;
+  searchRange(model, &lo, &hi);
   PetscCall(PetscPrintf(comm, "model %s:\n  %12s %14s %12s %10s\n", model.c_str(), "k_d",
                         "mean dz [mm]", "Delta_seg [%]", "RMS/peak"));
-  // Evaluates at log10 k_d = x, prints the row and returns the objective.
-  auto at = [&](double x, double *f) -> PetscErrorCode {
-    DeltaZScore s;
+  // Records the score at log10 k_d = x, prints the row and returns the objective.
+  auto report = [&](double x, const DeltaZScore &s, double *f) -> PetscErrorCode {
     PetscFunctionBeginUser;
-    PetscCall(evaluate(model, x, &s));
+    record(model, x, s);
     *f = objective(s);
     PetscCall(PetscPrintf(comm, "  %12.5g %14.4f %12.1f %10.4f\n", std::pow(10.0, x),
                           1e3 * s.meanModel, s.segregationError, s.rmsRelative));
     PetscFunctionReturn(PETSC_SUCCESS);
   };
+  auto at = [&](double x, double *f) -> PetscErrorCode {
+    DeltaZScore s;
+    PetscFunctionBeginUser;
+    PetscCall(replayOne(Point{model, x}, &s));
+    PetscCall(report(x, s, f));
+    PetscFunctionReturn(PETSC_SUCCESS);
+  };
   const int n = static_cast<int>(scanPoints);
   std::vector<double> xs(n), fs(n);
+  std::vector<DeltaZScore> scores = ahead; // the coarse scan, when replayed with the other models'
+  std::vector<Point> points;
   for (int i = 0; i < n; ++i) {
     xs[i] = lo + (hi - lo) * i / (n - 1);
-    PetscCall(at(xs[i], &fs[i]));
+    points.push_back({model, xs[i]});
   }
+  if (scores.empty()) PetscCall(replayAll(points, &scores));
+  for (int i = 0; i < n; ++i) PetscCall(report(xs[i], scores[i], &fs[i]));
   const int bestScan = static_cast<int>(std::min_element(fs.begin(), fs.end()) - fs.begin());
   double a = xs[std::max(0, bestScan - 1)], b = xs[std::min(n - 1, bestScan + 1)];
   const double g = (std::sqrt(5.0) - 1.0) / 2.0;
   double c = b - g * (b - a), d = a + g * (b - a), fc = 0.0, fd = 0.0;
-  PetscCall(at(c, &fc));
-  PetscCall(at(d, &fd));
+  PetscCall(replayAll({{model, c}, {model, d}}, &scores));
+  PetscCall(report(c, scores[0], &fc));
+  PetscCall(report(d, scores[1], &fd));
   while (b - a > tolerance) {
     if (fc < fd) {
       b = d, d = c, fd = fc;
@@ -392,8 +478,104 @@ PetscErrorCode DriftCalibration::writeFiles() const {
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
+// -calibrate_candidates FILE: lines NAME OPTIONS...; '#' starts a comment.
+// Every replay writes OUTPUT_DIR/NAME/cog.csv; with -reference each is
+// scored (calibrate_candidates.csv).
+PetscErrorCode DriftCalibration::runCandidates() {
+  std::vector<std::pair<std::string, std::string>> laws;
+  PetscFunctionBeginUser;
+  PetscCall(collectively(comm, [&] {
+    requireRegularFile(candidatesFile);
+    std::ifstream in(candidatesFile);
+    if (!in) throw std::invalid_argument("-calibrate_candidates: cannot open '" + candidatesFile + "'");
+    int number = 0;
+    for (std::string line; std::getline(in, line);) {
+      ++number;
+      std::istringstream words(line.substr(0, line.find('#')));
+      std::string name, options;
+      if (!(words >> name)) continue;
+      std::getline(words, options);
+      const std::string where = "-calibrate_candidates '" + candidatesFile + "', line " + std::to_string(number);
+      if (name.find('/') != std::string::npos || name == "." || name == "..")
+        throw std::invalid_argument(where + ": the name '" + name + "' is not a directory name (its cog.csv goes in OUTPUT_DIR/NAME)");
+      for (const auto &l : laws)
+        if (l.first == name) throw std::invalid_argument(where + ": the name '" + name + "' is given twice");
+      laws.push_back({name, options});
+    }
+    if (laws.empty())
+      throw std::invalid_argument("-calibrate_candidates '" + candidatesFile +
+                                  "' names no replay (one a line: NAME then its drift options)");
+  }, PETSC_ERR_USER_INPUT));
+  const double start = MPI_Wtime();
+  std::vector<std::vector<BedSample>> samples(laws.size());
+  std::vector<BatchedReplay::Candidate> candidates;
+  for (const auto &l : laws) candidates.push_back({outputDirectory + "/" + l.first, l.second, nullptr});
+  BatchedReplay batched(comm, registry);
+  batched.useDatabase(db);
+  if (canBatch && laws.size() > 1) {
+    PetscCall(batched.solve(candidates));
+    for (std::size_t k = 0; k < laws.size(); ++k) samples[k] = batched.history(static_cast<int>(k));
+    batchedRuns += static_cast<int>(laws.size());
+    batches += batched.batches();
+  } else {
+    for (std::size_t k = 0; k < laws.size(); ++k) {
+      Run run(comm, registry);
+      PetscCall(batched.solveAlone(candidates[k], run));
+      samples[k] = run.history();
+    }
+  }
+  replaySeconds += MPI_Wtime() - start;
+  count = static_cast<int>(laws.size());
+  std::ostringstream table;
+  table << "# rcfd calibrate -calibrate_candidates " << candidatesFile << ": every replay (cog.csv in OUTPUT_DIR/NAME); "
+        << "Delta_seg is Eq. 7 over [" << windowBegin << ", " << windowEnd << "] s, rms_over_peak the RMS of "
+        << "Delta z(t) - reference / reference peak (empty without -reference)\n"
+        << "name,options,mean_run_m,mean_reference_m,delta_seg_percent,rms_over_peak\n";
+  PetscCall(PetscPrintf(comm, "  %-24s %14s %12s %10s\n", "replay", "mean dz [mm]", "Delta_seg [%]", "RMS/peak"));
+  for (std::size_t k = 0; k < laws.size(); ++k) {
+    char row[160];
+    if (!referenceFile.empty()) {
+      DeltaZScore score;
+      PetscCall(scoreSamples(samples[k], &score));
+      PetscCall(PetscPrintf(comm, "  %-24s %14.4f %12.1f %10.4f\n", laws[k].first.c_str(), 1e3 * score.meanModel,
+                            score.segregationError, score.rmsRelative));
+      std::snprintf(row, sizeof row, "%.9g,%.9g,%.9g,%.9g", score.meanModel, score.meanRef, score.segregationError,
+                    score.rmsRelative);
+    } else {
+      PetscCall(PetscPrintf(comm, "  %-24s (no -reference: not scored)\n", laws[k].first.c_str()));
+      std::snprintf(row, sizeof row, ",,,");
+    }
+    std::string options = laws[k].second;
+    std::replace(options.begin(), options.end(), ',', ' '); // one CSV field
+    table << laws[k].first << ',' << options << ',' << row << '\n';
+  }
+  PetscMPIInt rank;
+  PetscCallMPI(MPI_Comm_rank(comm, &rank));
+  PetscCall(collectively(comm, [&] {
+    if (rank == 0) writeTextAtomically(outputDirectory + "/calibrate_candidates.csv", table.str());
+  }, PETSC_ERR_FILE_WRITE));
+  PetscCall(PetscPrintf(comm, "%d replay runs; wrote %s/calibrate_candidates.csv and NAME/cog.csv\n", count,
+                        outputDirectory.c_str()));
+  PetscCall(reportReplays());
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode DriftCalibration::reportReplays() const {
+  PetscFunctionBeginUser;
+  PetscCall(PetscPrintf(comm, "replays: %.3g s wall; %d of %d in %d batched state(s)%s\n", replaySeconds, batchedRuns,
+                        count, batches, batch ? "" : " (-calibrate_batch false)"));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
 PetscErrorCode DriftCalibration::solve() {
   PetscFunctionBeginUser;
+  best.clear();
+  scan.clear();
+  lawRows.clear();
+  if (!candidatesFile.empty()) {
+    PetscCall(runCandidates());
+    PetscFunctionReturn(PETSC_SUCCESS);
+  }
   if (source == "cog")
     PetscCall(PetscPrintf(comm,
                           "Calibrating k_d in [%g, %g] 1/(m s) against %s, objective %s (%s), "
@@ -404,12 +586,24 @@ PetscErrorCode DriftCalibration::solve() {
                           windowBegin, windowEnd));
   else
     PetscCall(PetscPrintf(comm, "Fitting k_d to the measured drift of %s\n", db->path().c_str()));
-  best.clear();
-  scan.clear();
-  lawRows.clear();
-  for (const std::string &model : models) {
+  // The coarse scans of all models do not depend on each other: one batch.
+  std::vector<std::vector<DeltaZScore>> ahead(models.size());
+  if (source == "cog" && canBatch && models.size() > 1) {
+    std::vector<Point> points;
+    for (const std::string &model : models) {
+      double lo, hi;
+      searchRange(model, &lo, &hi);
+      for (PetscInt i = 0; i < scanPoints; ++i) points.push_back({model, lo + (hi - lo) * i / (scanPoints - 1)});
+    }
+    std::vector<DeltaZScore> scores;
+    PetscCall(replayAll(points, &scores));
+    for (std::size_t m = 0; m < models.size(); ++m)
+      ahead[m].assign(scores.begin() + m * scanPoints, scores.begin() + (m + 1) * scanPoints);
+  }
+  for (std::size_t m = 0; m < models.size(); ++m) {
+    const std::string &model = models[m];
     Result r;
-    PetscCall(source == "cog" ? search(model, &r) : fitMeasured(model, &r));
+    PetscCall(source == "cog" ? search(model, ahead[m], &r) : fitMeasured(model, &r));
     best.push_back(r);
     if (r.scored) PetscCall(PetscPrintf(comm,
                           "model %s: best k_d = %.4g 1/(m s): Delta_seg %.1f %%, RMS/peak %.3f, "
@@ -420,6 +614,7 @@ PetscErrorCode DriftCalibration::solve() {
   PetscCall(writeFiles());
   PetscCall(PetscPrintf(comm, "%d replay runs; wrote %s/calibrate_scan.csv, calibrate_best.csv and best-MODEL/cog.csv\n",
                         count, outputDirectory.c_str()));
+  PetscCall(reportReplays());
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
