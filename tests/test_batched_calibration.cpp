@@ -4,7 +4,9 @@
 // class and of the bed, delta z, each class's total, the smallest cell mass,
 // the bulk mismatch) and the final mass of every fraction in every cell.
 // Candidates differ in size law, k_d, local d32, hindrance and agitation
-// scaling; all in one batch, and split over three batches; on the replay
+// scaling (a batch shares the agitation field of each measure); all in one
+// batch writing cog.csv, and split over three batches keeping the samples
+// in memory only; on the replay
 // and on a stitched path with jumps (carry in the pipeline).  Each
 // candidate's columns keep their totals to 1e-12 and no mass is negative.
 // Runs at 1 and 2 ranks.
@@ -73,10 +75,10 @@ PetscErrorCode compare(const OperatorRegistry &registry, std::shared_ptr<Databas
   std::vector<OneByOne> alone(options.size());
   for (std::size_t k = 0; k < options.size(); ++k)
     PetscCall(runAlone(registry, db, options[k], dir + "/alone-" + std::to_string(k), &alone[k]));
-  for (int split : {0, columns}) {
+  for (int split : {0, columns}) { // split: without cog.csv (the samples in memory only)
     std::vector<BatchedReplay::Candidate> candidates;
     for (std::size_t k = 0; k < options.size(); ++k)
-      candidates.push_back({dir + "/batch" + std::to_string(split) + "-" + std::to_string(k), options[k], nullptr});
+      candidates.push_back({split ? std::string() : dir + "/batch-" + std::to_string(k), options[k], nullptr});
     BatchedReplay batched(PETSC_COMM_WORLD, registry);
     batched.useDatabase(db);
     if (split) batched.setColumnsPerBatch(split);
@@ -130,6 +132,7 @@ int main(int argc, char **argv) {
         "-drift_size_law drag -drift_kd 0.05 -drift_hindered",
         "-drift_size_law power -drift_size_law_exponent 2.5 -drift_kd 0.03 -drift_local_d32",
         "-drift_model B -drift_kd 5e4 -drift_agitation leaving -drift_agitation_exponent 2",
+        "-drift_model A -drift_kd 3e4 -drift_agitation dispersion -drift_agitation_exponent 1.5",
     };
     // Two fractions: 4 columns are two candidates per batch, three batches.
     PetscCall(compare(registry, db, laws, dir + "/replay", 4, 3));

@@ -1,6 +1,8 @@
 #include "analysis/batched_replay.hpp"
 #include "base/petsc_compat.hpp"
 
+#include "rcfd/drift.hpp"
+
 #include <algorithm>
 #include <cctype>
 #include <sstream>
@@ -12,7 +14,9 @@ struct BatchedReplay::Group {
   std::unique_ptr<Run> run;
   std::vector<Operator *> after; // the pipeline's operators after the shift
   MassLedger ledger;
-  CogMonitor cog;
+  CogMonitor cog;                // with a directory: cog.csv and the samples
+  CentreOfGravity measure;       // without one: the samples only
+  std::vector<BedSample> samples;
   std::string directory;
 };
 
@@ -90,6 +94,27 @@ PetscErrorCode BatchedReplay::solveAlone(const Candidate &candidate, Run &run) c
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
+// A drift scaled by agitation is given the batch's field of its measure
+// instead of making its own (a drift given one already keeps it).
+PetscErrorCode BatchedReplay::shareAgitation(Run &run) {
+  PetscFunctionBeginUser;
+  if (!database) PetscFunctionReturn(PETSC_SUCCESS); // loaded by the first candidate's run
+  for (const auto &op : run.pipeline().operators()) {
+    auto *drift = dynamic_cast<DriftOperator *>(op.get());
+    if (!drift || drift->agitationField() || drift->agitationOption() == "none") continue;
+    std::shared_ptr<const AgitationField> &field = fields[drift->agitationOption()];
+    if (!field) {
+      auto made = std::make_shared<AgitationField>();
+      AgitationMeasure measure;
+      PetscCallCXX(measure = parseAgitationMeasure(drift->agitationOption()));
+      PetscCall(made->setUp(*database, measure));
+      field = made;
+    }
+    drift->useAgitation(field);
+  }
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
 PetscErrorCode BatchedReplay::setUpGroup(const Candidate &candidate, Group *g) {
   PetscFunctionBeginUser;
   g->run = std::make_unique<Run>(comm, registry);
@@ -99,10 +124,11 @@ PetscErrorCode BatchedReplay::setUpGroup(const Candidate &candidate, Group *g) {
   PetscCall(withOptions(comm, candidate.options, [&]() -> PetscErrorCode {
     PetscFunctionBeginUser;
     PetscCall(g->run->setFromOptions());
-    g->run->setOutputDirectory(candidate.outputDirectory);
+    if (!g->directory.empty()) g->run->setOutputDirectory(g->directory);
     g->run->setQuiet(true);
     g->run->setWriteFields(false);
     if (candidate.configure) PetscCall(candidate.configure(*g->run));
+    PetscCall(shareAgitation(*g->run));
     PetscCall(g->run->setUp());
     PetscCall(g->ledger.setFromOptions(comm));
     PetscCall(g->cog.setFromOptions(comm));
@@ -114,7 +140,8 @@ PetscErrorCode BatchedReplay::setUpGroup(const Candidate &candidate, Group *g) {
              "-calibrate_batch false)", why.c_str());
   const auto &ops = g->run->pipeline().operators();
   for (std::size_t k = 1; k < ops.size(); ++k) g->after.push_back(ops[k].get());
-  PetscCall(g->cog.setUp(g->run->context(), g->run->state(), g->directory));
+  if (g->directory.empty()) PetscCall(g->measure.setUp(g->run->database(), g->run->fractions()));
+  else PetscCall(g->cog.setUp(g->run->context(), g->run->state(), g->directory));
   g->cog.keepSamples(true);
   PetscFunctionReturn(PETSC_SUCCESS);
 }
@@ -170,24 +197,31 @@ PetscErrorCode BatchedReplay::solveBatch(const std::vector<Candidate> &candidate
   PetscCall(path->setUp(PathContext{db, true}));
 
   const PetscInt nlocal = db.layout().numLocal();
-  // Each candidate's masses into its columns of the batch, and back.
+  // Each candidate's masses into its columns of the batch, and back, below
+  // the bound on where mass can be: above it every candidate's cells are
+  // empty, and so are the batch's (a cell empties only in a shift, which
+  // writes the batch's zeros; a swap moves mass only between cells that
+  // hold some), so the copies leave out the freeboard.
   auto pack = [&]() -> PetscErrorCode {
     PetscScalar *b;
     PetscInt bound = 0;
     PetscFunctionBeginUser;
+    for (const Group &group : groups) {
+      PetscInt end;
+      PetscCall(group.run->state().occupiedEnd(&end));
+      bound = std::max(bound, end);
+    }
     PetscCall(VecGetArray(batch.masses(), &b));
     for (std::size_t g = 0; g < count; ++g) {
       const PetscScalar *m;
-      PetscInt end;
-      PetscCall(groups[g].run->state().occupiedEnd(&end));
-      bound = std::max(bound, end);
       PetscCall(VecGetArrayRead(groups[g].run->state().masses(), &m));
-      for (PetscInt c = 0; c < nlocal; ++c)
-        std::copy(m + c * nf, m + (c + 1) * nf, b + c * columns + static_cast<PetscInt>(g) * nf);
+      PetscScalar *to = b + static_cast<PetscInt>(g) * nf;
+      for (PetscInt c = 0; c < bound; ++c)
+        for (int i = 0; i < nf; ++i) to[c * columns + i] = m[c * nf + i];
       PetscCall(VecRestoreArrayRead(groups[g].run->state().masses(), &m));
     }
     PetscCall(VecRestoreArray(batch.masses(), &b));
-    PetscCall(batch.setOccupiedEnd(bound)); // the cells at or above it are empty in every candidate
+    PetscCall(batch.setOccupiedEnd(bound));
     PetscFunctionReturn(PETSC_SUCCESS);
   };
   auto unpack = [&](std::size_t g) -> PetscErrorCode {
@@ -198,10 +232,9 @@ PetscErrorCode BatchedReplay::solveBatch(const std::vector<Candidate> &candidate
     PetscCall(batch.occupiedEnd(&bound));
     PetscCall(VecGetArrayRead(batch.masses(), &b));
     PetscCall(VecGetArray(groups[g].run->state().masses(), &m));
-    for (PetscInt c = 0; c < nlocal; ++c) {
-      const PetscScalar *from = b + c * columns + static_cast<PetscInt>(g) * nf;
-      std::copy(from, from + nf, m + c * nf);
-    }
+    const PetscScalar *from = b + static_cast<PetscInt>(g) * nf;
+    for (PetscInt c = 0; c < bound; ++c)
+      for (int i = 0; i < nf; ++i) m[c * nf + i] = from[c * columns + i];
     PetscCall(VecRestoreArray(groups[g].run->state().masses(), &m));
     PetscCall(VecRestoreArrayRead(batch.masses(), &b));
     PetscCall(groups[g].run->state().setOccupiedEnd(bound));
@@ -213,7 +246,11 @@ PetscErrorCode BatchedReplay::solveBatch(const std::vector<Candidate> &candidate
     PetscFunctionBeginUser;
     if (step == 0 || last || step % g.cog.every() == 0) {
       const RunContext ctx = g.run->context();
-      PetscCall(g.cog.sample(MonitorContext{step, time, frame, last, g.run->state(), ctx, g.directory}));
+      if (g.directory.empty()) { // what CogMonitor::sample measures, without the row of cog.csv
+        BedSample s;
+        PetscCall(g.measure.measure(time, g.run->state().masses(), db.alphaS(frame), ctx.solidDensity, &s));
+        g.samples.push_back(std::move(s));
+      } else PetscCall(g.cog.sample(MonitorContext{step, time, frame, last, g.run->state(), ctx, g.directory}));
     }
     PetscFunctionReturn(PETSC_SUCCESS);
   };
@@ -252,8 +289,11 @@ PetscErrorCode BatchedReplay::solveBatch(const std::vector<Candidate> &candidate
     frame = next;
   }
   for (std::size_t g = 0; g < count; ++g) {
-    PetscCall(groups[g].cog.flush());
-    histories[first + g] = groups[g].cog.samples();
+    if (groups[g].directory.empty()) histories[first + g] = std::move(groups[g].samples);
+    else {
+      PetscCall(groups[g].cog.flush());
+      histories[first + g] = groups[g].cog.samples();
+    }
     const PetscScalar *m;
     PetscCall(VecGetArrayRead(groups[g].run->state().masses(), &m));
     finals[first + g].assign(m, m + nlocal * nf);

@@ -17,15 +17,19 @@
 // What can be batched: one database (no -db set), the shift first in the
 // pipeline and the only operator that reads other cells' columns in common,
 // a pipeline that conserves mass, no restart.  Candidates are split into
-// batches of at most kMaxFractions columns.  Output per candidate: cog.csv
-// in its directory, and its samples in memory (history()).
+// batches of at most kMaxFractions columns.  Output per candidate: its
+// samples in memory (history()), and cog.csv when given a directory.  What the
+// candidates share is made once: the loaded database and the agitation
+// field of each measure their drift scales by.
 #pragma once
 
 #include "observable/cog_monitor.hpp"
+#include "rcfd/agitation.hpp"
 #include "rcfd/mass_ledger.hpp"
 #include "rcfd/run.hpp"
 
 #include <functional>
+#include <map>
 #include <memory>
 #include <string>
 #include <vector>
@@ -35,7 +39,9 @@ namespace rcfd {
 class BatchedReplay {
 public:
   struct Candidate {
-    /// Where its cog.csv goes (the run's -output_dir for this candidate).
+    /// Where its cog.csv goes (the run's -output_dir for this candidate);
+    /// empty: no cog.csv, the samples are kept in memory only (a scan's
+    /// points: formatting and writing the rows is most of a small bed's step).
     std::string outputDirectory;
     /// Options of this candidate alone, e.g. "-drift_kd 2836 -drift_agitation
     /// leaving", read over the command line's by its run (each must be used).
@@ -84,10 +90,15 @@ private:
   struct Group; // one candidate: its run, operators, ledger and monitor
   PetscErrorCode solveBatch(const std::vector<Candidate> &candidates, std::size_t first, std::size_t count);
   PetscErrorCode setUpGroup(const Candidate &candidate, Group *group);
+  PetscErrorCode shareAgitation(Run &run);
 
   MPI_Comm comm;
   const OperatorRegistry &registry;
   std::shared_ptr<Database> database;
+  // The agitation fields of the database by measure, made once for all
+  // candidates that scale their drift by one (the same numbers each
+  // candidate's drift would make for itself).
+  std::map<std::string, std::shared_ptr<const AgitationField>> fields;
   std::vector<std::vector<BedSample>> histories;
   std::vector<std::vector<double>> finals;
   int batchCount = 0, columnsPerBatch = kMaxFractions;

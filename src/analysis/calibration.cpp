@@ -197,8 +197,8 @@ PetscErrorCode DriftCalibration::replayOne(const Point &p, DeltaZScore *score) {
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
-// Several points: one batched state when the runs allow it (their cog.csv in
-// OUTPUT_DIR/scan/MODEL-KD), else one by one (cog.csv in OUTPUT_DIR).
+// Several points: one batched state when the runs allow it (no cog.csv),
+// else one by one (each overwriting OUTPUT_DIR/cog.csv).
 PetscErrorCode DriftCalibration::replayAll(const std::vector<Point> &points, std::vector<DeltaZScore> *scores) {
   PetscFunctionBeginUser;
   scores->assign(points.size(), DeltaZScore{});
@@ -207,12 +207,8 @@ PetscErrorCode DriftCalibration::replayAll(const std::vector<Point> &points, std
     PetscFunctionReturn(PETSC_SUCCESS);
   }
   const double start = MPI_Wtime();
-  std::vector<BatchedReplay::Candidate> candidates;
-  for (const Point &p : points) {
-    char name[64];
-    std::snprintf(name, sizeof name, "%s-%.6g", p.model.c_str(), std::pow(10.0, p.log10kd));
-    candidates.push_back({outputDirectory + "/scan/" + name, "", [this, p](Run &run) { return configureDrift(run, p); }});
-  }
+  std::vector<BatchedReplay::Candidate> candidates; // no cog.csv: the scores are all a search needs
+  for (const Point &p : points) candidates.push_back({"", "", [this, p](Run &run) { return configureDrift(run, p); }});
   BatchedReplay batched(comm, registry);
   batched.useDatabase(db);
   PetscCall(batched.solve(candidates));
