@@ -202,7 +202,7 @@ PetscErrorCode DriftCalibration::replayOne(const Point &p, DeltaZScore *score) {
 PetscErrorCode DriftCalibration::replayAll(const std::vector<Point> &points, std::vector<DeltaZScore> *scores) {
   PetscFunctionBeginUser;
   scores->assign(points.size(), DeltaZScore{});
-  if (!canBatch || points.size() < 2) {
+  if (!canBatch) {
     for (std::size_t k = 0; k < points.size(); ++k) PetscCall(replayOne(points[k], &(*scores)[k]));
     PetscFunctionReturn(PETSC_SUCCESS);
   }
@@ -229,67 +229,100 @@ void DriftCalibration::searchRange(const std::string &model, double *lo, double 
   *hi = std::log10(rangeGiven || !velocityUnit ? kdHi : 1.0);
 }
 
-// Coarse scan, then golden section in the bracket around the best point.
-PetscErrorCode DriftCalibration::search(const std::string &model, const std::vector<DeltaZScore> &ahead,
-                                        Result *result) {
-  // k of a dimensionless law is a velocity: without -calibrate_kd_range its
-  // search spans 0.1 mm/s to 1 m/s instead of the 1/(m s) range of A and B.
-  double lo, hi;
-  PetscFunctionBeginUser;
-  searchRange(model, &lo, &hi);
-  PetscCall(PetscPrintf(comm, "model %s:\n  %12s %14s %12s %10s\n", model.c_str(), "k_d",
-                        "mean dz [mm]", "Delta_seg [%]", "RMS/peak"));
-  // Records the score at log10 k_d = x, prints the row and returns the objective.
-  auto report = [&](double x, const DeltaZScore &s, double *f) -> PetscErrorCode {
-    PetscFunctionBeginUser;
-    record(model, x, s);
-    *f = objective(s);
-    PetscCall(PetscPrintf(comm, "  %12.5g %14.4f %12.1f %10.4f\n", std::pow(10.0, x),
-                          1e3 * s.meanModel, s.segregationError, s.rmsRelative));
-    PetscFunctionReturn(PETSC_SUCCESS);
-  };
-  auto at = [&](double x, double *f) -> PetscErrorCode {
-    DeltaZScore s;
-    PetscFunctionBeginUser;
-    PetscCall(replayOne(Point{model, x}, &s));
-    PetscCall(report(x, s, f));
-    PetscFunctionReturn(PETSC_SUCCESS);
+// Every model: a coarse scan, then a golden section in the bracket around
+// its best point.  The models' searches go in step, so that the replays of
+// one stage (all scans, the first pairs, each next point) are one batch;
+// each model's rows are recorded and printed in its own order (the scan,
+// the pair, the section), as one model after the other would make them.
+PetscErrorCode DriftCalibration::searchAll(std::vector<Result> *results) {
+  struct Search {
+    std::string model;
+    std::vector<double> xs, fs;
+    double a = 0, b = 0, c = 0, d = 0, fc = 0, fd = 0;
+    bool lower = false; // the pending point is c (else d)
+    std::vector<std::pair<double, DeltaZScore>> rows;
   };
   const int n = static_cast<int>(scanPoints);
-  std::vector<double> xs(n), fs(n);
-  std::vector<DeltaZScore> scores = ahead; // the coarse scan, when replayed with the other models'
-  std::vector<Point> points;
-  for (int i = 0; i < n; ++i) {
-    xs[i] = lo + (hi - lo) * i / (n - 1);
-    points.push_back({model, xs[i]});
-  }
-  if (scores.empty()) PetscCall(replayAll(points, &scores));
-  for (int i = 0; i < n; ++i) PetscCall(report(xs[i], scores[i], &fs[i]));
-  const int bestScan = static_cast<int>(std::min_element(fs.begin(), fs.end()) - fs.begin());
-  double a = xs[std::max(0, bestScan - 1)], b = xs[std::min(n - 1, bestScan + 1)];
   const double g = (std::sqrt(5.0) - 1.0) / 2.0;
-  double c = b - g * (b - a), d = a + g * (b - a), fc = 0.0, fd = 0.0;
-  PetscCall(replayAll({{model, c}, {model, d}}, &scores));
-  PetscCall(report(c, scores[0], &fc));
-  PetscCall(report(d, scores[1], &fd));
-  while (b - a > tolerance) {
-    if (fc < fd) {
-      b = d, d = c, fd = fc;
-      c = b - g * (b - a);
-      PetscCall(at(c, &fc));
-    } else {
-      a = c, c = d, fc = fd;
-      d = a + g * (b - a);
-      PetscCall(at(d, &fd));
+  std::vector<Search> searches(models.size());
+  std::vector<Point> points;
+  std::vector<DeltaZScore> scores;
+  PetscFunctionBeginUser;
+  for (std::size_t m = 0; m < models.size(); ++m) {
+    Search &s = searches[m];
+    s.model = models[m];
+    double lo, hi;
+    searchRange(s.model, &lo, &hi);
+    for (int i = 0; i < n; ++i) {
+      s.xs.push_back(lo + (hi - lo) * i / (n - 1));
+      points.push_back({s.model, s.xs.back()});
     }
   }
-  double xBest = fc < fd ? c : d;
-  if (fs[bestScan] < std::min(fc, fd)) xBest = xs[bestScan];
-  result->model = model;
-  result->kd = std::pow(10.0, xBest);
-  PetscCall(evaluate(model, xBest, &result->score));
-  result->scored = true;
-  PetscCall(keepBestRun(model));
+  PetscCall(replayAll(points, &scores));
+  points.clear();
+  for (std::size_t m = 0; m < models.size(); ++m) {
+    Search &s = searches[m];
+    for (int i = 0; i < n; ++i) {
+      s.rows.push_back({s.xs[i], scores[m * n + i]});
+      s.fs.push_back(objective(scores[m * n + i]));
+    }
+    const int best = static_cast<int>(std::min_element(s.fs.begin(), s.fs.end()) - s.fs.begin());
+    s.a = s.xs[std::max(0, best - 1)], s.b = s.xs[std::min(n - 1, best + 1)];
+    s.c = s.b - g * (s.b - s.a), s.d = s.a + g * (s.b - s.a);
+    points.push_back({s.model, s.c});
+    points.push_back({s.model, s.d});
+  }
+  PetscCall(replayAll(points, &scores));
+  for (std::size_t m = 0; m < models.size(); ++m) {
+    Search &s = searches[m];
+    s.rows.push_back({s.c, scores[2 * m]});
+    s.rows.push_back({s.d, scores[2 * m + 1]});
+    s.fc = objective(scores[2 * m]), s.fd = objective(scores[2 * m + 1]);
+  }
+  for (;;) { // the next point of every model whose bracket is still wider than the tolerance
+    std::vector<Search *> active;
+    points.clear();
+    for (Search &s : searches) {
+      if (!(s.b - s.a > tolerance)) continue;
+      s.lower = s.fc < s.fd;
+      if (s.lower) {
+        s.b = s.d, s.d = s.c, s.fd = s.fc;
+        s.c = s.b - g * (s.b - s.a);
+      } else {
+        s.a = s.c, s.c = s.d, s.fc = s.fd;
+        s.d = s.a + g * (s.b - s.a);
+      }
+      active.push_back(&s);
+      points.push_back({s.model, s.lower ? s.c : s.d});
+    }
+    if (active.empty()) break;
+    PetscCall(replayAll(points, &scores));
+    for (std::size_t k = 0; k < active.size(); ++k) {
+      Search &s = *active[k];
+      s.rows.push_back({points[k].log10kd, scores[k]});
+      (s.lower ? s.fc : s.fd) = objective(scores[k]);
+    }
+  }
+  results->clear();
+  for (Search &s : searches) {
+    PetscCall(PetscPrintf(comm, "model %s:\n  %12s %14s %12s %10s\n", s.model.c_str(), "k_d", "mean dz [mm]",
+                          "Delta_seg [%]", "RMS/peak"));
+    for (const auto &[x, score] : s.rows) {
+      record(s.model, x, score);
+      PetscCall(PetscPrintf(comm, "  %12.5g %14.4f %12.1f %10.4f\n", std::pow(10.0, x), 1e3 * score.meanModel,
+                            score.segregationError, score.rmsRelative));
+    }
+    const int best = static_cast<int>(std::min_element(s.fs.begin(), s.fs.end()) - s.fs.begin());
+    double xBest = s.fc < s.fd ? s.c : s.d;
+    if (s.fs[best] < std::min(s.fc, s.fd)) xBest = s.xs[best];
+    Result r;
+    r.model = s.model;
+    r.kd = std::pow(10.0, xBest);
+    PetscCall(evaluate(s.model, xBest, &r.score)); // its cog.csv, kept as best-MODEL/cog.csv
+    r.scored = true;
+    PetscCall(keepBestRun(s.model));
+    results->push_back(r);
+  }
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
@@ -582,24 +615,13 @@ PetscErrorCode DriftCalibration::solve() {
                           windowBegin, windowEnd));
   else
     PetscCall(PetscPrintf(comm, "Fitting k_d to the measured drift of %s\n", db->path().c_str()));
-  // The coarse scans of all models do not depend on each other: one batch.
-  std::vector<std::vector<DeltaZScore>> ahead(models.size());
-  if (source == "cog" && canBatch && models.size() > 1) {
-    std::vector<Point> points;
-    for (const std::string &model : models) {
-      double lo, hi;
-      searchRange(model, &lo, &hi);
-      for (PetscInt i = 0; i < scanPoints; ++i) points.push_back({model, lo + (hi - lo) * i / (scanPoints - 1)});
-    }
-    std::vector<DeltaZScore> scores;
-    PetscCall(replayAll(points, &scores));
-    for (std::size_t m = 0; m < models.size(); ++m)
-      ahead[m].assign(scores.begin() + m * scanPoints, scores.begin() + (m + 1) * scanPoints);
-  }
+  std::vector<Result> results;
+  if (source == "cog") PetscCall(searchAll(&results));
   for (std::size_t m = 0; m < models.size(); ++m) {
     const std::string &model = models[m];
     Result r;
-    PetscCall(source == "cog" ? search(model, ahead[m], &r) : fitMeasured(model, &r));
+    if (source == "cog") r = results[m];
+    else PetscCall(fitMeasured(model, &r));
     best.push_back(r);
     if (r.scored) PetscCall(PetscPrintf(comm,
                           "model %s: best k_d = %.4g 1/(m s): Delta_seg %.1f %%, RMS/peak %.3f, "

@@ -97,8 +97,8 @@ private:
   PetscErrorCode keepBestRun(const std::string &model);
   PetscErrorCode writeFiles() const;
   double objective(const DeltaZScore &s) const;
-  // ahead: the coarse scan's scores when already replayed (with the other models'), else empty.
-  PetscErrorCode search(const std::string &model, const std::vector<DeltaZScore> &ahead, Result *result);
+  // Every model's search, in step (one batch per stage); results in the order of `models`.
+  PetscErrorCode searchAll(std::vector<Result> *results);
   // Its drift law's log10 k_d range of the search.
   void searchRange(const std::string &model, double *lo, double *hi) const;
 
