@@ -3,7 +3,8 @@
 # one run"): one replay, the 13 laws of cases/dpm-bi-narrow/drift_laws.sh as 13 rcfd run processes
 # (what that script did), as one rcfd calibrate -calibrate_candidates one by one (-calibrate_batch
 # false) and batched (the default), and a k_d search of two laws (rcfd calibrate -calibrate_models
-# B,drag) one by one and batched.  Median of RUNS (default 3) of each, 1 rank.
+# B,drag) one by one and batched.  Median of RUNS (default 3) of each, 1 rank: wall and CPU
+# (user + system) of the whole process, and rcfd calibrate's own wall time of its replays.
 #   bench/batched_calibration.sh [BUILD] [WORK_DIR]    (defaults: build, /tmp/rcfd-batched-bench)
 # Needs ../shared/reference/dpm-bi-narrow (SHARED); makes the database as drift_laws.sh does.
 set -euo pipefail
@@ -30,7 +31,9 @@ timed() {
   local label=$1 TIMEFORMAT='%R %U %S'
   shift
   { time "$@" >"$work/last.txt" 2>&1; } 2>"$work/time.txt"
-  echo "$label $(awk '{ print $1, $2 + $3 }' "$work/time.txt")" >>"$work/times.txt"
+  # rcfd calibrate's own wall time of the replays (the process less start-up, loading and writing)
+  local replays=$(sed -n 's/^replays: \([0-9.e+-]*\) s wall.*/\1/p' "$work/last.txt")
+  echo "$label $(awk '{ print $1, $2 + $3 }' "$work/time.txt") ${replays:-nan}" >>"$work/times.txt"
 }
 separate() { # the laws as separate rcfd run processes
   while read -r name opts; do
@@ -62,19 +65,20 @@ done
 replays=$(grep -c . "$work/laws.txt")
 searched=$(sed -n 's/^\([0-9]*\) replay runs.*/\1/p' "$work/last.txt")
 echo "$(date -u '+%Y-%m-%d %H:%M UTC'), load average $(cut -d' ' -f1-3 /proc/loadavg), $runs runs each (median)"
-echo "| what | replays | wall s | CPU s | wall / single run |"
-echo "|---|---|---|---|---|"
+echo "| what | replays | wall s | CPU s | wall / single run | replays' own wall s |"
+echo "|---|---|---|---|---|---|"
 python3 - "$work/times.txt" "$replays" "$searched" <<'P'
 import sys, statistics as st
 rows = {}
 for line in open(sys.argv[1]):
-    label, wall, cpu = line.split()
-    rows.setdefault(label, []).append((float(wall), float(cpu)))
+    label, wall, cpu, own = line.split()
+    rows.setdefault(label, []).append((float(wall), float(cpu), float(own)))
 n, searched = sys.argv[2], sys.argv[3]
-single = st.median(w for w, c in rows["single"])
+single = st.median(v[0] for v in rows["single"])
 count = {"single": "1", "separate": n, "laws-one-by-one": n, "laws-batched": n,
          "search-one-by-one": searched, "search-batched": searched}
 for label, values in rows.items():
-    wall = st.median(w for w, c in values); cpu = st.median(c for w, c in values)
-    print(f"| {label} | {count[label]} | {wall:.2f} | {cpu:.2f} | {wall / single:.2f} |")
+    wall, cpu, own = (st.median(v[k] for v in values) for k in range(3))
+    own = "" if own != own else f"{own:.2f}"
+    print(f"| {label} | {count[label]} | {wall:.2f} | {cpu:.2f} | {wall / single:.2f} | {own} |")
 P

@@ -201,43 +201,44 @@ PetscErrorCode BatchedReplay::solveBatch(const std::vector<Candidate> &candidate
   // the bound on where mass can be: above it every candidate's cells are
   // empty, and so are the batch's (a cell empties only in a shift, which
   // writes the batch's zeros; a swap moves mass only between cells that
-  // hold some), so the copies leave out the freeboard.
+  // hold some), so the copies leave out the freeboard.  Cell by cell, all
+  // candidates at once: each row of the batch is read or written once.
+  std::vector<const PetscScalar *> from(count);
+  std::vector<PetscScalar *> to(count);
   auto pack = [&]() -> PetscErrorCode {
     PetscScalar *b;
     PetscInt bound = 0;
     PetscFunctionBeginUser;
-    for (const Group &group : groups) {
+    for (std::size_t g = 0; g < count; ++g) {
       PetscInt end;
-      PetscCall(group.run->state().occupiedEnd(&end));
+      PetscCall(groups[g].run->state().occupiedEnd(&end));
       bound = std::max(bound, end);
+      PetscCall(VecGetArrayRead(groups[g].run->state().masses(), &from[g]));
     }
     PetscCall(VecGetArray(batch.masses(), &b));
-    for (std::size_t g = 0; g < count; ++g) {
-      const PetscScalar *m;
-      PetscCall(VecGetArrayRead(groups[g].run->state().masses(), &m));
-      PetscScalar *to = b + static_cast<PetscInt>(g) * nf;
-      for (PetscInt c = 0; c < bound; ++c)
-        for (int i = 0; i < nf; ++i) to[c * columns + i] = m[c * nf + i];
-      PetscCall(VecRestoreArrayRead(groups[g].run->state().masses(), &m));
-    }
+    for (PetscInt c = 0; c < bound; ++c)
+      for (std::size_t g = 0; g < count; ++g)
+        for (int i = 0; i < nf; ++i) b[c * columns + static_cast<PetscInt>(g) * nf + i] = from[g][c * nf + i];
     PetscCall(VecRestoreArray(batch.masses(), &b));
+    for (std::size_t g = 0; g < count; ++g) PetscCall(VecRestoreArrayRead(groups[g].run->state().masses(), &from[g]));
     PetscCall(batch.setOccupiedEnd(bound));
     PetscFunctionReturn(PETSC_SUCCESS);
   };
-  auto unpack = [&](std::size_t g) -> PetscErrorCode {
+  auto unpack = [&]() -> PetscErrorCode {
     const PetscScalar *b;
-    PetscScalar *m;
     PetscInt bound;
     PetscFunctionBeginUser;
     PetscCall(batch.occupiedEnd(&bound));
     PetscCall(VecGetArrayRead(batch.masses(), &b));
-    PetscCall(VecGetArray(groups[g].run->state().masses(), &m));
-    const PetscScalar *from = b + static_cast<PetscInt>(g) * nf;
+    for (std::size_t g = 0; g < count; ++g) PetscCall(VecGetArray(groups[g].run->state().masses(), &to[g]));
     for (PetscInt c = 0; c < bound; ++c)
-      for (int i = 0; i < nf; ++i) m[c * nf + i] = from[c * columns + i];
-    PetscCall(VecRestoreArray(groups[g].run->state().masses(), &m));
+      for (std::size_t g = 0; g < count; ++g)
+        for (int i = 0; i < nf; ++i) to[g][c * nf + i] = b[c * columns + static_cast<PetscInt>(g) * nf + i];
+    for (std::size_t g = 0; g < count; ++g) {
+      PetscCall(VecRestoreArray(groups[g].run->state().masses(), &to[g]));
+      PetscCall(groups[g].run->state().setOccupiedEnd(bound));
+    }
     PetscCall(VecRestoreArrayRead(batch.masses(), &b));
-    PetscCall(groups[g].run->state().setOccupiedEnd(bound));
     PetscFunctionReturn(PETSC_SUCCESS);
   };
   const long steps = lead.numSteps();
@@ -278,10 +279,10 @@ PetscErrorCode BatchedReplay::solveBatch(const std::vector<Candidate> &candidate
     info.jump = pathJump || (next == frame + 1 && !db.nextFollows(info.frame));
     PetscCall(pack());
     PetscCall(shift->apply(info, batch));
+    PetscCall(unpack());
     const double t = (s + 1) * info.dt;
     for (std::size_t g = 0; g < count; ++g) {
       Group &group = groups[g];
-      PetscCall(unpack(g));
       for (Operator *op : group.after) PetscCall(op->apply(info, group.run->state()));
       PetscCall(group.ledger.check(s + 1, group.run->state(), s + 1 == steps));
       PetscCall(sample(group, s + 1, t, next % frames, s + 1 == steps));
