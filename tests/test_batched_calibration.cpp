@@ -148,6 +148,13 @@ int main(int argc, char **argv) {
       RCFD_CHECK(status != PETSC_SUCCESS);
       RCFD_CHECK(capture.message().find("-drift_kdd") != std::string::npos);
     }
+    { // Nor is -db: the candidates share one database.
+      ErrorCapture capture;
+      BatchedReplay batched(PETSC_COMM_WORLD, registry);
+      batched.useDatabase(db);
+      RCFD_CHECK(batched.solve({{"", "-db other.h5 -drift_kd 3", nullptr}}) != PETSC_SUCCESS);
+      RCFD_CHECK(capture.message().find("share one loaded database") != std::string::npos);
+    }
     { // A pipeline that does not start with the shift cannot be batched.
       ScopedOptions drifted("-pipeline drift,shift");
       Run run(PETSC_COMM_WORLD, registry);

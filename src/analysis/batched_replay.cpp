@@ -65,6 +65,10 @@ PetscErrorCode BatchedReplay::withOptions(MPI_Comm comm, const std::string &opti
   std::istringstream words(options);
   for (std::string w; words >> w;) {
     if (w.size() < 2 || w[0] != '-' || !std::isalpha(static_cast<unsigned char>(w[1]))) continue; // a value
+    if (w == "-db") PetscCall(PetscOptionsDestroy(&own));
+    PetscCheck(w != "-db", comm, PETSC_ERR_USER_INPUT,
+               "The candidate options '%s' name -db, but the candidates share one loaded database: give -db on "
+               "the command line and run a calibration per database", options.c_str());
     PetscBool used = PETSC_FALSE;
     PetscCall(PetscOptionsUsed(own, w.c_str() + 1, &used)); // stored without the dash
     if (!used) PetscCall(PetscOptionsDestroy(&own));
