@@ -524,6 +524,8 @@ PetscErrorCode DriftCalibration::runCandidates() {
       std::string name, options;
       if (!(words >> name)) continue;
       std::getline(words, options);
+      options.erase(0, std::min(options.size(), options.find_first_not_of(" \t")));
+      options.erase(options.find_last_not_of(" \t\r") + 1);
       const std::string where = "-calibrate_candidates '" + candidatesFile + "', line " + std::to_string(number);
       if (name.find('/') != std::string::npos || name == "." || name == "..")
         throw std::invalid_argument(where + ": the name '" + name + "' is not a directory name (its cog.csv goes in OUTPUT_DIR/NAME)");
