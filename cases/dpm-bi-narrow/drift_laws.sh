@@ -106,12 +106,19 @@ stitched() {
       "$dir/scores-$n-scores.csv"
   done
 }
+# The plain replays of every law on both beds: one rcfd calibrate each, the laws as candidates that
+# share the loaded database, the path and its agitation fields, stepped as one batched state
+# (docs/drift.md, "Scanning laws at the speed of one run"); $out/BED/NAME/cog.csv as rcfd run writes it.
+for entry in "${laws[@]}"; do echo "${entry%%|*} ${entry#*|}"; done >"$out/laws.txt"
+"$rcfd" calibrate "${narrow[@]}" -calibrate_candidates "$out/laws.txt" -reference "$out/narrow-ref/cog.csv" \
+  -rcfd_time_offset 0.2 -output_dir "$out/narrow" | grep -E "replays"
+"$rcfd" calibrate "${wide[@]}" -calibrate_candidates "$out/laws.txt" -reference "$out/wide-ref/cog.csv" \
+  -rcfd_time_offset 0.2 -output_dir "$out/wide" | grep -E "replays"
 table=$out/drift_laws.csv
 echo "law,narrow_seg_0.5_1.5,narrow_rms,narrow_seg_1.7_3.5,narrow_rms_1.7_3.5,wide_seg_0.5_1.5,wide_rms,stitch_seg_0.5_1.5,stitch_rms,stitch40_seg_0.5_1.5,stitch40_seg_se,stitch40_rms" >"$table"
 for entry in "${laws[@]}"; do
   name=${entry%%|*}
   read -r -a opt <<<"${entry#*|}"
-  "$rcfd" run "${narrow[@]}" "${opt[@]}" -output_dir "$out/narrow/$name" -quiet -plot false >/dev/null
   n1=$(score "$out/narrow/$name" "$out/narrow-ref/cog.csv" 0.5,1.5)
   # The rest after a fit on 0.2-1.7 s: Eq. 7 over 1.7-3.5 s; the RMS over the same span from the curve.
   n2=$(python3 - "$out/narrow/$name/cog.csv" "$out/narrow-ref/cog.csv" <<'P'
@@ -139,7 +146,6 @@ rms = (sum((a - b) ** 2 for a, b in pairs) / len(pairs)) ** 0.5
 print(f"{100 * (mm - mr) / mr:.1f},{rms / peak:.3f},", end="")
 P
 )
-  "$rcfd" run "${wide[@]}" "${opt[@]}" -output_dir "$out/wide/$name" -quiet -plot false >/dev/null
   w1=$(score "$out/wide/$name" "$out/wide-ref/cog.csv" 0.5,1.5)
   s1=$(stitched "$out/stitch/$name" "${opt[@]}")
   echo "$name,$n1$n2$w1$s1" | tee -a "$table"

@@ -60,6 +60,10 @@ public:
   /// instead of one made from -drift_agitation; shares one field between runs.
   void useAgitation(std::shared_ptr<const AgitationField> field) { agitation = std::move(field); }
   void setAgitationExponent(double n) { agitationExponent = n; }
+  /// The measure -drift_agitation names ("none", "leaving", "dispersion"),
+  /// after setFromOptions: runs that share a database can share its field
+  /// (useAgitation), as a batch of candidates does.
+  const std::string &agitationOption() const { return agitationName; }
   /// The solid-weighted mean of the factor (a/a_bar)^n over the occupied
   /// cells of all frames (1 when unscaled), once set up: a law scaled so
   /// drifts on average k_d / this as fast as the unscaled one.

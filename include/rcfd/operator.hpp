@@ -191,9 +191,15 @@ public:
   PetscErrorCode apply(const StepInfo &step, FractionState &state) override;
   PetscErrorCode view(PetscViewer viewer) const override;
   void setKernel(Kernel k) { kernel = k; }
+  /// Before setUp: move `n` interleaved columns per cell instead of the
+  /// run's fractions (0, the default: the fractions), e.g. the fractions of
+  /// several replays at once (src/analysis/batched_replay.hpp).  Each column
+  /// is summed in the same order whatever their number.
+  void setColumns(int n) { columns = n; }
 
 private:
   Kernel kernel = Kernel::Moving;
+  int columns = 0;
   std::unique_ptr<MovingRows> moving;
   std::vector<OwnedMat> perFrame; // MAIJ wrappers, one per frame
   int nf = 0;

@@ -95,6 +95,8 @@ public:
   const Database &database() const;
   std::shared_ptr<Database> sharedDatabase() const;
   const FractionSet &fractions() const;
+  /// What operators and monitors read (database, fractions, solid density), once set up.
+  RunContext context() const;
   const FractionState &state() const;
   FractionState &state();
   Pipeline &pipeline();

@@ -2,9 +2,11 @@
 #include "base/petsc_compat.hpp"
 
 #include "base/checked_options.hpp"
+#include "analysis/batched_replay.hpp"
 #include "analysis/measured_drift.hpp"
 #include "base/atomic_file.hpp"
 #include "base/collective.hpp"
+#include "base/input_file.hpp"
 #include "rcfd/agitation.hpp"
 #include "rcfd/run.hpp"
 #include "rcfd/swaps.hpp"
@@ -13,6 +15,7 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <fstream>
 #include <sstream>
 
 namespace rcfd {
@@ -22,7 +25,7 @@ DriftCalibration::DriftCalibration(MPI_Comm comm, const OperatorRegistry &regist
 DriftCalibration::~DriftCalibration() = default;
 
 PetscErrorCode DriftCalibration::setFromOptions() {
-  char ref[PETSC_MAX_PATH_LEN] = "", objective[16] = "rms", from[16] = "cog";
+  char ref[PETSC_MAX_PATH_LEN] = "", objective[16] = "rms", from[16] = "cog", laws[PETSC_MAX_PATH_LEN] = "";
   PetscInt nrange = 2, nwindow = 2;
   std::vector<std::string> given;
   PetscReal range[2] = {kdLo, kdHi}, window[2] = {windowBegin, windowEnd};
@@ -56,13 +59,23 @@ PetscErrorCode DriftCalibration::setFromOptions() {
                         &offset, {-1e9, 1e9, true, true, "a finite time in s"}));
   PetscCall(checkedRealArray(PetscOptionsObject, "-score_window", "Window t0,t1 [s] of the Eq. 7 means", window,
                              &nwindow, &setWindow));
+  PetscCall(PetscOptionsBool("-calibrate_batch",
+                             "Run the replays that share the database and path as one state (the shift read once "
+                             "per frame for all; the same bits); false: one by one",
+                             "", batch, &batch, nullptr));
+  PetscCall(PetscOptionsString("-calibrate_candidates",
+                               "File of replays to run and score instead of a search, one per line: NAME then its "
+                               "drift options (e.g. B-leaving2 -drift_model B -drift_kd 1.732e4 -drift_agitation "
+                               "leaving -drift_agitation_exponent 2); each writes OUTPUT_DIR/NAME/cog.csv",
+                               "", laws, laws, sizeof laws, nullptr));
   PetscOptionsEnd();
   PetscCall(PetscOptionsHasName(nullptr, nullptr, "-help", &help));
   if (help) PetscFunctionReturn(PETSC_SUCCESS);
   source = from;
   PetscCheck(source == "cog" || source == "measured", comm, PETSC_ERR_USER_INPUT,
              "-calibrate_from %s is not known; use cog or measured", from);
-  PetscCheck(setRef || source == "measured", comm, PETSC_ERR_USER_INPUT,
+  candidatesFile = laws;
+  PetscCheck(setRef || source == "measured" || !candidatesFile.empty(), comm, PETSC_ERR_USER_INPUT,
              "No reference given: pass -reference REF/cog.csv (made by rcfd reference)");
   for (std::size_t i = 0; i < given.size(); ++i) {
     const std::string &m = given[i];
@@ -109,48 +122,100 @@ PetscErrorCode DriftCalibration::setUp() {
   for (const auto &op : first.pipeline().operators())
     if (auto *d = dynamic_cast<DriftOperator *>(op.get())) meanFactor = d->meanAgitationFactor();
   sauter = first.fractions().inventorySauterDiameter();
+  std::string why;
+  canBatch = batch && BatchedReplay::batchable(first, &why);
+  if (batch && !canBatch) PetscCall(PetscPrintf(comm, "Note: the replays run one by one: %s\n", why.c_str()));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
-/// Runs the case with the given model and k_d and scores it.
-PetscErrorCode DriftCalibration::evaluate(const std::string &model, double log10kd, DeltaZScore *score,
-                                          double exponent, double shape) {
+// The drift operator of the run's pipeline set to the point's law, k_d,
+// shape and agitation exponent (typed setters, between setFromOptions and setUp).
+PetscErrorCode DriftCalibration::configureDrift(Run &run, const Point &p) {
   PetscFunctionBeginUser;
-  Run run(comm, registry);
-  run.setDefaultOutputDirectory("rcfd-calibrate");
-  run.useDatabase(db);
-  PetscCall(run.setFromOptions());
-  run.setQuiet(true);
   run.keepHistory(true); // the samples it scores
-  run.setWriteFields(false);
   DriftOperator *drift = nullptr;
   for (const auto &op : run.pipeline().operators())
     if (auto *d = dynamic_cast<DriftOperator *>(op.get())) drift = d;
   PetscCheck(drift, comm, PETSC_ERR_USER_INPUT,
              "rcfd calibrate fits the drift operator, but -pipeline has none (add drift)");
-  PetscCallCXX(drift->setSizeLaw(model));
-  if (std::isfinite(shape)) drift->sizeLaw()->setShapeParameter(shape);
-  drift->setKd(std::pow(10.0, log10kd));
-  if (exponent >= 0.0) {
+  PetscCallCXX(drift->setSizeLaw(p.model));
+  if (std::isfinite(p.shape)) drift->sizeLaw()->setShapeParameter(p.shape);
+  drift->setKd(std::pow(10.0, p.log10kd));
+  if (p.exponent >= 0.0) {
     if (!leaving) {
       auto field = std::make_shared<AgitationField>();
       PetscCall(field->setUp(*db, AgitationMeasure::LeavingShare));
       leaving = field;
     }
     drift->useAgitation(leaving);
-    drift->setAgitationExponent(exponent);
+    drift->setAgitationExponent(p.exponent);
   }
-  PetscCall(run.setUp());
-  PetscCall(run.solve());
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode DriftCalibration::scoreSamples(const std::vector<BedSample> &samples, DeltaZScore *score) const {
   DeltaZSeries s;
-  for (const BedSample &b : run.history()) {
+  PetscFunctionBeginUser;
+  for (const BedSample &b : samples) {
     s.time.push_back(b.time + offset);
     s.deltaZ.push_back(b.deltaZ);
   }
   PetscCall(collectively(
       comm, [&] { *score = scoreDeltaZ(reference, s, windowBegin, windowEnd); }, PETSC_ERR_USER_INPUT));
-  scan.push_back({model, std::pow(10.0, log10kd), *score});
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+void DriftCalibration::record(const std::string &model, double log10kd, const DeltaZScore &score) {
+  scan.push_back({model, std::pow(10.0, log10kd), score});
   ++count;
+}
+
+/// Runs the case with the given model and k_d and scores it.
+PetscErrorCode DriftCalibration::evaluate(const std::string &model, double log10kd, DeltaZScore *score,
+                                          double exponent, double shape) {
+  PetscFunctionBeginUser;
+  PetscCall(replayOne(Point{model, log10kd, exponent, shape}, score));
+  record(model, log10kd, *score);
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+// One run of its own (its cog.csv in OUTPUT_DIR), scored, not recorded.
+PetscErrorCode DriftCalibration::replayOne(const Point &p, DeltaZScore *score) {
+  PetscFunctionBeginUser;
+  const double start = MPI_Wtime();
+  Run run(comm, registry);
+  run.setDefaultOutputDirectory("rcfd-calibrate");
+  run.useDatabase(db);
+  PetscCall(run.setFromOptions());
+  run.setQuiet(true);
+  run.setWriteFields(false);
+  PetscCall(configureDrift(run, p));
+  PetscCall(run.setUp());
+  PetscCall(run.solve());
+  PetscCall(scoreSamples(run.history(), score));
+  replaySeconds += MPI_Wtime() - start;
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+// Several points: one batched state when the runs allow it (no cog.csv),
+// else one by one (each overwriting OUTPUT_DIR/cog.csv).
+PetscErrorCode DriftCalibration::replayAll(const std::vector<Point> &points, std::vector<DeltaZScore> *scores) {
+  PetscFunctionBeginUser;
+  scores->assign(points.size(), DeltaZScore{});
+  if (!canBatch) {
+    for (std::size_t k = 0; k < points.size(); ++k) PetscCall(replayOne(points[k], &(*scores)[k]));
+    PetscFunctionReturn(PETSC_SUCCESS);
+  }
+  const double start = MPI_Wtime();
+  std::vector<BatchedReplay::Candidate> candidates; // no cog.csv: the scores are all a search needs
+  for (const Point &p : points) candidates.push_back({"", "", [this, p](Run &run) { return configureDrift(run, p); }});
+  BatchedReplay batched(comm, registry);
+  batched.useDatabase(db);
+  PetscCall(batched.solve(candidates));
+  for (std::size_t k = 0; k < points.size(); ++k) PetscCall(scoreSamples(batched.history(static_cast<int>(k)), &(*scores)[k]));
+  replaySeconds += MPI_Wtime() - start;
+  batchedRuns += static_cast<int>(points.size());
+  batches += batched.batches();
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
@@ -158,56 +223,106 @@ double DriftCalibration::objective(const DeltaZScore &s) const {
   return objectiveName == "rms" ? s.rmsRelative : std::fabs(s.segregationError);
 }
 
-// Coarse scan, then golden section in the bracket around the best point.
-PetscErrorCode DriftCalibration::search(const std::string &model, Result *result) {
-  // k of a dimensionless law is a velocity: without -calibrate_kd_range its
-  // search spans 0.1 mm/s to 1 m/s instead of the 1/(m s) range of A and B.
+void DriftCalibration::searchRange(const std::string &model, double *lo, double *hi) const {
   const bool velocityUnit = std::string(registry.sizeLaws().create(model)->unitOfK()) == "m/s";
-  const double lo = std::log10(rangeGiven || !velocityUnit ? kdLo : 1e-4);
-  const double hi = std::log10(rangeGiven || !velocityUnit ? kdHi : 1.0);
-  PetscFunctionBeginUser;
-  PetscCall(PetscPrintf(comm, "model %s:\n  %12s %14s %12s %10s\n", model.c_str(), "k_d",
-                        "mean dz [mm]", "Delta_seg [%]", "RMS/peak"));
-  // Evaluates at log10 k_d = x, prints the row and returns the objective.
-  auto at = [&](double x, double *f) -> PetscErrorCode {
-    DeltaZScore s;
-    PetscFunctionBeginUser;
-    PetscCall(evaluate(model, x, &s));
-    *f = objective(s);
-    PetscCall(PetscPrintf(comm, "  %12.5g %14.4f %12.1f %10.4f\n", std::pow(10.0, x),
-                          1e3 * s.meanModel, s.segregationError, s.rmsRelative));
-    PetscFunctionReturn(PETSC_SUCCESS);
+  *lo = std::log10(rangeGiven || !velocityUnit ? kdLo : 1e-4);
+  *hi = std::log10(rangeGiven || !velocityUnit ? kdHi : 1.0);
+}
+
+// Every model: a coarse scan, then a golden section in the bracket around
+// its best point.  The models' searches go in step, so that the replays of
+// one stage (all scans, the first pairs, each next point) are one batch;
+// each model's rows are recorded and printed in its own order (the scan,
+// the pair, the section), as one model after the other would make them.
+PetscErrorCode DriftCalibration::searchAll(std::vector<Result> *results) {
+  struct Search {
+    std::string model;
+    std::vector<double> xs, fs;
+    double a = 0, b = 0, c = 0, d = 0, fc = 0, fd = 0;
+    bool lower = false; // the pending point is c (else d)
+    std::vector<std::pair<double, DeltaZScore>> rows;
   };
   const int n = static_cast<int>(scanPoints);
-  std::vector<double> xs(n), fs(n);
-  for (int i = 0; i < n; ++i) {
-    xs[i] = lo + (hi - lo) * i / (n - 1);
-    PetscCall(at(xs[i], &fs[i]));
-  }
-  const int bestScan = static_cast<int>(std::min_element(fs.begin(), fs.end()) - fs.begin());
-  double a = xs[std::max(0, bestScan - 1)], b = xs[std::min(n - 1, bestScan + 1)];
   const double g = (std::sqrt(5.0) - 1.0) / 2.0;
-  double c = b - g * (b - a), d = a + g * (b - a), fc = 0.0, fd = 0.0;
-  PetscCall(at(c, &fc));
-  PetscCall(at(d, &fd));
-  while (b - a > tolerance) {
-    if (fc < fd) {
-      b = d, d = c, fd = fc;
-      c = b - g * (b - a);
-      PetscCall(at(c, &fc));
-    } else {
-      a = c, c = d, fc = fd;
-      d = a + g * (b - a);
-      PetscCall(at(d, &fd));
+  std::vector<Search> searches(models.size());
+  std::vector<Point> points;
+  std::vector<DeltaZScore> scores;
+  PetscFunctionBeginUser;
+  for (std::size_t m = 0; m < models.size(); ++m) {
+    Search &s = searches[m];
+    s.model = models[m];
+    double lo, hi;
+    searchRange(s.model, &lo, &hi);
+    for (int i = 0; i < n; ++i) {
+      s.xs.push_back(lo + (hi - lo) * i / (n - 1));
+      points.push_back({s.model, s.xs.back()});
     }
   }
-  double xBest = fc < fd ? c : d;
-  if (fs[bestScan] < std::min(fc, fd)) xBest = xs[bestScan];
-  result->model = model;
-  result->kd = std::pow(10.0, xBest);
-  PetscCall(evaluate(model, xBest, &result->score));
-  result->scored = true;
-  PetscCall(keepBestRun(model));
+  PetscCall(replayAll(points, &scores));
+  points.clear();
+  for (std::size_t m = 0; m < models.size(); ++m) {
+    Search &s = searches[m];
+    for (int i = 0; i < n; ++i) {
+      s.rows.push_back({s.xs[i], scores[m * n + i]});
+      s.fs.push_back(objective(scores[m * n + i]));
+    }
+    const int best = static_cast<int>(std::min_element(s.fs.begin(), s.fs.end()) - s.fs.begin());
+    s.a = s.xs[std::max(0, best - 1)], s.b = s.xs[std::min(n - 1, best + 1)];
+    s.c = s.b - g * (s.b - s.a), s.d = s.a + g * (s.b - s.a);
+    points.push_back({s.model, s.c});
+    points.push_back({s.model, s.d});
+  }
+  PetscCall(replayAll(points, &scores));
+  for (std::size_t m = 0; m < models.size(); ++m) {
+    Search &s = searches[m];
+    s.rows.push_back({s.c, scores[2 * m]});
+    s.rows.push_back({s.d, scores[2 * m + 1]});
+    s.fc = objective(scores[2 * m]), s.fd = objective(scores[2 * m + 1]);
+  }
+  for (;;) { // the next point of every model whose bracket is still wider than the tolerance
+    std::vector<Search *> active;
+    points.clear();
+    for (Search &s : searches) {
+      if (!(s.b - s.a > tolerance)) continue;
+      s.lower = s.fc < s.fd;
+      if (s.lower) {
+        s.b = s.d, s.d = s.c, s.fd = s.fc;
+        s.c = s.b - g * (s.b - s.a);
+      } else {
+        s.a = s.c, s.c = s.d, s.fc = s.fd;
+        s.d = s.a + g * (s.b - s.a);
+      }
+      active.push_back(&s);
+      points.push_back({s.model, s.lower ? s.c : s.d});
+    }
+    if (active.empty()) break;
+    PetscCall(replayAll(points, &scores));
+    for (std::size_t k = 0; k < active.size(); ++k) {
+      Search &s = *active[k];
+      s.rows.push_back({points[k].log10kd, scores[k]});
+      (s.lower ? s.fc : s.fd) = objective(scores[k]);
+    }
+  }
+  results->clear();
+  for (Search &s : searches) {
+    PetscCall(PetscPrintf(comm, "model %s:\n  %12s %14s %12s %10s\n", s.model.c_str(), "k_d", "mean dz [mm]",
+                          "Delta_seg [%]", "RMS/peak"));
+    for (const auto &[x, score] : s.rows) {
+      record(s.model, x, score);
+      PetscCall(PetscPrintf(comm, "  %12.5g %14.4f %12.1f %10.4f\n", std::pow(10.0, x), 1e3 * score.meanModel,
+                            score.segregationError, score.rmsRelative));
+    }
+    const int best = static_cast<int>(std::min_element(s.fs.begin(), s.fs.end()) - s.fs.begin());
+    double xBest = s.fc < s.fd ? s.c : s.d;
+    if (s.fs[best] < std::min(s.fc, s.fd)) xBest = s.xs[best];
+    Result r;
+    r.model = s.model;
+    r.kd = std::pow(10.0, xBest);
+    PetscCall(evaluate(s.model, xBest, &r.score)); // its cog.csv, kept as best-MODEL/cog.csv
+    r.scored = true;
+    PetscCall(keepBestRun(s.model));
+    results->push_back(r);
+  }
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
@@ -392,8 +507,106 @@ PetscErrorCode DriftCalibration::writeFiles() const {
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
+// -calibrate_candidates FILE: lines NAME OPTIONS...; '#' starts a comment.
+// Every replay writes OUTPUT_DIR/NAME/cog.csv; with -reference each is
+// scored (calibrate_candidates.csv).
+PetscErrorCode DriftCalibration::runCandidates() {
+  std::vector<std::pair<std::string, std::string>> laws;
+  PetscFunctionBeginUser;
+  PetscCall(collectively(comm, [&] {
+    requireRegularFile(candidatesFile);
+    std::ifstream in(candidatesFile);
+    if (!in) throw std::invalid_argument("-calibrate_candidates: cannot open '" + candidatesFile + "'");
+    int number = 0;
+    for (std::string line; std::getline(in, line);) {
+      ++number;
+      std::istringstream words(line.substr(0, line.find('#')));
+      std::string name, options;
+      if (!(words >> name)) continue;
+      std::getline(words, options);
+      options.erase(0, std::min(options.size(), options.find_first_not_of(" \t")));
+      options.erase(options.find_last_not_of(" \t\r") + 1);
+      const std::string where = "-calibrate_candidates '" + candidatesFile + "', line " + std::to_string(number);
+      if (name.find('/') != std::string::npos || name == "." || name == "..")
+        throw std::invalid_argument(where + ": the name '" + name + "' is not a directory name (its cog.csv goes in OUTPUT_DIR/NAME)");
+      for (const auto &l : laws)
+        if (l.first == name) throw std::invalid_argument(where + ": the name '" + name + "' is given twice");
+      laws.push_back({name, options});
+    }
+    if (laws.empty())
+      throw std::invalid_argument("-calibrate_candidates '" + candidatesFile +
+                                  "' names no replay (one a line: NAME then its drift options)");
+  }, PETSC_ERR_USER_INPUT));
+  const double start = MPI_Wtime();
+  std::vector<std::vector<BedSample>> samples(laws.size());
+  std::vector<BatchedReplay::Candidate> candidates;
+  for (const auto &l : laws) candidates.push_back({outputDirectory + "/" + l.first, l.second, nullptr});
+  BatchedReplay batched(comm, registry);
+  batched.useDatabase(db);
+  if (canBatch && laws.size() > 1) {
+    PetscCall(batched.solve(candidates));
+    for (std::size_t k = 0; k < laws.size(); ++k) samples[k] = batched.history(static_cast<int>(k));
+    batchedRuns += static_cast<int>(laws.size());
+    batches += batched.batches();
+  } else {
+    for (std::size_t k = 0; k < laws.size(); ++k) {
+      Run run(comm, registry);
+      PetscCall(batched.solveAlone(candidates[k], run));
+      samples[k] = run.history();
+    }
+  }
+  replaySeconds += MPI_Wtime() - start;
+  count = static_cast<int>(laws.size());
+  std::ostringstream table;
+  table << "# rcfd calibrate -calibrate_candidates " << candidatesFile << ": every replay (cog.csv in OUTPUT_DIR/NAME); "
+        << "Delta_seg is Eq. 7 over [" << windowBegin << ", " << windowEnd << "] s, rms_over_peak the RMS of "
+        << "Delta z(t) - reference / reference peak (empty without -reference)\n"
+        << "name,options,mean_run_m,mean_reference_m,delta_seg_percent,rms_over_peak\n";
+  PetscCall(PetscPrintf(comm, "  %-24s %14s %12s %10s\n", "replay", "mean dz [mm]", "Delta_seg [%]", "RMS/peak"));
+  for (std::size_t k = 0; k < laws.size(); ++k) {
+    char row[160];
+    if (!referenceFile.empty()) {
+      DeltaZScore score;
+      PetscCall(scoreSamples(samples[k], &score));
+      PetscCall(PetscPrintf(comm, "  %-24s %14.4f %12.1f %10.4f\n", laws[k].first.c_str(), 1e3 * score.meanModel,
+                            score.segregationError, score.rmsRelative));
+      std::snprintf(row, sizeof row, "%.9g,%.9g,%.9g,%.9g", score.meanModel, score.meanRef, score.segregationError,
+                    score.rmsRelative);
+    } else {
+      PetscCall(PetscPrintf(comm, "  %-24s (no -reference: not scored)\n", laws[k].first.c_str()));
+      std::snprintf(row, sizeof row, ",,,");
+    }
+    std::string options = laws[k].second;
+    std::replace(options.begin(), options.end(), ',', ' '); // one CSV field
+    table << laws[k].first << ',' << options << ',' << row << '\n';
+  }
+  PetscMPIInt rank;
+  PetscCallMPI(MPI_Comm_rank(comm, &rank));
+  PetscCall(collectively(comm, [&] {
+    if (rank == 0) writeTextAtomically(outputDirectory + "/calibrate_candidates.csv", table.str());
+  }, PETSC_ERR_FILE_WRITE));
+  PetscCall(PetscPrintf(comm, "%d replay runs; wrote %s/calibrate_candidates.csv and NAME/cog.csv\n", count,
+                        outputDirectory.c_str()));
+  PetscCall(reportReplays());
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode DriftCalibration::reportReplays() const {
+  PetscFunctionBeginUser;
+  PetscCall(PetscPrintf(comm, "replays: %.3g s wall; %d of %d in %d batched state(s)%s\n", replaySeconds, batchedRuns,
+                        count, batches, batch ? "" : " (-calibrate_batch false)"));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
 PetscErrorCode DriftCalibration::solve() {
   PetscFunctionBeginUser;
+  best.clear();
+  scan.clear();
+  lawRows.clear();
+  if (!candidatesFile.empty()) {
+    PetscCall(runCandidates());
+    PetscFunctionReturn(PETSC_SUCCESS);
+  }
   if (source == "cog")
     PetscCall(PetscPrintf(comm,
                           "Calibrating k_d in [%g, %g] 1/(m s) against %s, objective %s (%s), "
@@ -404,12 +617,13 @@ PetscErrorCode DriftCalibration::solve() {
                           windowBegin, windowEnd));
   else
     PetscCall(PetscPrintf(comm, "Fitting k_d to the measured drift of %s\n", db->path().c_str()));
-  best.clear();
-  scan.clear();
-  lawRows.clear();
-  for (const std::string &model : models) {
+  std::vector<Result> results;
+  if (source == "cog") PetscCall(searchAll(&results));
+  for (std::size_t m = 0; m < models.size(); ++m) {
+    const std::string &model = models[m];
     Result r;
-    PetscCall(source == "cog" ? search(model, &r) : fitMeasured(model, &r));
+    if (source == "cog") r = results[m];
+    else PetscCall(fitMeasured(model, &r));
     best.push_back(r);
     if (r.scored) PetscCall(PetscPrintf(comm,
                           "model %s: best k_d = %.4g 1/(m s): Delta_seg %.1f %%, RMS/peak %.3f, "
@@ -420,6 +634,7 @@ PetscErrorCode DriftCalibration::solve() {
   PetscCall(writeFiles());
   PetscCall(PetscPrintf(comm, "%d replay runs; wrote %s/calibrate_scan.csv, calibrate_best.csv and best-MODEL/cog.csv\n",
                         count, outputDirectory.c_str()));
+  PetscCall(reportReplays());
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 

@@ -12,10 +12,16 @@
 // calibrate_best.csv), each model's best run (best-<model>/cog.csv) and, on
 // the measured path, the measured drift (measured_drift.csv; figure:
 // src/cli/figures/drift_law_form.py) are written to the output directory.
+// Replays that share the database and the path (the coarse scan of every
+// model, the golden section's first pair, the laws of
+// -calibrate_candidates) run as one batched state (analysis/batched_replay.hpp):
+// the same numbers bit for bit, each frame's shift read once for all;
+// -calibrate_batch false runs them one by one.
 #pragma once
 
 #include "analysis/measured_drift.hpp"
 #include "analysis/segregation_score.hpp"
+#include "rcfd/observables.hpp"
 #include "rcfd/operator.hpp"
 
 #include <limits>
@@ -27,6 +33,7 @@ namespace rcfd {
 
 class AgitationField;
 class Database;
+class Run;
 
 class DriftCalibration {
 public:
@@ -49,7 +56,9 @@ public:
   /// Reads -reference, -calibrate_from, -calibrate_models (any registered
   /// size laws, rcfd/size_law.hpp), -calibrate_objective,
   /// -calibrate_kd_range, -calibrate_tolerance, -calibrate_scan,
-  /// -rcfd_time_offset and -score_window.  Collective.
+  /// -rcfd_time_offset, -score_window, -calibrate_batch and
+  /// -calibrate_candidates FILE (lines "NAME OPTIONS...": replays of given
+  /// drift options, scored; no search).  Collective.
   PetscErrorCode setFromOptions();
   /// Reads the reference and loads the database through a first run, which
   /// reads the run's options (so that unknown options can be refused after
@@ -62,16 +71,36 @@ public:
   const std::vector<Result> &results() const { return best; }
   int evaluations() const { return count; }
 
+  /// One replay of a search: model, log10 k_d, exponent of (a/a_bar)^n
+  /// (< 0: unscaled), the law's shape parameter (NaN: its default).
+  struct Point {
+    std::string model;
+    double log10kd;
+    double exponent = -1.0;
+    double shape = std::numeric_limits<double>::quiet_NaN();
+  };
+
 private:
   // exponent >= 0: scaled by (a/a_bar)^n, a = leaving share; shape: the
   // law's shape parameter (NaN: its default).
   PetscErrorCode evaluate(const std::string &model, double log10kd, DeltaZScore *score, double exponent = -1.0,
                           double shape = std::numeric_limits<double>::quiet_NaN());
+  // The points' scores, batched where possible, in their order; not recorded.
+  PetscErrorCode replayAll(const std::vector<Point> &points, std::vector<DeltaZScore> *scores);
+  PetscErrorCode configureDrift(Run &run, const Point &p);
+  PetscErrorCode replayOne(const Point &p, DeltaZScore *score);
+  PetscErrorCode scoreSamples(const std::vector<BedSample> &samples, DeltaZScore *score) const;
+  void record(const std::string &model, double log10kd, const DeltaZScore &score);
+  PetscErrorCode runCandidates(); // -calibrate_candidates
+  PetscErrorCode reportReplays() const;
   PetscErrorCode fitMeasured(const std::string &model, Result *result);
   PetscErrorCode keepBestRun(const std::string &model);
   PetscErrorCode writeFiles() const;
   double objective(const DeltaZScore &s) const;
-  PetscErrorCode search(const std::string &model, Result *result);
+  // Every model's search, in step (one batch per stage); results in the order of `models`.
+  PetscErrorCode searchAll(std::vector<Result> *results);
+  // Its drift law's log10 k_d range of the search.
+  void searchRange(const std::string &model, double *lo, double *hi) const;
 
   MPI_Comm comm;
   const OperatorRegistry &registry;
@@ -110,6 +139,11 @@ private:
   double agitationMean = 0.0;           // a bar of the measured drift by agitation
   std::shared_ptr<const AgitationField> leaving; // shared by the scaled runs
   int count = 0;
+  PetscBool batch = PETSC_TRUE;   // -calibrate_batch
+  bool canBatch = false;          // and the runs' options allow it
+  int batchedRuns = 0, batches = 0;
+  double replaySeconds = 0.0;     // wall time of all replays
+  std::string candidatesFile;     // -calibrate_candidates
 };
 
 } // namespace rcfd

@@ -26,7 +26,7 @@ PetscErrorCode ShiftOperator::setUp(const RunContext &ctx) {
   PetscFunctionBeginUser;
   PetscCheck(ctx.db.hasShifts(), ctx.db.layout().comm(), PETSC_ERR_ARG_WRONGSTATE,
              "The shift operator needs a database loaded with its shift matrices");
-  nf = ctx.fractions.size();
+  nf = columns > 0 ? columns : ctx.fractions.size();
   perFrame.clear();
   moving.reset();
   if (kernel == Kernel::Moving) {

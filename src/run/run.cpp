@@ -68,6 +68,7 @@ bool Run::switchesDatabases() const { return impl->switching != nullptr; }
 const Database &Run::database() const { return *impl->db; }
 std::shared_ptr<Database> Run::sharedDatabase() const { return impl->db; }
 const FractionSet &Run::fractions() const { return impl->set; }
+RunContext Run::context() const { return impl->context(); }
 const FractionState &Run::state() const { return impl->fstate; }
 FractionState &Run::state() { return impl->fstate; }
 Pipeline &Run::pipeline() { return impl->ops; }
