@@ -16,7 +16,8 @@
 // model, the golden section's first pair, the laws of
 // -calibrate_candidates) run as one batched state (analysis/batched_replay.hpp):
 // the same numbers bit for bit, each frame's shift read once for all;
-// -calibrate_batch false runs them one by one.
+// -calibrate_batch false runs them one by one (the default above 20,000 cells
+// per rank, where a batch leaves the cache and runs slower).
 #pragma once
 
 #include "analysis/measured_drift.hpp"
@@ -140,6 +141,11 @@ private:
   std::shared_ptr<const AgitationField> leaving; // shared by the scaled runs
   int count = 0;
   PetscBool batch = PETSC_TRUE;   // -calibrate_batch
+  PetscBool batchSet = PETSC_FALSE;
+  /// Without -calibrate_batch, batched up to this many cells per rank: on
+  /// dpm-bi-narrow's 1,920 cells a batch of 13 laws takes 0.84 of the one-by-one
+  /// time, on the 56,000-cell default bed 1.1-1.4 (docs/performance.md).
+  static constexpr PetscInt kBatchCellsPerRank = 20000;
   bool canBatch = false;          // and the runs' options allow it
   int batchedRuns = 0, batches = 0;
   double replaySeconds = 0.0;     // wall time of all replays
