@@ -5,10 +5,11 @@
 // from (about) frame i+1 to frame s, and the run's carry operator takes the
 // state across.  The first step of a path starts it and is not a jump.
 //
-// Paths have an operator's life cycle: created by name from a PathRegistry
-// (-path_type), setFromOptions (each kind reads its own -path_* options),
-// setUp (once the database is loaded), then next() once per step.  Built-in
-// kinds: replay, random, markov, quarter, recorded (docs/paths.md).
+// Paths have an operator's life cycle (docs/extending.md): created by name
+// from a PathRegistry (-path_type), setFromOptions (each kind reads its own
+// -path_* options), setUp (once the database is loaded; re-entrant), then
+// next() once per step, view (-path_view).  Built-in kinds: replay, random,
+// markov, quarter, recorded (docs/paths.md).
 //
 // A path must be deterministic from its options and the database: every MPI
 // rank builds its own copy and all must produce the same frames without
@@ -19,7 +20,7 @@
 // Adding a path rule:
 //
 //   class EveryOther : public rcfd::FramePath {
-//     std::string kind() const override { return "everyother"; }
+//     std::string type() const override { return "everyother"; }
 //     std::string describe() const override { return "everyother"; }
 //   protected:
 //     int advance(bool &jump) override {
@@ -31,16 +32,16 @@
 //     void saveExtra(std::vector<std::uint64_t> &) const override {}
 //     void restoreExtra(const std::uint64_t *, std::size_t) override {}
 //   };
-//   paths.add("everyother", [] { return std::make_unique<EveryOther>(); }, "frames 0, 2, 4, ...");
+//   PetscCall(paths.add("everyother", [] { return std::make_unique<EveryOther>(); }, "frames 0, 2, 4, ..."));
 //   rcfd::Run run(comm, operators, paths);    // then -path_type everyother
 #pragma once
 
 #include "rcfd/database.hpp"
+#include "rcfd/registry.hpp"
 
 #include <cstddef>
 #include <cstdint>
 #include <functional>
-#include <map>
 #include <memory>
 #include <string>
 #include <vector>
@@ -66,7 +67,8 @@ public:
   virtual PetscErrorCode setFromOptions(MPI_Comm comm);
   /// Prepares the path for the loaded database (collective).  The base
   /// records the number of frames (at least 2); a kind that overrides it
-  /// calls FramePath::setUp first.
+  /// calls FramePath::setUp first.  Re-entrant: a second call on the same
+  /// database gives the same path.
   virtual PetscErrorCode setUp(const PathContext &ctx);
   /// Prints describe() (collective on the viewer).
   virtual PetscErrorCode view(PetscViewer viewer) const;
@@ -88,7 +90,7 @@ public:
   int numFrames() const { return K_; }
 
   /// The registered name of the kind.
-  virtual std::string kind() const = 0;
+  virtual std::string type() const = 0;
   /// One line: the kind and its resolved parameters (for logs and file headers).
   virtual std::string describe() const = 0;
 
@@ -99,10 +101,11 @@ public:
 
   /// Everything needed to continue bit-identically: position, sequence
   /// bookkeeping, PRNG state, plus a fingerprint of the parameters.
-  /// restoreState() throws std::invalid_argument when the state is malformed
-  /// or was saved by a path with other parameters or another database.
+  /// restoreState() refuses (PETSC_ERR_ARG_WRONG, not collective) a state
+  /// that is malformed or was saved by a path with other parameters or
+  /// another database.
   std::vector<std::uint64_t> saveState() const;
-  void restoreState(const std::vector<std::uint64_t> &state);
+  PetscErrorCode restoreState(const std::vector<std::uint64_t> &state);
 
 protected:
   /// The number of frames is set by setUp().
@@ -117,11 +120,14 @@ protected:
   /// Hash of everything that determines the continuation of a saved state.
   virtual std::uint64_t fingerprint() const = 0;
   /// Appends the kind's own state words; restoreExtra() reads them back and
-  /// throws std::invalid_argument on a wrong size or value.
+  /// throws std::invalid_argument on a wrong size or value (restoreState()
+  /// turns it into an error code).
   virtual void saveExtra(std::vector<std::uint64_t> &out) const = 0;
   virtual void restoreExtra(const std::uint64_t *data, std::size_t n) = 0;
 
 private:
+  friend void restorePathState(FramePath &path, const std::vector<std::uint64_t> &state);
+  void restoreChecked(const std::vector<std::uint64_t> &state); // throws, see restoreState()
   std::string prefix_ = "path_";
   int K_ = 0;
   int frame_ = -1;
@@ -131,28 +137,16 @@ private:
 
 using PathFactory = std::function<std::unique_ptr<FramePath>()>;
 
-/// Name -> factory of path kinds, like OperatorRegistry.  One per program
-/// (no global state); users add their own kinds and select them with -path_type.
-class PathRegistry {
+/// Name -> factory of path kinds (rcfd/registry.hpp).  One per program (no
+/// global state); users add their own kinds and select them with -path_type.
+class PathRegistry : public Registry<FramePath> {
 public:
+  PathRegistry() : Registry("-path_type", "path") {}
   /// replay, random, markov, quarter and recorded.
   static PathRegistry withBuiltins();
-  void add(const std::string &name, PathFactory factory, const std::string &help);
-  bool has(const std::string &name) const { return entries.count(name) > 0; }
-  /// Throws std::invalid_argument listing the known names if `name` is unknown.
-  std::unique_ptr<FramePath> create(const std::string &name) const;
-  /// "name: help" lines.
-  std::string listing() const;
-  /// Reads -path_type (default replay), creates that kind and lets it read
-  /// its own options.  Collective.
+  /// Collective.  Reads -path_type (default replay), creates that kind and
+  /// lets it read its own options.
   PetscErrorCode createFromOptions(MPI_Comm comm, std::unique_ptr<FramePath> *path) const;
-
-private:
-  struct Entry {
-    PathFactory factory;
-    std::string help;
-  };
-  std::map<std::string, Entry> entries;
 };
 
 } // namespace rcfd

@@ -128,7 +128,7 @@ PetscErrorCode DriftCalibration::evaluate(const std::string &model, double log10
     if (auto *d = dynamic_cast<DriftOperator *>(op.get())) drift = d;
   PetscCheck(drift, comm, PETSC_ERR_USER_INPUT,
              "rcfd calibrate fits the drift operator, but -pipeline has none (add drift)");
-  PetscCallCXX(drift->setSizeLaw(model));
+  PetscCall(drift->setSizeLaw(model));
   if (std::isfinite(shape)) drift->sizeLaw()->setShapeParameter(shape);
   drift->setKd(std::pow(10.0, log10kd));
   if (exponent >= 0.0) {
@@ -162,10 +162,12 @@ double DriftCalibration::objective(const DeltaZScore &s) const {
 PetscErrorCode DriftCalibration::search(const std::string &model, Result *result) {
   // k of a dimensionless law is a velocity: without -calibrate_kd_range its
   // search spans 0.1 mm/s to 1 m/s instead of the 1/(m s) range of A and B.
-  const bool velocityUnit = std::string(registry.sizeLaws().create(model)->unitOfK()) == "m/s";
+  std::unique_ptr<SizeLaw> law;
+  PetscFunctionBeginUser;
+  PetscCall(registry.sizeLaws().create(model, &law));
+  const bool velocityUnit = std::string(law->unitOfK()) == "m/s";
   const double lo = std::log10(rangeGiven || !velocityUnit ? kdLo : 1e-4);
   const double hi = std::log10(rangeGiven || !velocityUnit ? kdHi : 1.0);
-  PetscFunctionBeginUser;
   PetscCall(PetscPrintf(comm, "model %s:\n  %12s %14s %12s %10s\n", model.c_str(), "k_d",
                         "mean dz [mm]", "Delta_seg [%]", "RMS/peak"));
   // Evaluates at log10 k_d = x, prints the row and returns the objective.
@@ -225,10 +227,10 @@ PetscErrorCode DriftCalibration::fitMeasured(const std::string &model, Result *r
   std::vector<MeasuredDrift::ClassDrift> drift;
   std::unique_ptr<SizeLaw> law;
   DriftFit fit;
+  PetscCall(registry.sizeLaws().create(model, &law));
   PetscCall(collectively(comm, [&] {
     drift = measuredDriftFromTable(table, cols);
     measuredTable = table;
-    law = registry.sizeLaws().create(model);
     fit = fitDriftLaw(drift, sauter, *law);
     // A law scaled by (a/a_bar)^n drifts on average meanFactor times as fast.
     result->model = model;
