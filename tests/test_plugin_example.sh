@@ -7,8 +7,8 @@
 # cases/bubbling-bi-narrow at 1 and 2 ranks: every fraction's mass is
 # accounted (mass_account.csv), the bed's total is kept to 1e-12, fines grow,
 # 1 rank equals 2 ranks to 1e-12, and a run restarted from its checkpoint
-# writes the same files byte for byte.  `rcfd run -help` lists what the plugin
-# added; `rcfd calibrate` fits the plugin's law; a plugin built for another
+# writes the same files byte for byte.  `rcfd -help` and `rcfd run -help` list what the
+# plugin added; `rcfd calibrate` fits the plugin's law; a plugin built for another
 # rcfd version, a missing file and a name clash are refused with one sentence.
 # usage: test_plugin_example.sh RCFD BUILD_DIR SOURCE_DIR CMAKE CXX_COMPILER DATA_DIR
 set -eu
@@ -32,11 +32,18 @@ grep -q "$work/prefix/lib/cmake/rcfd" "$work/example/CMakeCache.txt" || fail "th
 plugin=$work/example/librcfd_attrition.so
 [ -f "$plugin" ] && ok || fail "no $plugin"
 
-# -help lists the plugin's additions under their points.
+# rcfd run -help lists the plugin's additions under their points.
 "$rcfd" run -help -plugin "$plugin" >"$work/help.txt" 2>&1 || fail "rcfd run -help -plugin failed: $(tail -3 "$work/help.txt")"
 for line in "  attrition: plugin: each fraction" "  linear: plugin: u = kd (d32 - d)/d32" "  fines: plugin: fines.csv" \
   "  drift: fractional drift" "  replay: the recorded frames"; do
   grep -qF -- "$line" "$work/help.txt" && ok || fail "rcfd run -help -plugin lists no '$line'"
+done
+
+# So does the program's own help, with the plugin from the environment.
+RCFD_PLUGINS=$plugin "$rcfd" -help >"$work/top-help.txt" 2>&1 || fail "rcfd -help with RCFD_PLUGINS failed"
+for line in "usage: rcfd <command>" "operators (-pipeline):" "  attrition: plugin:" "size laws (-drift_size_law):" \
+  "  linear: plugin:" "monitors (-monitors):" "  fines: plugin:"; do
+  grep -qF -- "$line" "$work/top-help.txt" && ok || fail "rcfd -help (RCFD_PLUGINS) lists no '$line'"
 done
 
 case_run=(-options_file "$src/cases/bubbling-bi-narrow/case.yaml" -db "$data/default.h5" -quiet -fields 0 -plot 0

@@ -51,7 +51,22 @@ PetscErrorCode runEnsemble(MPI_Comm comm, const Registries &registry, PetscInt m
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
+PetscErrorCode viewExtensions(MPI_Comm comm, const Registries &registries) {
+  PetscFunctionBeginUser;
+  PetscCall(PetscPrintf(comm, "Registered by name (built-in and from plugins, docs/extending.md):\n"));
+  PetscCall(registries.view(PETSC_VIEWER_STDOUT_(comm)));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
 } // namespace
+
+PetscErrorCode listExtensions(MPI_Comm comm) {
+  PetscFunctionBeginUser;
+  Registries registries = Registries::withBuiltins();
+  PetscCall(loadPlugins(comm, &registries));
+  PetscCall(viewExtensions(comm, registries));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
 
 PetscErrorCode runCommand(MPI_Comm comm) {
   PetscInt members = 1;
@@ -71,8 +86,7 @@ PetscErrorCode runCommand(MPI_Comm comm) {
                                "the figures show alongside the run's", "", reference, reference, sizeof reference, nullptr));
   PetscOptionsEnd();
   if (helpRequested()) { // what can be chosen by name, plugins' additions included
-    PetscCall(PetscPrintf(comm, "Registered by name (built-in and from plugins):\n"));
-    PetscCall(registry.view(PETSC_VIEWER_STDOUT_(comm)));
+    PetscCall(viewExtensions(comm, registry));
     PetscFunctionReturn(PETSC_SUCCESS);
   }
   PetscCall(rejectUnusedOptions(comm, "run"));
