@@ -35,6 +35,7 @@ plugin=$work/example/librcfd_attrition.so
 # rcfd run -help lists the plugin's additions under their points.
 "$rcfd" run -help -plugin "$plugin" >"$work/help.txt" 2>&1 || fail "rcfd run -help -plugin failed: $(tail -3 "$work/help.txt")"
 for line in "  attrition: plugin: each fraction" "  linear: plugin: u = kd (d32 - d)/d32" "  fines: plugin: fines.csv" \
+  "  stride: plugin: frames 0, s, 2s" \
   "  drift: fractional drift" "  replay: the recorded frames"; do
   grep -qF -- "$line" "$work/help.txt" && ok || fail "rcfd run -help -plugin lists no '$line'"
 done
@@ -73,6 +74,14 @@ same "total mass over the run" "$totals" "$(sed "s/.*/$first/" <<<"$totals")" 1e
 awk -F, 'NR == 2 { a = $2 } END { exit !($2 > a * 1.01) }' "$work/full2/fines.csv" && ok ||
   fail "fines did not grow: $(sed -n '2p;$p' "$work/full2/fines.csv")"
 [ "$(grep -c . "$work/full2/fines.csv")" -ge 40 ] && ok || fail "fines.csv holds too few rows (-fines_every 5)"
+
+# The plugin's path rule: the run steps frames 0, 7, 14, ... (path.txt), its view printed by -path_view.
+run "stride path" "$rcfd" run -plugin "$plugin" -db "$data/small.h5" -quiet -fields 0 -plot 0 -t_end 0.1 \
+  -path_type stride -path_stride 7 -output_dir "$work/stride" -path_view ascii:"$work/path-view.txt" \
+  -monitors fines -fines_view ascii:"$work/fines-view.txt"
+same "frames of the stride path" "$(grep -v '^#' "$work/stride/path.txt" | head -n 10)" "0 7 14 21 28 35 42 49 56 3"
+grep -q "stride: every 7 frames" "$work/path-view.txt" && ok || fail "-path_view printed no stride: $(cat "$work/path-view.txt")"
+grep -q "monitor fines" "$work/fines-view.txt" && ok || fail "-fines_view printed nothing"
 
 # rcfd calibrate: the plugin's operator in the pipeline, its law fitted.
 run "calibrate with the plugin" "$rcfd" calibrate -plugin "$plugin" -db "$data/small.h5" \

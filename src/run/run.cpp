@@ -200,6 +200,15 @@ PetscErrorCode Run::setFromOptions() {
   r.monitors.front().every = r.cog->every();
   PetscCall(r.answers.setFromOptions(r.comm));
   PetscCall(r.registeredMonitorsFromOptions());
+  // -path_view, -db_switch_view and -NAME_view are printed once set up; they are read now
+  // (looked up, which marks them used), so that the program's check of unused options knows them.
+  std::vector<std::string> viewed{r.path->optionsPrefix()};
+  if (r.switching) viewed.push_back(r.switching->rule().optionsPrefix());
+  for (const auto &m : r.registered) viewed.push_back(m.monitor->optionsPrefix());
+  for (const auto &prefix : viewed) {
+    PetscBool given = PETSC_FALSE;
+    PetscCall(PetscOptionsHasName(nullptr, prefix.c_str(), "-view", &given));
+  }
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 

@@ -7,12 +7,15 @@
 //  - the size law "linear": u = kd (d32 - d) / d32, kd in m/s
 //    (-drift_size_law linear);
 //  - the monitor "fines": fines.csv, the finest fraction's share of the bed
-//    over time (-monitors fines, -fines_every N).
+//    over time (-monitors fines, -fines_every N);
+//  - the path rule "stride": frames 0, s, 2s, ... modulo the number of
+//    frames (-path_type stride -path_stride s).
 //
 //   rcfd run -plugin ./librcfd_attrition.so -pipeline shift,drift,attrition,carry -attrition_rate 0.05
 #include <rcfd/plugin.hpp>
 
 #include <cmath>
+#include <cstdint>
 #include <memory>
 #include <string>
 #include <vector>
@@ -151,6 +154,35 @@ private:
   std::unique_ptr<rcfd::CsvSeries> csv;
 };
 
+// Frames 0, s, 2s, ... modulo the number of frames; every step but the first
+// is a jump when s != 1.  Deterministic from its option and the database.
+class StridePath : public rcfd::FramePath {
+public:
+  std::string type() const override { return "stride"; }
+  std::string describe() const override { return "stride: every " + std::to_string(stride) + " frames"; }
+  PetscErrorCode setFromOptions(MPI_Comm comm) override {
+    PetscFunctionBeginUser;
+    PetscOptionsBegin(comm, optionsPrefix().c_str(), "Stride path (plugin)", "plugin");
+    PetscCall(PetscOptionsInt("-stride", "Frames between steps", "", stride, &stride, nullptr));
+    PetscOptionsEnd();
+    PetscCheck(stride >= 1, comm, PETSC_ERR_USER_INPUT, "-%sstride must be at least 1, got %d", optionsPrefix().c_str(),
+               (int)stride);
+    PetscFunctionReturn(0);
+  }
+
+protected:
+  int advance(bool &jump) override {
+    jump = frame() >= 0 && stride != 1;
+    return frame() < 0 ? 0 : static_cast<int>((frame() + stride) % numFrames());
+  }
+  std::uint64_t fingerprint() const override { return 0x5717de00u + static_cast<std::uint64_t>(stride); }
+  void saveExtra(std::vector<std::uint64_t> &) const override {}
+  void restoreExtra(const std::uint64_t *, std::size_t) override {}
+
+private:
+  PetscInt stride = 1;
+};
+
 } // namespace
 
 extern "C" __attribute__((visibility("default"))) PetscErrorCode rcfd_plugin_register(rcfd::Registries *r) {
@@ -159,6 +191,8 @@ extern "C" __attribute__((visibility("default"))) PetscErrorCode rcfd_plugin_reg
                              "plugin: each fraction ground into the next finer one (-attrition_rate k [1/s])"));
   PetscCall(r->operators.sizeLaws().add("linear", [] { return std::make_unique<LinearLaw>(); },
                                         "plugin: u = kd (d32 - d)/d32, kd in m/s"));
+  PetscCall(r->paths.add("stride", [] { return std::make_unique<StridePath>(); },
+                         "plugin: frames 0, s, 2s, ... (-path_stride s)"));
   PetscCall(r->monitors.add("fines", [] { return std::make_unique<FinesMonitor>(); },
                             "plugin: fines.csv, the finest fraction's share of the bed"));
   PetscFunctionReturn(0);
