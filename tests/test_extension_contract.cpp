@@ -248,7 +248,7 @@ void switchRules(const SwitchRuleRegistry &registry) {
     for (int times : {1, 2}) {
       auto r = created(registry, name);
       PetscCallAbort(PETSC_COMM_WORLD, r->setFromOptions(PETSC_COMM_WORLD));
-      for (int k = 0; k < times; ++k) PetscCallAbort(PETSC_COMM_WORLD, r->setUp(PETSC_COMM_WORLD, dbs));
+      for (int k = 0; k < times; ++k) PetscCallAbort(PETSC_COMM_WORLD, r->setUp(SwitchContext{PETSC_COMM_WORLD, dbs}));
       if (times == 2) viewPrinted(*r);
       SwitchDecision active = r->initial();
       for (long s = 1; s <= 120; ++s) {

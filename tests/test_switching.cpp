@@ -259,7 +259,7 @@ PetscErrorCode rules() {
     ScopedOptions o("-db_switch_type blend -db_switch_schedule 0:1.1,2:1.3,4:1.5");
     std::unique_ptr<SwitchRule> blend;
     PetscCall(registry.createFromOptions(PETSC_COMM_WORLD, &blend));
-    PetscCall(blend->setUp(PETSC_COMM_WORLD, c));
+    PetscCall(blend->setUp(SwitchContext{PETSC_COMM_WORLD, c}));
     const SwitchDecision start = blend->initial(); // 1.1 between 1.0 (w 0.5) and 1.2
     RCFD_CHECK(start.database == 0 && start.partner == 2 && std::fabs(start.weight - 0.5) < 1e-12);
     SwitchSignals s;
@@ -275,8 +275,8 @@ PetscErrorCode rules() {
     std::unique_ptr<SwitchRule> first, second;
     PetscCall(registry.createFromOptions(PETSC_COMM_WORLD, &first));
     PetscCall(registry.createFromOptions(PETSC_COMM_WORLD, &second));
-    PetscCall(first->setUp(PETSC_COMM_WORLD, c));
-    PetscCall(second->setUp(PETSC_COMM_WORLD, c));
+    PetscCall(first->setUp(SwitchContext{PETSC_COMM_WORLD, c}));
+    PetscCall(second->setUp(SwitchContext{PETSC_COMM_WORLD, c}));
     SwitchDecision a = first->initial(), b;
     std::vector<int> drawn(3, 0);
     std::vector<double> saved;

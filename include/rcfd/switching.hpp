@@ -70,6 +70,12 @@ struct SwitchDecision {
   }
 };
 
+/// What a rule may read while it is set up.
+struct SwitchContext {
+  MPI_Comm comm;
+  const std::vector<OperatingConditions> &databases; ///< the set's conditions, in -db order
+};
+
 class SwitchRule {
 public:
   virtual ~SwitchRule() = default;
@@ -77,9 +83,9 @@ public:
   const std::string &optionsPrefix() const { return prefix_; }
   /// Collective.  Reads the rule's own options (the base: none).
   virtual PetscErrorCode setFromOptions(MPI_Comm comm);
-  /// Collective.  The conditions of the set's databases, in -db order.
+  /// Collective.  The base keeps the conditions of the set's databases.
   /// Re-entrant: a second call with the same databases gives the same rule.
-  virtual PetscErrorCode setUp(MPI_Comm comm, const std::vector<OperatingConditions> &databases);
+  virtual PetscErrorCode setUp(const SwitchContext &ctx);
   /// Collective on the viewer.  The base prints "switching rule: <describe()>".
   virtual PetscErrorCode view(PetscViewer viewer) const;
   /// The database the run starts on (the base: the first).

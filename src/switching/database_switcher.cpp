@@ -50,7 +50,7 @@ PetscErrorCode DatabaseSwitcher::open(MPI_Comm c, const std::vector<std::string>
   PetscCall(DatabaseSet::open(comm, paths, options, conditionVelocities, &set_));
   std::vector<OperatingConditions> conditions;
   for (int i = 0; i < set_->size(); ++i) conditions.push_back(set_->entry(i).conditions);
-  PetscCall(rule_->setUp(comm, conditions));
+  PetscCall(rule_->setUp(SwitchContext{comm, conditions}));
   active_ = rule_->initial();
   operating_ = conditionsAt(0.0);
   for (int i : {active_.database, active_.partner})

@@ -25,8 +25,8 @@ double SwitchSignals::named(const std::string &name) const {
 
 PetscErrorCode SwitchRule::setFromOptions(MPI_Comm) { return PETSC_SUCCESS; }
 
-PetscErrorCode SwitchRule::setUp(MPI_Comm, const std::vector<OperatingConditions> &databases) {
-  conditions_ = databases;
+PetscErrorCode SwitchRule::setUp(const SwitchContext &ctx) {
+  conditions_ = ctx.databases;
   return PETSC_SUCCESS;
 }
 
@@ -137,9 +137,11 @@ public:
     }, PETSC_ERR_USER_INPUT));
     PetscFunctionReturn(PETSC_SUCCESS);
   }
-  PetscErrorCode setUp(MPI_Comm comm, const std::vector<OperatingConditions> &databases) override {
+  PetscErrorCode setUp(const SwitchContext &ctx) override {
+    const MPI_Comm comm = ctx.comm;
+    const std::vector<OperatingConditions> &databases = ctx.databases;
     PetscFunctionBeginUser;
-    PetscCall(SwitchRule::setUp(comm, databases));
+    PetscCall(SwitchRule::setUp(ctx));
     PetscCheck(nearestDatabase(databases, 1.0) >= 0, comm, PETSC_ERR_USER_INPUT,
                "The schedule rule needs the databases' superficial velocities: none records one; give them "
                "with -db_conditions u1,u2,... in the order of -db");
@@ -235,9 +237,11 @@ public:
     start = static_cast<int>(first);
     PetscFunctionReturn(PETSC_SUCCESS);
   }
-  PetscErrorCode setUp(MPI_Comm comm, const std::vector<OperatingConditions> &databases) override {
+  PetscErrorCode setUp(const SwitchContext &ctx) override {
+    const MPI_Comm comm = ctx.comm;
+    const std::vector<OperatingConditions> &databases = ctx.databases;
     PetscFunctionBeginUser;
-    PetscCall(SwitchRule::setUp(comm, databases));
+    PetscCall(SwitchRule::setUp(ctx));
     PetscCheck(thresholds.size() + 1 == databases.size(), comm, PETSC_ERR_USER_INPUT,
                "-%sthresholds has %zu values for %zu databases; give one fewer than databases", optionsPrefix().c_str(),
                thresholds.size(), databases.size());
@@ -299,9 +303,11 @@ public:
     seed = static_cast<std::uint64_t>(seedValue);
     PetscFunctionReturn(PETSC_SUCCESS);
   }
-  PetscErrorCode setUp(MPI_Comm comm, const std::vector<OperatingConditions> &databases) override {
+  PetscErrorCode setUp(const SwitchContext &ctx) override {
+    const MPI_Comm comm = ctx.comm;
+    const std::vector<OperatingConditions> &databases = ctx.databases;
     PetscFunctionBeginUser;
-    PetscCall(SwitchRule::setUp(comm, databases));
+    PetscCall(SwitchRule::setUp(ctx));
     if (weights.empty()) weights.assign(databases.size(), 1.0);
     PetscCheck(weights.size() == databases.size(), comm, PETSC_ERR_USER_INPUT,
                "-%sweights has %zu values for %zu databases", optionsPrefix().c_str(), weights.size(), databases.size());
