@@ -79,7 +79,9 @@ public:
   virtual std::uint64_t seed() const { return 0; }
   virtual void setSeed(std::uint64_t) {}
 
-  /// Advances one step and returns its frame, in [0, numFrames()).
+  /// Advances one step and returns its frame, in [0, numFrames()).  A kind
+  /// whose advance() gives a frame outside is a bug: the program stops with
+  /// a message (as an assertion would).
   int next();
   /// Frame of the last step, -1 before the first.
   int frame() const { return frame_; }

@@ -9,6 +9,8 @@
 #include "base/collective.hpp"
 
 #include <algorithm>
+#include <cstdio>
+#include <cstdlib>
 #include <fstream>
 #include <sstream>
 #include <stdexcept>
@@ -53,9 +55,10 @@ PetscErrorCode FramePath::view(PetscViewer viewer) const {
 int FramePath::next() {
   bool jump = false;
   const int f = advance(jump);
-  if (f < 0 || f >= K_) // a bug in a path kind, never a user error
-    throw std::logic_error(type() + " path produced frame " + std::to_string(f) + " outside [0, " +
-                           std::to_string(K_ - 1) + "]");
+  if (f < 0 || f >= K_) { // a bug in a path kind, never a user error: stop, as an assertion would
+    std::fprintf(stderr, "rcfd: bug: the %s path produced frame %d outside [0, %d]\n", type().c_str(), f, K_ - 1);
+    std::abort();
+  }
   frame_ = f;
   jump_ = jump;
   ++steps_;
