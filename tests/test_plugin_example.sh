@@ -83,6 +83,16 @@ same "frames of the stride path" "$(grep -v '^#' "$work/stride/path.txt" | head 
 grep -q "stride: every 7 frames" "$work/path-view.txt" && ok || fail "-path_view printed no stride: $(cat "$work/path-view.txt")"
 grep -q "monitor fines" "$work/fines-view.txt" && ok || fail "-fines_view printed nothing"
 
+# A built-in registered monitor by name: sampled every -NAME_every steps, viewed by -NAME_view; the
+# same file asked for twice is refused.
+run "-monitors mixing_index" "$rcfd" run -db "$data/small.h5" -quiet -fields 0 -plot 0 -t_end 0.1 \
+  -monitors mixing_index -mixing_index_every 2 -mixing_index_view ascii:"$work/mixing-view.txt" -output_dir "$work/mixing"
+same "rows of mixing.csv (20 steps, every 2nd, and the start)" "$(grep -c . "$work/mixing/mixing.csv")" 12 0
+grep -q "monitor mixing_index" "$work/mixing-view.txt" && ok || fail "-mixing_index_view printed nothing"
+expect_error "-monitors mixing_index and -mixing_index both ask for mixing.csv; give one of them" \
+  run -db "$data/small.h5" -monitors mixing_index -mixing_index
+expect_error "-monitors: unknown monitor 'fines'; known monitors: mixing_index" run -db "$data/small.h5" -monitors fines
+
 # rcfd calibrate: the plugin's operator in the pipeline, its law fitted.
 run "calibrate with the plugin" "$rcfd" calibrate -plugin "$plugin" -db "$data/small.h5" \
   -fractions_diameters 1.459e-3,4.075e-3 -fractions_mass_shares 0.564,0.436 -fields 0 \

@@ -238,6 +238,12 @@ PetscErrorCode Run::Impl::registeredMonitorsFromOptions() {
     PetscCall(monitor->setFromOptions(comm));
     registered.push_back({std::move(monitor), static_cast<long>(every), name});
   }
+  // The built-in mixing_index is also asked for by -mixing_index: one writer of mixing.csv.
+  PetscBool mixing = PETSC_FALSE;
+  PetscCall(PetscOptionsGetBool(nullptr, nullptr, "-mixing_index", &mixing, nullptr));
+  for (const auto &e : registered)
+    PetscCheck(!(mixing && e.name == "mixing_index"), comm, PETSC_ERR_USER_INPUT,
+               "-monitors mixing_index and -mixing_index both ask for mixing.csv; give one of them");
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
