@@ -13,6 +13,7 @@
 //  - gravity along no axis of the mesh is refused with one sentence.
 // Runs at 1 and 2 ranks.
 #include "check.hpp"
+#include "registry_helpers.hpp"
 #include "rcfd/run.hpp"
 #include "scoped_options.hpp"
 #include "state_access.hpp"
@@ -97,7 +98,7 @@ std::vector<double> carried(const Database &db, const std::vector<double> &start
   const FractionSet set({1e-3, 3e-3}, {0.5, 0.5});
   const RunContext ctx{db, set, kRho};
   const OperatorRegistry registry = OperatorRegistry::withBuiltins();
-  auto carry = registry.create("carry");
+  auto carry = created(registry, "carry");
   {
     ScopedOptions options("-carry_type " + kind);
     PetscCallAbort(PETSC_COMM_WORLD, carry->setFromOptions(db.layout().comm()));
@@ -204,7 +205,7 @@ void tiltedGravityRefused() {
   auto db = load(PETSC_COMM_WORLD, "tilted", {1.0, 0.0, -9.81});
   const FractionSet set({1e-3, 3e-3}, {0.5, 0.5});
   const RunContext ctx{*db, set, kRho};
-  auto carry = OperatorRegistry::withBuiltins().create("carry");
+  auto carry = created(OperatorRegistry::withBuiltins(), "carry");
   ScopedOptions options("-carry_type column");
   PetscCallAbort(PETSC_COMM_WORLD, carry->setFromOptions(PETSC_COMM_WORLD));
   PetscCallAbort(PETSC_COMM_WORLD, carry->setUp(ctx));

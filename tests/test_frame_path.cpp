@@ -338,17 +338,17 @@ void testSaveRestore() {
 
     // A fresh path restored from the state continues identically ...
     auto b = makeFramePath(kind, K, R);
-    b->restoreState(state);
+    restorePathState(*b, state);
     RCFD_CHECK(b->frame() == frameAtSave && b->lastWasJump() == jumpAtSave);
     RCFD_CHECK(b->steps() == 1234);
     RCFD_CHECK(same(run(*b, 3000), cont));
     // ... and so does the original, rewound.
-    a->restoreState(state);
+    restorePathState(*a, state);
     RCFD_CHECK(same(run(*a, 3000), cont));
     // A state saved before the first step.
     auto c = makeFramePath(kind, K, R);
     auto d = makeFramePath(kind, K, R);
-    d->restoreState(c->saveState());
+    restorePathState(*d, c->saveState());
     RCFD_CHECK(same(run(*c, 500), run(*d, 500)));
   }
   // States are refused by paths they do not belong to.
@@ -356,16 +356,16 @@ void testSaveRestore() {
   other.seed = 2;
   auto a = makeFramePath("random", K, R);
   const auto state = a->saveState();
-  RCFD_CHECK(throwsWith([&] { makeFramePath("random", K, R, other)->restoreState(state); },
+  RCFD_CHECK(throwsWith([&] { restorePathState(*makeFramePath("random", K, R, other), state); },
                         "other parameters"));
-  RCFD_CHECK(throwsWith([&] { makeFramePath("markov", K, R)->restoreState(state); },
+  RCFD_CHECK(throwsWith([&] { restorePathState(*makeFramePath("markov", K, R), state); },
                         "other parameters"));
-  RCFD_CHECK(throwsWith([&] { makeFramePath("random", K, makeMatrix(K, 10))->restoreState(state); },
+  RCFD_CHECK(throwsWith([&] { restorePathState(*makeFramePath("random", K, makeMatrix(K, 10)), state); },
                         "recurrence matrix"));
   auto truncated = state;
   truncated.pop_back();
-  RCFD_CHECK(throwsWith([&] { a->restoreState(truncated); }, "wrong size"));
-  RCFD_CHECK(throwsWith([&] { a->restoreState({1, 2, 3}); }, "not a saved frame path state"));
+  RCFD_CHECK(throwsWith([&] { restorePathState(*a, truncated); }, "wrong size"));
+  RCFD_CHECK(throwsWith([&] { restorePathState(*a, {1, 2, 3}); }, "not a saved frame path state"));
 }
 
 void testRecorded() {
@@ -395,7 +395,7 @@ void testRecorded() {
   run(*rec2, 700);
   const auto st = rec2->saveState();
   auto rec3 = makeRecordedPath(K, back);
-  rec3->restoreState(st);
+  restorePathState(*rec3, st);
   std::vector<Step> tail(steps.begin() + 700, steps.end());
   RCFD_CHECK(same(run(*rec3, 1300), tail));
 
@@ -541,19 +541,19 @@ void testLeastUsed() {
     const auto state = c->saveState();
     const auto cont = run(*c, 5000);
     auto d = makeFramePath(kind, K, R, q);
-    d->restoreState(state);
+    restorePathState(*d, state);
     RCFD_CHECK(same(run(*d, 5000), cont));
     // The rule is part of the configuration: states do not cross between the rules.
     PathParams uniform = q;
     uniform.leastUsed = false;
-    RCFD_CHECK(throwsWith([&] { makeFramePath(kind, K, R, uniform)->restoreState(state); },
+    RCFD_CHECK(throwsWith([&] { restorePathState(*makeFramePath(kind, K, R, uniform), state); },
                           "other parameters"));
-    RCFD_CHECK(throwsWith([&] { makeFramePath(kind, K, R, q)->restoreState(
+    RCFD_CHECK(throwsWith([&] { restorePathState(*makeFramePath(kind, K, R, q), 
                                     makeFramePath(kind, K, R, uniform)->saveState()); },
                           "other parameters"));
     auto truncated = state;
     truncated.pop_back();
-    RCFD_CHECK(throwsWith([&] { d->restoreState(truncated); }, "wrong size"));
+    RCFD_CHECK(throwsWith([&] { restorePathState(*d, truncated); }, "wrong size"));
     if (quarter) continue;
     // Over a long path, the frames are used far more evenly than with the uniform draw.
     const double even = unevenness(steps, K),

@@ -15,6 +15,7 @@
 //    told apart: the same comparison finds it above the tolerance.
 // Runs at 1 and 2 ranks.  usage: test_granulation_reference DATA_DIR SMALL_DB
 #include "check.hpp"
+#include "registry_helpers.hpp"
 #include "rcfd/granulation.hpp"
 #include "rcfd/run.hpp"
 #include "scoped_options.hpp"
@@ -287,9 +288,9 @@ double difference(const Outcome &a, const Outcome &b, double *ledger) {
 
 void sameAsBefore(const std::string &top) {
   OperatorRegistry now = OperatorRegistry::withBuiltins(), before = OperatorRegistry::withBuiltins();
-  before.add("growth", [] { return std::make_unique<ReferenceGrowth>(); }, "growth as before");
-  before.add("feed", [] { return std::make_unique<ReferenceFeed>(); }, "feed as before");
-  before.add("discharge", [] { return std::make_unique<ReferenceDischarge>(); }, "discharge as before");
+  replaced(before, "growth", [] { return std::make_unique<ReferenceGrowth>(); }, "growth as before");
+  replaced(before, "feed", [] { return std::make_unique<ReferenceFeed>(); }, "feed as before");
+  replaced(before, "discharge", [] { return std::make_unique<ReferenceDischarge>(); }, "discharge as before");
   const Outcome fast = solve(now, top, dir + "/now_" + top);
   feedError = 0.0;
   const Outcome reference = solve(before, top, dir + "/before_" + top);

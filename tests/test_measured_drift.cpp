@@ -3,6 +3,7 @@
 // standard error of two frames; particles seen once or outside are left out;
 // the least-squares k_d recovers the k_d that made a drift.
 #include "check.hpp"
+#include "registry_helpers.hpp"
 
 #include "analysis/measured_drift.hpp"
 #include "rcfd/size_law.hpp"
@@ -59,7 +60,7 @@ int main() {
   // The fit recovers k_d from drifts made with it, for both shapes.
   const double kd = 4.2e3, d32 = 2.2e-3;
   const SizeLawRegistry laws = SizeLawRegistry::withBuiltins();
-  const auto lawA = laws.create("A"), lawB = laws.create("B");
+  const auto lawA = created(laws, "A"), lawB = created(laws, "B");
   for (const SizeLaw *shape : {lawA.get(), lawB.get()}) {
     std::vector<MeasuredDrift::ClassDrift> made;
     for (double d : {1.5e-3, 2.0e-3, 3.0e-3}) {

@@ -12,6 +12,7 @@
 //    declares its loss, runs through.
 // Runs at 1 and 2 ranks.  PETSc calls that must succeed use PetscCallAbort.
 #include "check.hpp"
+#include "registry_helpers.hpp"
 #include "rcfd/run.hpp"
 #include "rcfd/swaps.hpp"
 #include "scoped_options.hpp"
@@ -141,7 +142,7 @@ void carryLevel() {
   const FractionSet set({1e-3, 1.5e-3, 3e-3}, {0.3, 0.3, 0.4});
   const RunContext ctx{*db, set, kRho};
   const OperatorRegistry registry = OperatorRegistry::withBuiltins();
-  auto carry = registry.create("carry");
+  auto carry = created(registry, "carry");
   {
     ScopedOptions options("-carry_type level -carry_sweeps 40");
     PetscCallAbort(PETSC_COMM_WORLD, carry->setFromOptions(PETSC_COMM_WORLD));
@@ -186,6 +187,7 @@ struct Tally {
 class HoldCarry : public CarryKind {
 public:
   explicit HoldCarry(Tally &t) : tally(t) {}
+  std::string type() const override { return "hold"; }
   PetscErrorCode apply(const CarryContext &ctx, const StepInfo &step, FractionState &) override {
     ++tally.calls;
     tally.jumps += step.jump;
@@ -206,10 +208,10 @@ void userCarryKind() {
   const RunContext ctx{*db, set, kRho};
   Tally tally;
   OperatorRegistry registry = OperatorRegistry::withBuiltins();
-  registry.carryKinds().add("hold", [&tally] { return std::make_unique<HoldCarry>(tally); },
+  registered(registry.carryKinds(), "hold", [&tally] { return std::make_unique<HoldCarry>(tally); },
                             "keeps the state as it is");
   auto run = [&](const std::string &kind, std::vector<double> *result) {
-    auto carry = registry.create("carry");
+    auto carry = created(registry, "carry");
     {
       ScopedOptions options("-carry_type " + kind);
       PetscCallAbort(PETSC_COMM_WORLD, carry->setFromOptions(PETSC_COMM_WORLD));
@@ -236,7 +238,7 @@ void userCarryKind() {
   RCFD_CHECK(remapped != start);
   RCFD_CHECK(tally.calls == 3);
 
-  auto carry = registry.create("carry");
+  auto carry = created(registry, "carry");
   ScopedOptions options("-carry_type hlod");
   ErrorCapture error;
   const PetscErrorCode code = carry->setFromOptions(PETSC_COMM_WORLD);
@@ -252,8 +254,8 @@ void viewsToFiles() {
   const std::string driftFile = dir + "/drift.txt", shiftFile = dir + "/shift.txt";
   const OperatorRegistry registry = OperatorRegistry::withBuiltins();
   Pipeline pipeline;
-  PetscCallAbort(PETSC_COMM_WORLD, pipeline.add(registry.create("shift")));
-  PetscCallAbort(PETSC_COMM_WORLD, pipeline.add(registry.create("drift")));
+  PetscCallAbort(PETSC_COMM_WORLD, pipeline.add(created(registry, "shift")));
+  PetscCallAbort(PETSC_COMM_WORLD, pipeline.add(created(registry, "drift")));
   {
     ScopedOptions options("-drift_model B -drift_kd 5e3 -drift_view ascii:" + driftFile +
                           " -shift_view ascii:" + shiftFile);
@@ -329,8 +331,8 @@ void userSwapOperator() {
   const Mesh &mesh = db->mesh();
   const FractionSet set({1e-3, 1.5e-3, 3e-3}, {0.3, 0.3, 0.4});
   OperatorRegistry registry = OperatorRegistry::withBuiltins();
-  registry.add("mixing", [] { return std::make_unique<Mixing>(); }, "mixes composition across faces");
-  auto op = registry.create("mixing");
+  registered(registry, "mixing", [] { return std::make_unique<Mixing>(); }, "mixes composition across faces");
+  auto op = created(registry, "mixing");
   PetscCallAbort(PETSC_COMM_WORLD, op->setUp(RunContext{*db, set, kRho}));
   FractionState st;
   PetscCallAbort(PETSC_COMM_WORLD, st.create(db->layout(), 3));
@@ -379,11 +381,11 @@ PetscErrorCode loseFraction0(const StepInfo &, FractionState &state) {
 PetscErrorCode runWith(const std::string &op, const std::string &dbPath, std::string *message,
                        const std::string &tEnd = "0.125") {
   OperatorRegistry registry = OperatorRegistry::withBuiltins();
-  registry.add("leak", [] { return std::make_unique<ShellOperator>("leak", loseFraction0); },
+  registered(registry, "leak", [] { return std::make_unique<ShellOperator>("leak", loseFraction0); },
                "loses 1e-6 of fraction 0 per step");
-  registry.add("discharge", [] { return std::make_unique<ShellOperator>("discharge", loseFraction0, false); },
+  replaced(registry, "discharge", [] { return std::make_unique<ShellOperator>("discharge", loseFraction0, false); },
                "the same loss, declared");
-  registry.add("keep", [] {
+  registered(registry, "keep", [] {
     return std::make_unique<ShellOperator>("keep", [](const StepInfo &, FractionState &) { return PETSC_SUCCESS; });
   }, "changes nothing");
   ScopedOptions options("-db " + dbPath + " -pipeline " + op + " -t_end " + tEnd + " -output_dir " + dir +

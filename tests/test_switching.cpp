@@ -9,6 +9,7 @@
 // monitors following a switch; the umf_usup signal the same number as
 // bottom.csv's u_mf/u_sup.
 #include "check.hpp"
+#include "registry_helpers.hpp"
 #include "base/petsc_compat.hpp"
 #include "scoped_options.hpp"
 #include "state_access.hpp"
@@ -258,7 +259,7 @@ PetscErrorCode rules() {
     ScopedOptions o("-db_switch_type blend -db_switch_schedule 0:1.1,2:1.3,4:1.5");
     std::unique_ptr<SwitchRule> blend;
     PetscCall(registry.createFromOptions(PETSC_COMM_WORLD, &blend));
-    PetscCall(blend->setUp(PETSC_COMM_WORLD, c));
+    PetscCall(blend->setUp(SwitchContext{PETSC_COMM_WORLD, c}));
     const SwitchDecision start = blend->initial(); // 1.1 between 1.0 (w 0.5) and 1.2
     RCFD_CHECK(start.database == 0 && start.partner == 2 && std::fabs(start.weight - 0.5) < 1e-12);
     SwitchSignals s;
@@ -274,8 +275,8 @@ PetscErrorCode rules() {
     std::unique_ptr<SwitchRule> first, second;
     PetscCall(registry.createFromOptions(PETSC_COMM_WORLD, &first));
     PetscCall(registry.createFromOptions(PETSC_COMM_WORLD, &second));
-    PetscCall(first->setUp(PETSC_COMM_WORLD, c));
-    PetscCall(second->setUp(PETSC_COMM_WORLD, c));
+    PetscCall(first->setUp(SwitchContext{PETSC_COMM_WORLD, c}));
+    PetscCall(second->setUp(SwitchContext{PETSC_COMM_WORLD, c}));
     SwitchDecision a = first->initial(), b;
     std::vector<int> drawn(3, 0);
     std::vector<double> saved;
@@ -368,7 +369,7 @@ PetscErrorCode monitorsFollow(const std::string &dir) {
 class SignalRecorder final : public SwitchRule {
 public:
   SignalRecorder(std::map<long, double> *seen, long at) : seen(seen), at(at) {}
-  std::string kind() const override { return "recorder"; }
+  std::string type() const override { return "recorder"; }
   std::string describe() const override { return "umf_usup recorded"; }
   bool needsSignals() const override { return true; }
   std::vector<std::string> signalsUsed() const override { return {"umf_usup"}; }
@@ -403,7 +404,7 @@ PetscErrorCode signalAgrees(const std::string &dir) {
   const long switchedAt = 20;
   std::map<long, double> seen; // step -> umf_usup
   SwitchRuleRegistry rules = SwitchRuleRegistry::withBuiltins();
-  rules.add("recorder", [&] { return std::make_unique<SignalRecorder>(&seen, switchedAt); }, "records umf_usup");
+  registered(rules, "recorder", [&] { return std::make_unique<SignalRecorder>(&seen, switchedAt); }, "records umf_usup");
   {
     ScopedOptions o("-db " + g0 + "," + g1 + " -db_switch_type recorder -gas_density 0.8 "
                     "-gas_kinematic_viscosity 3e-5 -umf_correlation saxena-vogel -bottom_layer -t_end 0.3");

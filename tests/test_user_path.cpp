@@ -4,6 +4,7 @@
 // them, and its state survives saveState()/restoreState().  Runs at 1 and 2 ranks.
 // usage: test_user_path OUTPUT_DIR -db SMALL.h5 -path_type stride -path_stride 3 [run options]
 #include "check.hpp"
+#include "registry_helpers.hpp"
 #include "base/petsc_compat.hpp"
 #include "rcfd/run.hpp"
 
@@ -18,7 +19,7 @@ namespace {
 /// Frames 0, stride, 2 stride, ... modulo the number of frames.
 class StridePath : public FramePath {
 public:
-  std::string kind() const override { return "stride"; }
+  std::string type() const override { return "stride"; }
   std::string describe() const override { return "stride: every " + std::to_string(stride) + " frames"; }
   PetscErrorCode setFromOptions(MPI_Comm comm) override {
     PetscFunctionBeginUser;
@@ -54,14 +55,14 @@ int main(int argc, char **argv) {
     const std::string dir = std::string(argv[1]) + "-np" + std::to_string(size); // np 1 and 2 may run at once
     OperatorRegistry operators = OperatorRegistry::withBuiltins();
     std::vector<StepInfo> seen;
-    operators.add("spy", [&seen] {
+    registered(operators, "spy", [&seen] {
       return std::make_unique<ShellOperator>("spy", [&seen](const StepInfo &s, FractionState &) {
         seen.push_back(s);
         return PETSC_SUCCESS;
       });
     }, "records the steps");
     PathRegistry paths = PathRegistry::withBuiltins();
-    paths.add("stride", [] { return std::make_unique<StridePath>(); }, "every N-th frame");
+    registered(paths, "stride", [] { return std::make_unique<StridePath>(); }, "every N-th frame");
     Run run(PETSC_COMM_WORLD, operators, paths);
     PetscCall(run.setFromOptions());
     run.setQuiet(true);
@@ -73,7 +74,7 @@ int main(int argc, char **argv) {
 
     const int K = run.database().numFrames();
     const long steps = run.numSteps();
-    RCFD_CHECK(run.path().kind() == "stride");
+    RCFD_CHECK(run.path().type() == "stride");
     std::vector<int> expected;
     for (long s = 0; s < steps; ++s) expected.push_back(static_cast<int>((3 * s) % K));
     RCFD_CHECK(run.framesUsed() == expected);
@@ -96,7 +97,7 @@ int main(int argc, char **argv) {
     PetscCall(a.setUp(PathContext{run.database(), true}));
     PetscCall(b.setUp(PathContext{run.database(), true}));
     for (int s = 0; s < 5; ++s) a.next();
-    b.restoreState(a.saveState());
+    PetscCall(b.restoreState(a.saveState()));
     RCFD_CHECK(b.next() == a.next());
   }
   const int result = RCFD_TEST_RESULT();

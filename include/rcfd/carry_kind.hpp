@@ -3,7 +3,7 @@
 // next frame's alpha_s.  Kinds are registered by name like operators and
 // chosen with -carry_type; rcfd has `column` (default), `remap` and `level` (see
 // rcfd/carry.hpp, docs/paths.md), and a user adds one with
-//   registry.carryKinds().add("mine", [] { return std::make_unique<MyCarry>(); }, "what it does");
+//   PetscCall(registry.carryKinds().add("mine", [] { return std::make_unique<MyCarry>(); }, "what it does"));
 #pragma once
 
 #include "rcfd/face_exchange.hpp"
@@ -28,9 +28,14 @@ struct CarryContext {
 class CarryKind {
 public:
   virtual ~CarryKind() = default;
-  /// Collective.  Reads the kind's own options, -<prefix><name> with the
-  /// carry operator's prefix (none by default).
-  virtual PetscErrorCode setFromOptions(MPI_Comm comm, const std::string &prefix);
+  /// The registered name of the kind.
+  virtual std::string type() const = 0;
+  /// The carry operator gives its kind its own prefix ("carry_"), so a
+  /// kind's option -NAME is -carry_NAME.
+  void setOptionsPrefix(const std::string &p) { prefix = p; }
+  const std::string &optionsPrefix() const { return prefix; }
+  /// Collective.  Reads the kind's own options (none by default).
+  virtual PetscErrorCode setFromOptions(MPI_Comm comm);
   /// Whether the kind changes anything; a carry that does not is left out of the pipeline.
   virtual bool needed() const { return true; }
   /// Collective.  Called after every step.  step.jump says whether the next
@@ -40,20 +45,20 @@ public:
   virtual PetscErrorCode apply(const CarryContext &ctx, const StepInfo &step, FractionState &state) = 0;
   /// What the kind did, one line starting with "carry: ".
   virtual PetscErrorCode view(PetscViewer viewer) const = 0;
+
+protected:
+  std::string prefix;
 };
 
 using CarryKindFactory = std::function<std::unique_ptr<CarryKind>()>;
 
 /// Name -> factory of carry kinds (owned by an OperatorRegistry, or by a
 /// CarryOperator made without one).
-class CarryKindRegistry : public NamedFactories<CarryKindFactory> {
+class CarryKindRegistry : public Registry<CarryKind> {
 public:
+  CarryKindRegistry() : Registry("-carry_type", "carry kind") {}
   /// column, remap and level.
   static CarryKindRegistry withBuiltins();
-  /// Throws std::invalid_argument listing the known kinds if `name` is unknown.
-  std::unique_ptr<CarryKind> create(const std::string &name) const {
-    return find(name, "-carry_type", "carry kind")();
-  }
 };
 
 } // namespace rcfd

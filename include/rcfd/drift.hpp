@@ -50,8 +50,8 @@ public:
   void setModel(Model m) { model = m; }
   void setKd(double value) { kd = value, kdGiven = true; }
   /// Before setUp: the size law of that name (and Model::SizeLaw), with its
-  /// default parameters.  Throws std::invalid_argument for an unknown name.
-  void setSizeLaw(const std::string &name);
+  /// default parameters; an unknown name is refused with the known ones.
+  PetscErrorCode setSizeLaw(const std::string &name);
   const std::string &sizeLawName() const { return lawName; }
   /// The size law (null for models constant and none); its shape parameter
   /// may be set before setUp.

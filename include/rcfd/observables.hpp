@@ -20,9 +20,11 @@
 
 #include "rcfd/database.hpp"
 #include "rcfd/fractions.hpp"
+#include "rcfd/registry.hpp"
 #include "rcfd/run_context.hpp"
 
 #include <functional>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -42,14 +44,26 @@ struct MonitorContext {
 
 /// An observable with a life cycle: set up once the database is loaded,
 /// called at the steps the run chose, flushed every few wall seconds and at
-/// the end (so that results survive an interruption).
+/// the end (so that results survive an interruption).  A monitor registered
+/// by name (MonitorRegistry, -monitors NAME,...) has the life cycle of every
+/// extension point (docs/extending.md): created with the prefix "<name>_",
+/// setFromOptions, setUp, sample, view (-<name>_view).
 class Monitor {
 public:
   virtual ~Monitor() = default;
+  /// The registered name ("monitor" for one that is not registered).
+  virtual std::string type() const { return "monitor"; }
+  void setOptionsPrefix(const std::string &p) { prefix = p; }
+  const std::string &optionsPrefix() const { return prefix; }
+  /// Collective.  Reads the monitor's own options (none by default).
+  virtual PetscErrorCode setFromOptions(MPI_Comm comm);
+  /// Collective on the viewer.  The default prints "monitor <type()>".
+  virtual PetscErrorCode view(PetscViewer viewer) const;
   /// Collective.  `state` gives the layout of the masses the monitor will see.
   /// Keep copies of what it needs of run.db, not pointers into it: a run on
   /// several databases drops the database it started on when it switches;
   /// sample() gets the database in use (MonitorContext::run, docs/databases.md).
+  /// Re-entrant: a second call on the same run gives the same monitor.
   /// The default does nothing.
   virtual PetscErrorCode setUp(const RunContext &run, const FractionState &state,
                                const std::string &outputDirectory);
@@ -95,6 +109,20 @@ public:
   /// none.
   virtual std::vector<std::string> signalNames() const { return {}; }
   virtual double signal(const std::string &name) const;
+
+protected:
+  std::string prefix;
+};
+
+using MonitorFactory = std::function<std::unique_ptr<Monitor>()>;
+
+/// Name -> factory of monitors a run adds by -monitors NAME,... (each sampled
+/// every -<name>_every steps, default 1), owned by the program (no global).
+class MonitorRegistry : public Registry<Monitor> {
+public:
+  MonitorRegistry() : Registry("-monitors", "monitor") {}
+  /// mixing_index (the same monitor as -mixing_index).
+  static MonitorRegistry withBuiltins();
 };
 
 /// A monitor given as a function.

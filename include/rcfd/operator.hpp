@@ -1,6 +1,7 @@
 // Operators act on the fraction state once per recurrence step.  Every
 // operator has PETSc's life cycle: create (by name, from a registry) ->
-// setFromOptions -> setUp -> apply ... -> view.  Researchers add their own by
+// setFromOptions -> setUp (re-entrant) -> apply ... -> view (-<prefix>view) ->
+// destroy, as every extension point of rcfd (docs/extending.md).  Researchers add their own by
 // registering a factory under a new name; `-pipeline shift,mine` then uses it.
 // What an operator sees is in rcfd/operator_context.hpp; an operator that
 // moves mass between neighbouring cells derives from SwapOperator
@@ -43,6 +44,10 @@ public:
   /// Whether this operator changes anything for the case; the pipeline
   /// leaves out operators that do not (no drift for one fraction, ...).
   virtual bool needed(const RunContext &) const { return true; }
+  /// Collective.  Prepares the operator for ctx.db.  Re-entrant: a run on
+  /// several databases calls it again on every switch (and the contract test
+  /// calls it twice), so it rebuilds what it derives from the database and
+  /// keeps what saveState() returns; two calls give the same operator.
   virtual PetscErrorCode setUp(const RunContext &ctx) = 0;
   /// Advance the state in place (an operator may work out of place on the
   /// state's scratch vector and swap).
@@ -77,25 +82,33 @@ protected:
 
 using OperatorFactory = std::function<std::unique_ptr<Operator>()>;
 
-/// Name -> factory of operators, and the carry kinds the `carry` operator
-/// chooses from.  One registry per program (no global state): the program
-/// makes one with the built-in operators and users add theirs to it, e.g.
-///   registry.add("mydrift", [] { return std::make_unique<MyDrift>(); }, "my drift law");
-///   registry.carryKinds().add("mycarry", [] { return std::make_unique<MyCarry>(); }, "...");
-///   registry.sizeLaws().add("mylaw", [] { return std::make_unique<MyLaw>(); }, "...");
+/// Name -> factory of operators (-pipeline), and the carry kinds and size
+/// laws the `carry` and `drift` operators choose from.  One registry per
+/// program (no global state): the program makes one with the built-in
+/// operators and users (or plugins, rcfd/plugin.hpp) add theirs to it, e.g.
+///   PetscCall(registry.add("mydrift", [] { return std::make_unique<MyDrift>(); }, "my drift law"));
+///   PetscCall(registry.carryKinds().add("mycarry", [] { return std::make_unique<MyCarry>(); }, "..."));
+///   PetscCall(registry.sizeLaws().add("mylaw", [] { return std::make_unique<MyLaw>(); }, "..."));
 /// then -pipeline shift,mydrift,carry -carry_type mycarry uses both, and
 /// -pipeline shift,drift -drift_size_law mylaw the law.
 class OperatorRegistry {
 public:
-  /// A registry holding rcfd's built-in operators and carry kinds.
+  OperatorRegistry();
+  /// A registry holding rcfd's built-in operators, carry kinds and size laws.
   static OperatorRegistry withBuiltins();
-  /// Adds or replaces an operator; throws std::invalid_argument unless `name` is one word.
-  void add(const std::string &name, OperatorFactory factory, const std::string &help);
+  /// Registers an operator (rcfd/registry.hpp: an identifier, not taken).
+  PetscErrorCode add(const std::string &name, OperatorFactory factory, const std::string &help);
+  /// Replaces a registered operator on purpose (rcfd/registry.hpp).
+  PetscErrorCode replace(const std::string &name, OperatorFactory factory, const std::string &help);
   bool has(const std::string &name) const { return makers.has(name); }
-  /// A new operator with options prefix "<name>_".  Throws
-  /// std::invalid_argument listing the known names if `name` is unknown.
-  std::unique_ptr<Operator> create(const std::string &name) const;
+  /// A new operator with options prefix "<name>_"; an unknown name is refused
+  /// with the known names.
+  PetscErrorCode create(const std::string &name, std::unique_ptr<Operator> *op) const;
   std::string listing() const { return makers.listing(); }
+  std::vector<std::string> names() const { return makers.names(); }
+  std::string help(const std::string &name) const { return makers.help(name); }
+  /// Collective on the viewer: the operators, carry kinds and size laws with their help.
+  PetscErrorCode view(PetscViewer viewer) const;
   /// The kinds a `carry` operator made by this registry knows (-carry_type);
   /// an operator copies them when it is created, so add kinds before.
   CarryKindRegistry &carryKinds() { return carry; }
@@ -107,8 +120,8 @@ public:
 
 private:
   // Built-in operators may depend on the registry (carry takes its kinds).
-  using Maker = std::function<std::unique_ptr<Operator>(const OperatorRegistry &)>;
-  NamedFactories<Maker> makers;
+  using Makers = Registry<Operator, const OperatorRegistry &>;
+  Makers makers;
   CarryKindRegistry carry = CarryKindRegistry::withBuiltins();
   SizeLawRegistry laws = SizeLawRegistry::withBuiltins();
 };

@@ -5,10 +5,11 @@
 // from (about) frame i+1 to frame s, and the run's carry operator takes the
 // state across.  The first step of a path starts it and is not a jump.
 //
-// Paths have an operator's life cycle: created by name from a PathRegistry
-// (-path_type), setFromOptions (each kind reads its own -path_* options),
-// setUp (once the database is loaded), then next() once per step.  Built-in
-// kinds: replay, random, markov, quarter, recorded (docs/paths.md).
+// Paths have an operator's life cycle (docs/extending.md): created by name
+// from a PathRegistry (-path_type), setFromOptions (each kind reads its own
+// -path_* options), setUp (once the database is loaded; re-entrant), then
+// next() once per step, view (-path_view).  Built-in kinds: replay, random,
+// markov, quarter, recorded (docs/paths.md).
 //
 // A path must be deterministic from its options and the database: every MPI
 // rank builds its own copy and all must produce the same frames without
@@ -16,18 +17,18 @@
 // restoreState() (written into checkpoints), so a kind keeps everything that
 // decides its continuation in the words of saveExtra().
 //
-// Adding a path rule: derive from FramePath (kind, describe, advance, and for
+// Adding a path rule: derive from FramePath (type, describe, advance, and for
 // checkpoints fingerprint, saveExtra, restoreExtra), add a factory to a
 // PathRegistry and hand it to Run; docs/examples/user-path-rule is such a
 // project, built against the installed library by the test suite.
 #pragma once
 
 #include "rcfd/database.hpp"
+#include "rcfd/registry.hpp"
 
 #include <cstddef>
 #include <cstdint>
 #include <functional>
-#include <map>
 #include <memory>
 #include <string>
 #include <vector>
@@ -53,7 +54,8 @@ public:
   virtual PetscErrorCode setFromOptions(MPI_Comm comm);
   /// Prepares the path for the loaded database (collective).  The base
   /// records the number of frames (at least 2); a kind that overrides it
-  /// calls FramePath::setUp first.
+  /// calls FramePath::setUp first.  Re-entrant: a second call on the same
+  /// database gives the same path.
   virtual PetscErrorCode setUp(const PathContext &ctx);
   /// Prints describe() (collective on the viewer).
   virtual PetscErrorCode view(PetscViewer viewer) const;
@@ -64,7 +66,9 @@ public:
   virtual std::uint64_t seed() const { return 0; }
   virtual void setSeed(std::uint64_t) {}
 
-  /// Advances one step and returns its frame, in [0, numFrames()).
+  /// Advances one step and returns its frame, in [0, numFrames()).  A kind
+  /// whose advance() gives a frame outside is a bug: the program stops with
+  /// a message (as an assertion would).
   int next();
   /// Frame of the last step, -1 before the first.
   int frame() const { return frame_; }
@@ -75,7 +79,7 @@ public:
   int numFrames() const { return K_; }
 
   /// The registered name of the kind.
-  virtual std::string kind() const = 0;
+  virtual std::string type() const = 0;
   /// One line: the kind and its resolved parameters (for logs and file headers).
   virtual std::string describe() const = 0;
 
@@ -86,10 +90,11 @@ public:
 
   /// Everything needed to continue bit-identically: position, sequence
   /// bookkeeping, PRNG state, plus a fingerprint of the parameters.
-  /// restoreState() throws std::invalid_argument when the state is malformed
-  /// or was saved by a path with other parameters or another database.
+  /// restoreState() refuses (PETSC_ERR_ARG_WRONG, not collective) a state
+  /// that is malformed or was saved by a path with other parameters or
+  /// another database.
   std::vector<std::uint64_t> saveState() const;
-  void restoreState(const std::vector<std::uint64_t> &state);
+  PetscErrorCode restoreState(const std::vector<std::uint64_t> &state);
 
 protected:
   /// The number of frames is set by setUp().
@@ -104,11 +109,14 @@ protected:
   /// Hash of everything that determines the continuation of a saved state.
   virtual std::uint64_t fingerprint() const = 0;
   /// Appends the kind's own state words; restoreExtra() reads them back and
-  /// throws std::invalid_argument on a wrong size or value.
+  /// throws std::invalid_argument on a wrong size or value (restoreState()
+  /// turns it into an error code).
   virtual void saveExtra(std::vector<std::uint64_t> &out) const = 0;
   virtual void restoreExtra(const std::uint64_t *data, std::size_t n) = 0;
 
 private:
+  friend void restorePathState(FramePath &path, const std::vector<std::uint64_t> &state);
+  void restoreChecked(const std::vector<std::uint64_t> &state); // throws, see restoreState()
   std::string prefix_ = "path_";
   int K_ = 0;
   int frame_ = -1;
@@ -118,28 +126,16 @@ private:
 
 using PathFactory = std::function<std::unique_ptr<FramePath>()>;
 
-/// Name -> factory of path kinds, like OperatorRegistry.  One per program
-/// (no global state); users add their own kinds and select them with -path_type.
-class PathRegistry {
+/// Name -> factory of path kinds (rcfd/registry.hpp).  One per program (no
+/// global state); users add their own kinds and select them with -path_type.
+class PathRegistry : public Registry<FramePath> {
 public:
+  PathRegistry() : Registry("-path_type", "path") {}
   /// replay, random, markov, quarter and recorded.
   static PathRegistry withBuiltins();
-  void add(const std::string &name, PathFactory factory, const std::string &help);
-  bool has(const std::string &name) const { return entries.count(name) > 0; }
-  /// Throws std::invalid_argument listing the known names if `name` is unknown.
-  std::unique_ptr<FramePath> create(const std::string &name) const;
-  /// "name: help" lines.
-  std::string listing() const;
-  /// Reads -path_type (default replay), creates that kind and lets it read
-  /// its own options.  Collective.
+  /// Collective.  Reads -path_type (default replay), creates that kind and
+  /// lets it read its own options.
   PetscErrorCode createFromOptions(MPI_Comm comm, std::unique_ptr<FramePath> *path) const;
-
-private:
-  struct Entry {
-    PathFactory factory;
-    std::string help;
-  };
-  std::map<std::string, Entry> entries;
 };
 
 } // namespace rcfd

@@ -25,8 +25,13 @@
 
 namespace rcfd {
 
+struct Registries; // rcfd/plugin.hpp
+
 class Run {
 public:
+  /// With the operators, paths, switching rules and monitors of `registries`
+  /// (e.g. built-ins plus plugins, rcfd/plugin.hpp); they must outlive the run.
+  Run(MPI_Comm comm, const Registries &registries);
   /// The registry supplies the operators named by -pipeline; it must outlive
   /// the run.  Paths come from the built-in path kinds.
   Run(MPI_Comm comm, const OperatorRegistry &operators);
@@ -43,7 +48,10 @@ public:
   /// Options: -db, -t_end, -output_dir, -pipeline, -init, -init_file, -fields,
   /// -fields_every, -checkpoint_every, -checkpoint_file, -restart,
   /// -solid_density, -quiet, -progress_interval, -run_view [viewer]; the answers'
-  /// monitors (-profiles, -halves, -bottom_layer, ... src/observable/answers.hpp).
+  /// monitors (-profiles, -halves, -bottom_layer, ... src/observable/answers.hpp);
+  /// -monitors NAME,... registered monitors, each sampled every -NAME_every
+  /// steps (default 1) and viewed by -NAME_view.  -path_view and
+  /// -db_switch_view view the path and the switching rule once set up.
   PetscErrorCode setFromOptions();
 
   /// Setters applied after setFromOptions and before setUp; they override the options.

@@ -5,13 +5,14 @@
 // like operators and carry kinds and chosen with -drift_size_law (prefix of
 // the drift operator); rcfd has A, B, drag, log and power (docs/drift.md),
 // and a user adds one with
-//   registry.sizeLaws().add("mine", [] { return std::make_unique<MyLaw>(); }, "what it does");
+//   PetscCall(registry.sizeLaws().add("mine", [] { return std::make_unique<MyLaw>(); }, "what it does"));
 // then -pipeline shift,drift -drift_size_law mine uses it.
 #pragma once
 
 #include "rcfd/registry.hpp"
 
 #include <petscsys.h>
+#include <petscviewer.h>
 
 #include <functional>
 #include <memory>
@@ -28,9 +29,16 @@ namespace rcfd {
 class SizeLaw {
 public:
   virtual ~SizeLaw() = default;
-  /// Collective.  Reads the law's own options, -<prefix>size_law_<name> with
-  /// the drift operator's prefix (none by default).
-  virtual PetscErrorCode setFromOptions(MPI_Comm comm, const std::string &prefix);
+  /// The registered name of the law.
+  virtual std::string type() const = 0;
+  /// The drift operator gives its law the prefix "<its prefix>size_law_", so
+  /// a law's option -NAME is -drift_size_law_NAME.
+  void setOptionsPrefix(const std::string &p) { prefix = p; }
+  const std::string &optionsPrefix() const { return prefix; }
+  /// Collective.  Reads the law's own options (none by default).
+  virtual PetscErrorCode setFromOptions(MPI_Comm comm);
+  /// Collective on the viewer: "size law <type>: <formula>, kd in <unit>".
+  virtual PetscErrorCode view(PetscViewer viewer) const;
   /// u[i] = k g(d[i], dRef) for i < n [m/s]; d and dRef in m.  Called per
   /// cell with -drift_local_d32, so it should be cheap.
   virtual void velocities(double k, double dRef, const double *d, int n, double *u) const = 0;
@@ -59,20 +67,20 @@ public:
   virtual bool shapeParameter(ShapeParameter *) const { return false; }
   /// Sets it (a value in the range the option accepts).
   virtual void setShapeParameter(double) {}
+
+protected:
+  std::string prefix;
 };
 
 using SizeLawFactory = std::function<std::unique_ptr<SizeLaw>()>;
 
 /// Name -> factory of size laws (owned by an OperatorRegistry, or by a
 /// DriftOperator made without one).
-class SizeLawRegistry : public NamedFactories<SizeLawFactory> {
+class SizeLawRegistry : public Registry<SizeLaw> {
 public:
+  SizeLawRegistry() : Registry("-drift_size_law", "size law") {}
   /// A, B, drag, log and power.
   static SizeLawRegistry withBuiltins();
-  /// Throws std::invalid_argument listing the known laws if `name` is unknown.
-  std::unique_ptr<SizeLaw> create(const std::string &name) const {
-    return find(name, "-drift_size_law", "size law")();
-  }
 };
 
 } // namespace rcfd

@@ -1,14 +1,16 @@
 // Switching rules: which database of a set (rcfd/database_set.hpp) a run
-// uses at each step (docs/databases.md).  Rules have a path's life cycle:
-// created by name from a SwitchRuleRegistry (-db_switch_type), setFromOptions
-// with the prefix "db_switch_", setUp once the set is open, then decide()
-// after every step.  Built-in rules: schedule, blend, state, markov.
+// uses at each step (docs/databases.md).  Rules have the life cycle of every
+// extension point (docs/extending.md): created by name from a
+// SwitchRuleRegistry (-db_switch_type), setFromOptions with the prefix
+// "db_switch_", setUp once the set is open (re-entrant), then decide() after
+// every step, view (-db_switch_view).  Built-in rules: schedule, blend,
+// state, markov.
 //
 // A rule must decide the same on every rank without communication: it sees
 // only globally reduced signals, and what decides its continuation is in
 // saveState() (written into checkpoints).
 //
-// Adding a rule: derive from SwitchRule (kind, describe, decide), add a
+// Adding a rule: derive from SwitchRule (type, describe, decide), add a
 // factory to a SwitchRuleRegistry and hand it to Run::useSwitchRules;
 // docs/examples/user-switch-rule is such a project, built against the
 // installed library by the test suite.
@@ -37,7 +39,8 @@ struct SwitchSignals {
   /// A monitor's signal by name (Monitor::signal: its latest sample), set by the run.
   std::function<double(const std::string &)> fromMonitors;
   /// A signal by name: inventory_d32, bottom_d32, umf_usup, else a monitor's;
-  /// throws std::invalid_argument for a name nobody offers.
+  /// NaN for a name nobody offers (the run refuses such a name before its
+  /// first step, SwitchRule::signalsUsed).
   double named(const std::string &name) const;
   static const char *names() { return "inventory_d32, bottom_d32, umf_usup"; }
   static bool isBuiltIn(const std::string &name) {
@@ -59,6 +62,12 @@ struct SwitchDecision {
   }
 };
 
+/// What a rule may read while it is set up.
+struct SwitchContext {
+  MPI_Comm comm;
+  const std::vector<OperatingConditions> &databases; ///< the set's conditions, in -db order
+};
+
 class SwitchRule {
 public:
   virtual ~SwitchRule() = default;
@@ -66,8 +75,11 @@ public:
   const std::string &optionsPrefix() const { return prefix_; }
   /// Collective.  Reads the rule's own options (the base: none).
   virtual PetscErrorCode setFromOptions(MPI_Comm comm);
-  /// Collective.  The conditions of the set's databases, in -db order.
-  virtual PetscErrorCode setUp(MPI_Comm comm, const std::vector<OperatingConditions> &databases);
+  /// Collective.  The base keeps the conditions of the set's databases.
+  /// Re-entrant: a second call with the same databases gives the same rule.
+  virtual PetscErrorCode setUp(const SwitchContext &ctx);
+  /// Collective on the viewer.  The base prints "switching rule: <describe()>".
+  virtual PetscErrorCode view(PetscViewer viewer) const;
   /// The database the run starts on (the base: the first).
   virtual SwitchDecision initial() const { return {}; }
   /// The database for the next step: `active` is the current choice.
@@ -81,13 +93,15 @@ public:
   /// The signals decide() reads by name (checked against the built-in ones
   /// and the run's monitors before the first step).
   virtual std::vector<std::string> signalsUsed() const { return {}; }
-  virtual std::string kind() const = 0;
+  /// The registered name of the rule.
+  virtual std::string type() const = 0;
   /// One line: the rule and its resolved parameters.
   virtual std::string describe() const = 0;
   /// Everything that decides the continuation (a generator's state), the same on every rank.
   virtual std::vector<double> saveState() const { return {}; }
-  /// Throws std::invalid_argument for a malformed state.
-  virtual void restoreState(const std::vector<double> &) {}
+  /// Not collective.  Refuses a malformed state with PETSC_ERR_ARG_WRONG
+  /// (the base: a non-empty one).
+  virtual PetscErrorCode restoreState(const std::vector<double> &state);
 
   int numDatabases() const { return static_cast<int>(conditions_.size()); }
   const OperatingConditions &conditions(int i) const { return conditions_.at(i); }
@@ -100,14 +114,11 @@ private:
 using SwitchRuleFactory = std::function<std::unique_ptr<SwitchRule>()>;
 
 /// Name -> factory of switching rules, owned by the program (no global).
-class SwitchRuleRegistry : public NamedFactories<SwitchRuleFactory> {
+class SwitchRuleRegistry : public Registry<SwitchRule> {
 public:
+  SwitchRuleRegistry() : Registry("-db_switch_type", "switching rule") {}
   /// schedule, blend, state and markov.
   static SwitchRuleRegistry withBuiltins();
-  /// Throws std::invalid_argument listing the known rules if `name` is unknown.
-  std::unique_ptr<SwitchRule> create(const std::string &name) const {
-    return find(name, "-db_switch_type", "switching rule")();
-  }
   /// Collective.  Reads -db_switch_type (default schedule), creates the rule
   /// and lets it read its own options.
   PetscErrorCode createFromOptions(MPI_Comm comm, std::unique_ptr<SwitchRule> *rule) const;

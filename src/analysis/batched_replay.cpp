@@ -187,7 +187,7 @@ PetscErrorCode BatchedReplay::solveBatch(const std::vector<Candidate> &candidate
   }
   // The shift of all columns, with the command line's -shift_ options.
   std::unique_ptr<Operator> made;
-  PetscCallCXX(made = registry.create("shift"));
+  PetscCall(registry.create("shift", &made));
   auto *shift = dynamic_cast<ShiftOperator *>(made.get());
   PetscCheck(shift, comm, PETSC_ERR_PLIB, "The registry's shift is not rcfd's ShiftOperator; it cannot be batched");
   PetscCall(shift->setFromOptions(comm));

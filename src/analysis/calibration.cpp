@@ -144,7 +144,7 @@ PetscErrorCode DriftCalibration::configureDrift(Run &run, const Point &p) {
     if (auto *d = dynamic_cast<DriftOperator *>(op.get())) drift = d;
   PetscCheck(drift, comm, PETSC_ERR_USER_INPUT,
              "rcfd calibrate fits the drift operator, but -pipeline has none (add drift)");
-  PetscCallCXX(drift->setSizeLaw(p.model));
+  PetscCall(drift->setSizeLaw(p.model));
   if (std::isfinite(p.shape)) drift->sizeLaw()->setShapeParameter(p.shape);
   drift->setKd(std::pow(10.0, p.log10kd));
   if (p.exponent >= 0.0) {
@@ -229,10 +229,16 @@ double DriftCalibration::objective(const DeltaZScore &s) const {
   return objectiveName == "rms" ? s.rmsRelative : std::fabs(s.segregationError);
 }
 
-void DriftCalibration::searchRange(const std::string &model, double *lo, double *hi) const {
-  const bool velocityUnit = std::string(registry.sizeLaws().create(model)->unitOfK()) == "m/s";
+// k of a dimensionless law is a velocity: without -calibrate_kd_range its
+// search spans 0.1 mm/s to 1 m/s instead of the 1/(m s) range of A and B.
+PetscErrorCode DriftCalibration::searchRange(const std::string &model, double *lo, double *hi) const {
+  std::unique_ptr<SizeLaw> law;
+  PetscFunctionBeginUser;
+  PetscCall(registry.sizeLaws().create(model, &law));
+  const bool velocityUnit = std::string(law->unitOfK()) == "m/s";
   *lo = std::log10(rangeGiven || !velocityUnit ? kdLo : 1e-4);
   *hi = std::log10(rangeGiven || !velocityUnit ? kdHi : 1.0);
+  PetscFunctionReturn(PETSC_SUCCESS);
 }
 
 // Every model: a coarse scan, then a golden section in the bracket around
@@ -258,7 +264,7 @@ PetscErrorCode DriftCalibration::searchAll(std::vector<Result> *results) {
     Search &s = searches[m];
     s.model = models[m];
     double lo, hi;
-    searchRange(s.model, &lo, &hi);
+    PetscCall(searchRange(s.model, &lo, &hi));
     for (int i = 0; i < n; ++i) {
       s.xs.push_back(lo + (hi - lo) * i / (n - 1));
       points.push_back({s.model, s.xs.back()});
@@ -346,10 +352,10 @@ PetscErrorCode DriftCalibration::fitMeasured(const std::string &model, Result *r
   std::vector<MeasuredDrift::ClassDrift> drift;
   std::unique_ptr<SizeLaw> law;
   DriftFit fit;
+  PetscCall(registry.sizeLaws().create(model, &law));
   PetscCall(collectively(comm, [&] {
     drift = measuredDriftFromTable(table, cols);
     measuredTable = table;
-    law = registry.sizeLaws().create(model);
     fit = fitDriftLaw(drift, sauter, *law);
     // A law scaled by (a/a_bar)^n drifts on average meanFactor times as fast.
     result->model = model;

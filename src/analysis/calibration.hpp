@@ -101,7 +101,7 @@ private:
   // Every model's search, in step (one batch per stage); results in the order of `models`.
   PetscErrorCode searchAll(std::vector<Result> *results);
   // Its drift law's log10 k_d range of the search.
-  void searchRange(const std::string &model, double *lo, double *hi) const;
+  PetscErrorCode searchRange(const std::string &model, double *lo, double *hi) const;
 
   MPI_Comm comm;
   const OperatorRegistry &registry;

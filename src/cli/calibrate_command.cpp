@@ -4,13 +4,16 @@
 #include "base/petsc_compat.hpp"
 
 #include "analysis/calibration.hpp"
+#include "rcfd/plugin.hpp"
 #include "rcfd/run.hpp"
 
 namespace rcfd::cli {
 
 PetscErrorCode calibrateCommand(MPI_Comm comm) {
   PetscFunctionBeginUser;
-  const OperatorRegistry registry = OperatorRegistry::withBuiltins();
+  Registries registries = Registries::withBuiltins();
+  PetscCall(loadPlugins(comm, &registries)); // -plugin, $RCFD_PLUGINS
+  const OperatorRegistry &registry = registries.operators;
   DriftCalibration calibration(comm, registry);
   PetscCall(calibration.setFromOptions());
   if (helpRequested()) { // list the run's options too; without -db the run stops early, never mind

@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <cstring>
 #include <string>
+#include <vector>
 
 namespace {
 
@@ -58,13 +59,39 @@ bool isHelp(const char *a) {
          !std::strcmp(a, "help");
 }
 
+// `rcfd -help [-plugin FILE]`: the usage, then every extension point's names
+// (built-in and from plugins); PETSc sees only the -plugin option.
+int helpWithExtensions(int argc, char **argv) {
+  std::fputs(usage().c_str(), stdout);
+  std::fflush(stdout);
+  std::vector<char *> args{argv[0]};
+  for (int i = 2; i + 1 < argc; ++i)
+    if (!std::strcmp(argv[i], "-plugin")) args.insert(args.end(), {argv[i], argv[i + 1]});
+  int pargc = static_cast<int>(args.size());
+  args.push_back(nullptr); // argv ends with a null pointer, as MPI expects
+  char **pargv = args.data();
+  if (PetscInitialize(&pargc, &pargv, nullptr, nullptr) != 0) return 1;
+  std::signal(SIGPIPE, SIG_DFL); // `rcfd -help | head` ends quietly
+  PetscPushErrorHandler(PetscReturnErrorHandler, nullptr);
+  const PetscErrorCode ierr = rcfd::cli::listExtensions(PETSC_COMM_WORLD);
+  if (ierr) {
+    const char *generic = nullptr;
+    char *specific = nullptr;
+    PetscErrorMessage(ierr, &generic, &specific);
+    std::fprintf(stderr, "rcfd: error: %s\n", specific && *specific ? specific : (generic ? generic : "unknown error"));
+  }
+  PetscFinalize();
+  return ierr ? 1 : 0;
+}
+
 } // namespace
 
 int main(int argc, char **argv) {
-  if (argc < 2 || isHelp(argv[1])) {
-    std::fputs(usage().c_str(), argc < 2 ? stderr : stdout);
-    return argc < 2 ? 2 : 0;
+  if (argc < 2) {
+    std::fputs(usage().c_str(), stderr);
+    return 2;
   }
+  if (isHelp(argv[1])) return helpWithExtensions(argc, argv);
   const Command *command = nullptr;
   for (const auto &c : commands)
     if (argv[1] == std::string(c.name)) command = &c;

@@ -6,6 +6,7 @@
 
 #include "analysis/ensemble.hpp"
 #include "base/collective.hpp"
+#include "rcfd/plugin.hpp"
 #include "rcfd/run.hpp"
 
 #include <string>
@@ -19,7 +20,7 @@ namespace {
 // OUTPUT/member_k/cog.csv, and OUTPUT/ensemble.csv gives mean and spread.
 // Every member reads the options itself; the setters then give it its own
 // seed and directory and turn fields off.
-PetscErrorCode runEnsemble(MPI_Comm comm, const OperatorRegistry &registry, PetscInt members,
+PetscErrorCode runEnsemble(MPI_Comm comm, const Registries &registry, PetscInt members,
                            const std::string &outputDir, std::uint64_t seed, bool plot) {
   PetscMPIInt rank;
   PetscFunctionBeginUser;
@@ -51,13 +52,29 @@ PetscErrorCode runEnsemble(MPI_Comm comm, const OperatorRegistry &registry, Pets
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
+PetscErrorCode viewExtensions(MPI_Comm comm, const Registries &registries) {
+  PetscFunctionBeginUser;
+  PetscCall(PetscPrintf(comm, "Registered by name (built-in and from plugins, docs/extending.md):\n"));
+  PetscCall(registries.view(PETSC_VIEWER_STDOUT_(comm)));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
 } // namespace
+
+PetscErrorCode listExtensions(MPI_Comm comm) {
+  PetscFunctionBeginUser;
+  Registries registries = Registries::withBuiltins();
+  PetscCall(loadPlugins(comm, &registries));
+  PetscCall(viewExtensions(comm, registries));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
 
 PetscErrorCode runCommand(MPI_Comm comm) {
   PetscInt members = 1;
   PetscBool plot = PETSC_TRUE;
   PetscFunctionBeginUser;
-  const OperatorRegistry registry = OperatorRegistry::withBuiltins();
+  Registries registry = Registries::withBuiltins();
+  PetscCall(loadPlugins(comm, &registry)); // -plugin, $RCFD_PLUGINS: before the options name what they add
   Run run(comm, registry);
   PetscCall(run.setFromOptions());
   char reference[PETSC_MAX_PATH_LEN] = "";
@@ -69,7 +86,10 @@ PetscErrorCode runCommand(MPI_Comm comm) {
   PetscCall(PetscOptionsString("-plot_reference", "Directory of rcfd reference whose profiles.csv and halves.csv "
                                "the figures show alongside the run's", "", reference, reference, sizeof reference, nullptr));
   PetscOptionsEnd();
-  if (helpRequested()) PetscFunctionReturn(PETSC_SUCCESS);
+  if (helpRequested()) { // what can be chosen by name, plugins' additions included
+    PetscCall(viewExtensions(comm, registry));
+    PetscFunctionReturn(PETSC_SUCCESS);
+  }
   PetscCall(rejectUnusedOptions(comm, "run"));
   PetscCheck(members >= 1, comm, PETSC_ERR_USER_INPUT, "-ensemble must be at least 1");
   if (members > 1) { // `run` only read the options: its path's seed is the first member's
@@ -79,7 +99,7 @@ PetscErrorCode runCommand(MPI_Comm comm) {
                "set with -path_seed s, s+1, ... (or the ensemble on one database of the set)", (int)members);
     PetscCheck(run.path().hasSeed(), comm, PETSC_ERR_USER_INPUT,
                "-ensemble %d needs a stochastic -path_type (random, markov or quarter), not %s",
-               (int)members, run.path().kind().c_str());
+               (int)members, run.path().type().c_str());
     PetscCall(runEnsemble(comm, registry, members, run.outputDirectory(), run.path().seed(), plot));
     PetscFunctionReturn(PETSC_SUCCESS);
   }

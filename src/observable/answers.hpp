@@ -149,6 +149,7 @@ private:
 /// 1 / sum_i (w_i / v_i) with w_i the mass shares and v_i = pi d_i^3 / 6.
 class MixingMonitor final : public Monitor {
 public:
+  std::string type() const override { return "mixing_index"; }
   PetscErrorCode setUp(const RunContext &run, const FractionState &, const std::string &dir) override;
   PetscErrorCode sample(const MonitorContext &ctx) override;
   PetscErrorCode flush() override;

@@ -23,16 +23,49 @@ PetscErrorCode Operator::monitors(const RunContext &, std::vector<OperatorMonito
 
 PetscErrorCode ShellOperator::setUp(const RunContext &) { return PETSC_SUCCESS; }
 
-void OperatorRegistry::add(const std::string &name, OperatorFactory factory,
-                           const std::string &help) {
-  makers.add(name, [factory = std::move(factory)](const OperatorRegistry &) { return factory(); },
-             help);
+OperatorRegistry::OperatorRegistry() : makers("-pipeline", "operator") {}
+
+namespace {
+// A user's factory, as the registry keeps it (built-ins may take the registry).
+PetscErrorCode maker(const std::string &name, OperatorFactory factory,
+                     std::function<std::unique_ptr<Operator>(const OperatorRegistry &)> *out) {
+  PetscFunctionBeginUser;
+  PetscCheck(static_cast<bool>(factory), PETSC_COMM_SELF, PETSC_ERR_ARG_NULL,
+             "Cannot register the operator '%s' without a factory", name.c_str());
+  *out = [factory = std::move(factory)](const OperatorRegistry &) { return factory(); };
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+} // namespace
+
+PetscErrorCode OperatorRegistry::add(const std::string &name, OperatorFactory factory, const std::string &help) {
+  Makers::Factory made;
+  PetscFunctionBeginUser;
+  PetscCall(maker(name, std::move(factory), &made));
+  PetscCall(makers.add(name, std::move(made), help));
+  PetscFunctionReturn(PETSC_SUCCESS);
 }
 
-std::unique_ptr<Operator> OperatorRegistry::create(const std::string &name) const {
-  auto op = makers.find(name, "-pipeline", "operator")(*this);
-  op->setOptionsPrefix(name + "_");
-  return op;
+PetscErrorCode OperatorRegistry::replace(const std::string &name, OperatorFactory factory, const std::string &help) {
+  Makers::Factory made;
+  PetscFunctionBeginUser;
+  PetscCall(maker(name, std::move(factory), &made));
+  PetscCall(makers.replace(name, std::move(made), help));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode OperatorRegistry::create(const std::string &name, std::unique_ptr<Operator> *op) const {
+  PetscFunctionBeginUser;
+  PetscCall(makers.create(name, op, *this));
+  (*op)->setOptionsPrefix(name + "_");
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode OperatorRegistry::view(PetscViewer viewer) const {
+  PetscFunctionBeginUser;
+  PetscCall(makers.view(viewer));
+  PetscCall(carry.view(viewer));
+  PetscCall(laws.view(viewer));
+  PetscFunctionReturn(PETSC_SUCCESS);
 }
 
 PetscErrorCode Pipeline::add(std::unique_ptr<Operator> op) {

@@ -9,6 +9,8 @@
 #include "base/collective.hpp"
 
 #include <algorithm>
+#include <cstdio>
+#include <cstdlib>
 #include <fstream>
 #include <sstream>
 #include <stdexcept>
@@ -53,9 +55,10 @@ PetscErrorCode FramePath::view(PetscViewer viewer) const {
 int FramePath::next() {
   bool jump = false;
   const int f = advance(jump);
-  if (f < 0 || f >= K_) // a bug in a path kind, never a user error
-    throw std::logic_error(kind() + " path produced frame " + std::to_string(f) + " outside [0, " +
-                           std::to_string(K_ - 1) + "]");
+  if (f < 0 || f >= K_) { // a bug in a path kind, never a user error: stop, as an assertion would
+    std::fprintf(stderr, "rcfd: bug: the %s path produced frame %d outside [0, %d]\n", type().c_str(), f, K_ - 1);
+    std::abort();
+  }
   frame_ = f;
   jump_ = jump;
   ++steps_;
@@ -74,11 +77,21 @@ std::vector<std::uint64_t> FramePath::saveState() const {
   return s;
 }
 
-void FramePath::restoreState(const std::vector<std::uint64_t> &s) {
+PetscErrorCode FramePath::restoreState(const std::vector<std::uint64_t> &state) {
+  PetscFunctionBeginUser;
+  PetscCallCXX(restorePathState(*this, state));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+void restorePathState(FramePath &path, const std::vector<std::uint64_t> &s) {
+  path.restoreChecked(s);
+}
+
+void FramePath::restoreChecked(const std::vector<std::uint64_t> &s) {
   if (s.size() < kStateHeader || s[0] != kStateMagic || s[1] != kStateVersion)
     throw std::invalid_argument("restoreState: the data is not a saved frame path state");
   if (s[2] != fingerprint() || s[3] != static_cast<std::uint64_t>(K_))
-    throw std::invalid_argument("restoreState: the state was saved by a " + kind() +
+    throw std::invalid_argument("restoreState: the state was saved by a " + type() +
                                 " path with other parameters, another seed or another "
                                 "recurrence matrix, or by another kind of path");
   if (s[5] > static_cast<std::uint64_t>(K_) || s[6] > 1 || (s[5] == 0) != (s[4] == 0))
@@ -98,18 +111,20 @@ std::string pathParameterError(const std::string &kind, const std::string &what)
 
 std::vector<std::string> framePathKinds() { return {"replay", "random", "markov", "quarter"}; }
 
+// The built-in names are identifiers and distinct: add() cannot fail here.
 void addBuiltinPaths(PathRegistry &registry) {
-  registry.add("replay", [] { return newReplayPath(); },
-               "the recorded frames in order from -path_start, wrapping to frame 0");
+  PetscCallAbort(PETSC_COMM_SELF, registry.add("replay", [] { return newReplayPath(); },
+                                               "the recorded frames in order from -path_start, wrapping to frame 0"));
   for (const char *kind : {"random", "markov", "quarter"}) {
     const std::string name = kind;
-    registry.add(name, [name] { return newStitchingPath(name); },
-                 name == "random"   ? "sequences of random length joined by jumps to matching frames"
-                 : name == "markov" ? "sequences that end with a fixed probability per step"
-                                    : "sequences that jump between opposite quarters of the frames");
+    PetscCallAbort(PETSC_COMM_SELF,
+                   registry.add(name, [name] { return newStitchingPath(name); },
+                                name == "random"   ? "sequences of random length joined by jumps to matching frames"
+                                : name == "markov" ? "sequences that end with a fixed probability per step"
+                                                   : "sequences that jump between opposite quarters of the frames"));
   }
-  registry.add("recorded", [] { return newRecordedPath(); },
-               "the frames listed in -path_file (e.g. an earlier run's path.txt)");
+  PetscCallAbort(PETSC_COMM_SELF, registry.add("recorded", [] { return newRecordedPath(); },
+                                               "the frames listed in -path_file (e.g. an earlier run's path.txt)"));
 }
 
 std::unique_ptr<FramePath> makeFramePath(const std::string &kind, int K,

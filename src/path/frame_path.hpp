@@ -58,6 +58,10 @@ struct PathParams {
   std::optional<int> clockWindow;
 };
 
+/// FramePath::restoreState() that throws std::invalid_argument instead of
+/// returning an error (for code that already turns exceptions into errors).
+void restorePathState(FramePath &path, const std::vector<std::uint64_t> &state);
+
 /// Adds replay, random, markov, quarter and recorded to a registry.
 void addBuiltinPaths(PathRegistry &registry);
 

@@ -18,7 +18,7 @@ public:
   RecordedPath(int K, std::vector<int> frames) : FramePath(K), frames_(std::move(frames)) {
     check();
   }
-  std::string kind() const override { return "recorded"; }
+  std::string type() const override { return "recorded"; }
   std::string describe() const override {
     return "recorded: K=" + std::to_string(numFrames()) + " steps=" +
            std::to_string(frames_.size());
@@ -63,7 +63,7 @@ protected:
   }
   std::uint64_t fingerprint() const override {
     Hasher h;
-    h.add(kind());
+    h.add(type());
     for (int v : frames_) h.add(static_cast<std::uint64_t>(v));
     return h.value();
   }

@@ -16,7 +16,7 @@ class ReplayPath final : public FramePath {
 public:
   ReplayPath() = default;
   ReplayPath(int K, int start) : FramePath(K), start_(start) {}
-  std::string kind() const override { return "replay"; }
+  std::string type() const override { return "replay"; }
   std::string describe() const override {
     return "replay: K=" + std::to_string(numFrames()) + " start=" + std::to_string(start_);
   }
@@ -49,7 +49,7 @@ protected:
   }
   std::uint64_t fingerprint() const override {
     Hasher h;
-    h.add(kind());
+    h.add(type());
     h.add(static_cast<std::uint64_t>(start_));
     return h.value();
   }

@@ -222,7 +222,7 @@ public:
     PetscFunctionReturn(PETSC_SUCCESS);
   }
 
-  std::string kind() const override { return cfg_.kind; }
+  std::string type() const override { return cfg_.kind; }
   std::string describe() const override {
     std::ostringstream os;
     os << cfg_.kind << ": K=" << numFrames() << " seed=" << cfg_.seed << " start=" << cfg_.start

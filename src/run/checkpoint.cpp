@@ -251,7 +251,7 @@ PetscErrorCode Run::Impl::readCheckpoint() {
         previousDirectory = f.readAttrString("/", "output_dir");
         words = f.read<int64_t>("/path_state");
         reference = f.read<double>("/ledger_reference", nf);
-        path->restoreState(std::vector<std::uint64_t>(words.begin(), words.end()));
+        restorePathState(*path, std::vector<std::uint64_t>(words.begin(), words.end()));
         for (std::size_t m = 0; m < monitors.size(); ++m) {
           const std::string name = "/monitors/" + monitors[m].name;
           if (f.exists("/monitors") && f.exists(name)) states[m] = f.read<double>(name);

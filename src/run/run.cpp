@@ -1,5 +1,6 @@
 #include "run/run_impl.hpp"
 #include "rcfd/database_set.hpp"
+#include "rcfd/plugin.hpp"
 #include "base/checked_options.hpp"
 #include "state/initial_state.hpp"
 #include "base/petsc_compat.hpp"
@@ -46,6 +47,11 @@ Run::Run(MPI_Comm comm, const OperatorRegistry &operators)
   impl->monitors.push_back({std::move(cog), 1, "cog.csv"});
 }
 
+Run::Run(MPI_Comm comm, const Registries &registries) : Run(comm, registries.operators, registries.paths) {
+  impl->rules = &registries.switchRules;
+  impl->monitorKinds = &registries.monitors;
+}
+
 Run::Run(MPI_Comm comm, const OperatorRegistry &operators, const PathRegistry &paths)
     : impl(std::make_unique<Impl>(comm, operators, paths)) {
   auto cog = std::make_unique<CogMonitor>();
@@ -85,7 +91,7 @@ PetscErrorCode Run::setPathSeed(std::uint64_t seed) {
   PetscCheck(impl->path->hasSeed(), impl->comm, PETSC_ERR_USER_INPUT,
              "The %s path has no seed: several paths (-ensemble) need a stochastic -path_type "
              "such as random or markov",
-             impl->path->kind().c_str());
+             impl->path->type().c_str());
   impl->path->setSeed(seed);
   PetscFunctionReturn(PETSC_SUCCESS);
 }
@@ -184,17 +190,62 @@ PetscErrorCode Run::setFromOptions() {
       PetscCheck(names[i] != names[j], r.comm, PETSC_ERR_USER_INPUT,
                  "-pipeline names '%s' twice; an operator reads its options once, so apply it once",
                  names[i].c_str());
-  std::vector<std::unique_ptr<Operator>> created;
-  PetscCall(collectively(
-      r.comm, [&] { for (const auto &name : names) created.push_back(r.registry.create(name)); },
-      PETSC_ERR_USER_INPUT));
-  for (auto &op : created) PetscCall(r.ops.add(std::move(op)));
+  for (const auto &name : names) {
+    std::unique_ptr<Operator> op;
+    PetscCall(agreeOnStatus(r.comm, r.registry.create(name, &op)));
+    PetscCall(r.ops.add(std::move(op)));
+  }
   PetscCall(r.ops.setFromOptions(r.comm));
   PetscCall(r.paths.createFromOptions(r.comm, &r.path));
   PetscCall(r.ledger.setFromOptions(r.comm));
   PetscCall(r.cog->setFromOptions(r.comm));
   r.monitors.front().every = r.cog->every();
   PetscCall(r.answers.setFromOptions(r.comm));
+  PetscCall(r.registeredMonitorsFromOptions());
+  // -path_view, -db_switch_view and -NAME_view are printed once set up; they are read now
+  // (looked up, which marks them used), so that the program's check of unused options knows them.
+  std::vector<std::string> viewed{r.path->optionsPrefix()};
+  if (r.switching) viewed.push_back(r.switching->rule().optionsPrefix());
+  for (const auto &m : r.registered) viewed.push_back(m.monitor->optionsPrefix());
+  for (const auto &prefix : viewed) {
+    PetscBool given = PETSC_FALSE;
+    PetscCall(PetscOptionsHasName(nullptr, prefix.c_str(), "-view", &given));
+  }
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+// -monitors NAME,...: each made by the registry with the prefix "NAME_",
+// sampled every -NAME_every steps.
+PetscErrorCode Run::Impl::registeredMonitorsFromOptions() {
+  char text[PETSC_MAX_PATH_LEN] = "";
+  PetscBool given = PETSC_FALSE;
+  PetscFunctionBeginUser;
+  const std::string help = "Registered monitors to add, comma-separated: " + monitorKinds->listing();
+  PetscOptionsBegin(comm, nullptr, "Registered monitors", "rcfd");
+  PetscCall(PetscOptionsString("-monitors", help.c_str(), "", text, text, sizeof text, &given));
+  PetscOptionsEnd();
+  registered.clear();
+  if (!given) PetscFunctionReturn(PETSC_SUCCESS);
+  for (const auto &name : splitList(text)) {
+    for (const auto &e : registered)
+      PetscCheck(e.name != name, comm, PETSC_ERR_USER_INPUT, "-monitors names '%s' twice", name.c_str());
+    std::unique_ptr<Monitor> monitor;
+    PetscCall(agreeOnStatus(comm, monitorKinds->create(name, &monitor)));
+    monitor->setOptionsPrefix(name + "_");
+    PetscInt every = 1;
+    PetscOptionsBegin(comm, monitor->optionsPrefix().c_str(), "Registered monitor", "rcfd");
+    PetscCall(checkedInt(PetscOptionsObject, "-every", "Steps between samples of this monitor (0: first and last only)",
+                         &every, 0, 1000000000));
+    PetscOptionsEnd();
+    PetscCall(monitor->setFromOptions(comm));
+    registered.push_back({std::move(monitor), static_cast<long>(every), name});
+  }
+  // The built-in mixing_index is also asked for by -mixing_index: one writer of mixing.csv.
+  PetscBool mixing = PETSC_FALSE;
+  PetscCall(PetscOptionsGetBool(nullptr, nullptr, "-mixing_index", &mixing, nullptr));
+  for (const auto &e : registered)
+    PetscCheck(!(mixing && e.name == "mixing_index"), comm, PETSC_ERR_USER_INPUT,
+               "-monitors mixing_index and -mixing_index both ask for mixing.csv; give one of them");
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
@@ -240,12 +291,17 @@ PetscErrorCode Run::setUp() {
   std::vector<Answers::Named> asked; // none unless the case asks
   PetscCall(r.answers.createMonitors(ctx, r.steps * dt, r.quiet == PETSC_TRUE, &asked));
   for (auto &a : asked) r.monitors.push_back({std::move(a.monitor), a.every, a.name});
+  for (auto &m : r.registered) r.monitors.push_back(std::move(m)); // -monitors
+  r.registered.clear();
   if (!r.ops.conservesMass() && r.ops.accountsMass()) // the balance per fraction of what operators add
     r.monitors.push_back({std::make_unique<MassAccountMonitor>(r.ops), r.cog->every(), "mass_account.csv"});
   std::vector<OperatorMonitor> brought; // e.g. the discharge's product size distribution
   for (const auto &op : r.ops.operators()) PetscCall(op->monitors(ctx, &brought));
   for (auto &b : brought) r.monitors.push_back({std::move(b.monitor), b.every, b.name});
   for (auto &m : r.monitors) PetscCall(m.monitor->setUp(ctx, r.fstate, r.outputDir));
+  for (auto &m : r.monitors)
+    if (!m.monitor->optionsPrefix().empty()) PetscCall(viewFromOptions(r.comm, m.monitor->optionsPrefix(), *m.monitor));
+  PetscCall(viewFromOptions(r.comm, r.path->optionsPrefix(), *r.path));
   PetscCheck(!r.stopAtSteady || std::any_of(r.monitors.begin(), r.monitors.end(),
                                             [](const Impl::Entry &e) { return e.monitor->detectsSteadyState(); }),
              r.comm, PETSC_ERR_USER_INPUT,
@@ -257,6 +313,7 @@ PetscErrorCode Run::setUp() {
     for (const auto &m : r.monitors) monitors.push_back(m.monitor.get());
     PetscCall(r.switching->setUp(*r.db, r.set, r.solidDensity, r.answers.fluidization(), r.outputDir,
                                  r.quiet == PETSC_TRUE, monitors));
+    PetscCall(viewFromOptions(r.comm, r.switching->rule().optionsPrefix(), r.switching->rule()));
     r.switchCarry = std::make_unique<CarryOperator>();
     PetscCall(r.switchCarry->setKind(r.comm, "remap"));
   }
@@ -420,7 +477,7 @@ PetscErrorCode Run::Impl::march() {
     PetscCall(r.pathFile->add(std::to_string(frame)));
     if (r.keepHistory) r.frames.push_back(frame);
     const bool wraps = info.jump && info.nextFrame == 0; // not a blend's jump inside it
-    if (wraps && !wrapNoted && r.path->kind() == "replay") {
+    if (wraps && !wrapNoted && r.path->type() == "replay") {
       wrapNoted = true;
       if (!r.quiet)
         PetscCall(PetscPrintf(r.comm,

@@ -57,6 +57,8 @@ struct Run::Impl {
   /// The active database's frame for the path's frame k: the path runs over the
   /// frames of the database the run started on, a database of another length
   /// takes k modulo its own (docs/databases.md, "Databases of different lengths").
+  /// Reads -monitors and makes the registered monitors it names (into `registered`).
+  PetscErrorCode registeredMonitorsFromOptions();
   /// With one database, k itself.
   int dbFrame(int k) const { return k % db->numFrames(); }
 
@@ -69,6 +71,10 @@ struct Run::Impl {
   // across a switch.  Only the active database is held (docs/databases.md, "Memory").
   SwitchRuleRegistry builtinRules = SwitchRuleRegistry::withBuiltins();
   const SwitchRuleRegistry *rules = &builtinRules;
+  // The monitors -monitors names (Run(comm, registries) gives the program's).
+  MonitorRegistry builtinMonitors = MonitorRegistry::withBuiltins();
+  const MonitorRegistry *monitorKinds = &builtinMonitors;
+  std::vector<Entry> registered; // made by setFromOptions, set up with the others
   std::unique_ptr<DatabaseSwitcher> switching;
   std::unique_ptr<CarryOperator> switchCarry;
   FractionSet set;

@@ -7,6 +7,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <limits>
 #include <stdexcept>
 
 namespace rcfd {
@@ -49,12 +50,12 @@ PetscErrorCode DatabaseSwitcher::open(MPI_Comm c, const std::vector<std::string>
   PetscCall(DatabaseSet::open(comm, paths, options, conditionVelocities, &set_));
   std::vector<OperatingConditions> conditions;
   for (int i = 0; i < set_->size(); ++i) conditions.push_back(set_->entry(i).conditions);
-  PetscCall(rule_->setUp(comm, conditions));
+  PetscCall(rule_->setUp(SwitchContext{comm, conditions}));
   active_ = rule_->initial();
   operating_ = conditionsAt(0.0);
   for (int i : {active_.database, active_.partner})
     PetscCheck(i < set_->size(), comm, PETSC_ERR_USER_INPUT, "The %s switching rule starts on database %d of %d",
-               rule_->kind().c_str(), i, set_->size());
+               rule_->type().c_str(), i, set_->size());
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
@@ -73,7 +74,7 @@ PetscErrorCode DatabaseSwitcher::setUp(const Database &first, const FractionSet 
       }
     PetscCheck(monitorSignals.count(name), comm, PETSC_ERR_USER_INPUT,
                "The %s switching rule decides on '%s', which is neither a built-in signal (%s) nor one of this "
-               "run's monitors' (%s)", rule_->kind().c_str(), name.c_str(), SwitchSignals::names(),
+               "run's monitors' (%s)", rule_->type().c_str(), name.c_str(), SwitchSignals::names(),
                offered.empty() ? "none" : offered.c_str());
   }
   // Two answers to "what is u_sup" would give bottom.csv one and the switch
@@ -82,7 +83,7 @@ PetscErrorCode DatabaseSwitcher::setUp(const Database &first, const FractionSet 
              comm, PETSC_ERR_USER_INPUT,
              "-superficial_velocity %g and the %s rule's -db_switch_schedule both give u_sup; give it once (the "
              "schedule sets it over time)",
-             model.given.superficialVelocity, rule_->kind().c_str());
+             model.given.superficialVelocity, rule_->type().c_str());
   fractions = &set;
   rho = solidDensity;
   fluidization = model;
@@ -107,8 +108,8 @@ PetscErrorCode DatabaseSwitcher::measure(long step, double time, const FractionS
   s->time = time;
   s->fromMonitors = [this](const std::string &name) {
     const auto who = monitorSignals.find(name);
-    if (who == monitorSignals.end()) throw std::invalid_argument("no monitor of this run offers the signal '" + name + "'");
-    return who->second->signal(name);
+    // Names are checked before the first step; NaN as SwitchSignals::named.
+    return who == monitorSignals.end() ? std::numeric_limits<double>::quiet_NaN() : who->second->signal(name);
   };
   PetscCall(layers.fractionMasses(state.masses(), nf, &perLayer));
   for (std::size_t k = 0; k < perLayer.size(); ++k) totals[k % nf] += perLayer[k];
@@ -212,7 +213,7 @@ PetscErrorCode DatabaseSwitcher::decide(long step, double time, const FractionSt
   PetscCall(collectively(comm, [&] { d = rule_->decide(active_, s); }));
   PetscCheck(d.database >= 0 && d.database < set_->size() && d.partner < set_->size() && d.weight >= 0 && d.weight <= 1,
              comm, PETSC_ERR_PLIB, "The %s switching rule chose database %d (and %d at weight %g) of %d",
-             rule_->kind().c_str(), d.database, d.partner, d.weight, set_->size());
+             rule_->type().c_str(), d.database, d.partner, d.weight, set_->size());
   *change = !d.sameAs(active_);
   *target = d;
   PetscFunctionReturn(PETSC_SUCCESS);
@@ -251,7 +252,7 @@ PetscErrorCode DatabaseSwitcher::record(double time, const SwitchDecision &from,
   if (!quiet)
     PetscCall(PetscPrintf(comm, "Switched from database %s to %s at t = %g s by the %s rule (trigger %g); loaded "
                                 "and set up in %.3g s\n",
-                          choiceText(from).c_str(), choiceText(active_).c_str(), time, rule_->kind().c_str(),
+                          choiceText(from).c_str(), choiceText(active_).c_str(), time, rule_->type().c_str(),
                           active_.trigger, seconds));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
@@ -273,10 +274,8 @@ std::vector<double> DatabaseSwitcher::saveState() const {
 
 PetscErrorCode DatabaseSwitcher::restoreState(const std::vector<double> &state) {
   PetscFunctionBeginUser;
-  PetscCall(collectively(comm, [&] {
-    if (state.size() < kSaved) throw std::invalid_argument("the checkpoint's switching state is malformed");
-    rule_->restoreState(std::vector<double>(state.begin() + kSaved, state.end()));
-  }, PETSC_ERR_USER_INPUT));
+  PetscCheck(state.size() >= kSaved, comm, PETSC_ERR_USER_INPUT, "the checkpoint's switching state is malformed");
+  PetscCall(agreeOnStatus(comm, rule_->restoreState(std::vector<double>(state.begin() + kSaved, state.end()))));
   switches = static_cast<long>(state[4]);
   warnedAt = state[5];
   if (state[6] >= 0) PetscCall(csv->resume(state[6]));

@@ -9,6 +9,7 @@
 #include <array>
 
 #include <cstdio>
+#include <limits>
 #include <sstream>
 #include <stdexcept>
 
@@ -19,14 +20,27 @@ double SwitchSignals::named(const std::string &name) const {
   if (name == "bottom_d32") return bottomD32;
   if (name == "umf_usup") return umfOverUsup;
   if (fromMonitors) return fromMonitors(name);
-  throw std::invalid_argument("unknown signal '" + name + "'; known signals: " + names());
+  return std::numeric_limits<double>::quiet_NaN();
 }
 
 PetscErrorCode SwitchRule::setFromOptions(MPI_Comm) { return PETSC_SUCCESS; }
 
-PetscErrorCode SwitchRule::setUp(MPI_Comm, const std::vector<OperatingConditions> &databases) {
-  conditions_ = databases;
+PetscErrorCode SwitchRule::setUp(const SwitchContext &ctx) {
+  conditions_ = ctx.databases;
   return PETSC_SUCCESS;
+}
+
+PetscErrorCode SwitchRule::view(PetscViewer viewer) const {
+  PetscFunctionBeginUser;
+  PetscCall(PetscViewerASCIIPrintf(viewer, "switching rule: %s\n", describe().c_str()));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode SwitchRule::restoreState(const std::vector<double> &state) {
+  PetscFunctionBeginUser;
+  PetscCheck(state.empty(), PETSC_COMM_SELF, PETSC_ERR_ARG_WRONG,
+             "The checkpoint holds state of the switching rule %s, which keeps none", type().c_str());
+  PetscFunctionReturn(PETSC_SUCCESS);
 }
 
 int nearestDatabase(const std::vector<OperatingConditions> &databases, double u) {
@@ -89,7 +103,7 @@ PetscErrorCode stringOption(MPI_Comm comm, const std::string &prefix, const char
 // schedule: the operating condition over time; the database recorded nearest to it.
 class ScheduleRule : public SwitchRule {
 public:
-  std::string kind() const override { return "schedule"; }
+  std::string type() const override { return "schedule"; }
   PetscErrorCode setFromOptions(MPI_Comm comm) override {
     PetscBool set = PETSC_FALSE;
     std::string text;
@@ -123,9 +137,11 @@ public:
     }, PETSC_ERR_USER_INPUT));
     PetscFunctionReturn(PETSC_SUCCESS);
   }
-  PetscErrorCode setUp(MPI_Comm comm, const std::vector<OperatingConditions> &databases) override {
+  PetscErrorCode setUp(const SwitchContext &ctx) override {
+    const MPI_Comm comm = ctx.comm;
+    const std::vector<OperatingConditions> &databases = ctx.databases;
     PetscFunctionBeginUser;
-    PetscCall(SwitchRule::setUp(comm, databases));
+    PetscCall(SwitchRule::setUp(ctx));
     PetscCheck(nearestDatabase(databases, 1.0) >= 0, comm, PETSC_ERR_USER_INPUT,
                "The schedule rule needs the databases' superficial velocities: none records one; give them "
                "with -db_conditions u1,u2,... in the order of -db");
@@ -165,7 +181,7 @@ protected:
 // weighted linearly in u_sup; outside the databases' range the nearest alone.
 class BlendRule final : public ScheduleRule {
 public:
-  std::string kind() const override { return "blend"; }
+  std::string type() const override { return "blend"; }
   std::string describe() const override {
     std::string text = ScheduleRule::describe();
     return "blend: " + text.substr(0, text.find(';')) + "; the two databases that bracket it, weighted linearly";
@@ -190,7 +206,7 @@ protected:
 // state: a monitored quantity in bands separated by thresholds, with hysteresis.
 class StateRule final : public SwitchRule {
 public:
-  std::string kind() const override { return "state"; }
+  std::string type() const override { return "state"; }
   PetscErrorCode setFromOptions(MPI_Comm comm) override {
     PetscBool set = PETSC_FALSE;
     std::string text;
@@ -221,9 +237,11 @@ public:
     start = static_cast<int>(first);
     PetscFunctionReturn(PETSC_SUCCESS);
   }
-  PetscErrorCode setUp(MPI_Comm comm, const std::vector<OperatingConditions> &databases) override {
+  PetscErrorCode setUp(const SwitchContext &ctx) override {
+    const MPI_Comm comm = ctx.comm;
+    const std::vector<OperatingConditions> &databases = ctx.databases;
     PetscFunctionBeginUser;
-    PetscCall(SwitchRule::setUp(comm, databases));
+    PetscCall(SwitchRule::setUp(ctx));
     PetscCheck(thresholds.size() + 1 == databases.size(), comm, PETSC_ERR_USER_INPUT,
                "-%sthresholds has %zu values for %zu databases; give one fewer than databases", optionsPrefix().c_str(),
                thresholds.size(), databases.size());
@@ -259,7 +277,7 @@ private:
 // markov: every interval a database drawn by its weight, seeded (CFDEMcoupling's rule).
 class MarkovRule final : public SwitchRule {
 public:
-  std::string kind() const override { return "markov"; }
+  std::string type() const override { return "markov"; }
   PetscErrorCode setFromOptions(MPI_Comm comm) override {
     PetscBool set = PETSC_FALSE;
     std::string text;
@@ -285,9 +303,11 @@ public:
     seed = static_cast<std::uint64_t>(seedValue);
     PetscFunctionReturn(PETSC_SUCCESS);
   }
-  PetscErrorCode setUp(MPI_Comm comm, const std::vector<OperatingConditions> &databases) override {
+  PetscErrorCode setUp(const SwitchContext &ctx) override {
+    const MPI_Comm comm = ctx.comm;
+    const std::vector<OperatingConditions> &databases = ctx.databases;
     PetscFunctionBeginUser;
-    PetscCall(SwitchRule::setUp(comm, databases));
+    PetscCall(SwitchRule::setUp(ctx));
     if (weights.empty()) weights.assign(databases.size(), 1.0);
     PetscCheck(weights.size() == databases.size(), comm, PETSC_ERR_USER_INPUT,
                "-%sweights has %zu values for %zu databases", optionsPrefix().c_str(), weights.size(), databases.size());
@@ -329,13 +349,16 @@ public:
     words.push_back(nextDraw);
     return words;
   }
-  void restoreState(const std::vector<double> &words) override {
-    if (words.size() != 9) throw std::invalid_argument("the markov switching rule's saved state has the wrong size");
+  PetscErrorCode restoreState(const std::vector<double> &words) override {
+    PetscFunctionBeginUser;
+    PetscCheck(words.size() == 9, PETSC_COMM_SELF, PETSC_ERR_ARG_WRONG,
+               "the markov switching rule's saved state has the wrong size");
     std::array<std::uint64_t, 4> s{};
     for (int k = 0; k < 4; ++k)
       s[k] = (static_cast<std::uint64_t>(words[2 * k]) << 32) | static_cast<std::uint64_t>(words[2 * k + 1]);
     random.setState(s);
     nextDraw = words[8];
+    PetscFunctionReturn(PETSC_SUCCESS);
   }
 
 private:
@@ -349,14 +372,15 @@ private:
 
 SwitchRuleRegistry SwitchRuleRegistry::withBuiltins() {
   SwitchRuleRegistry r;
-  r.add("schedule", [] { return std::make_unique<ScheduleRule>(); },
-        "the superficial velocity over time (-db_switch_schedule); the database recorded nearest to it");
-  r.add("blend", [] { return std::make_unique<BlendRule>(); },
-        "the schedule's u_sup between the two databases that bracket it: their frames blended as mass fluxes");
-  r.add("state", [] { return std::make_unique<StateRule>(); },
-        "a monitored quantity (-db_switch_quantity) in bands (-db_switch_thresholds) with hysteresis");
-  r.add("markov", [] { return std::make_unique<MarkovRule>(); },
-        "every -db_switch_interval a database drawn by -db_switch_weights, seeded (-db_switch_seed)");
+  // The built-in names are identifiers and distinct: add() cannot fail here.
+  PetscCallAbort(PETSC_COMM_SELF, r.add("schedule", [] { return std::make_unique<ScheduleRule>(); },
+        "the superficial velocity over time (-db_switch_schedule); the database recorded nearest to it"));
+  PetscCallAbort(PETSC_COMM_SELF, r.add("blend", [] { return std::make_unique<BlendRule>(); },
+        "the schedule's u_sup between the two databases that bracket it: their frames blended as mass fluxes"));
+  PetscCallAbort(PETSC_COMM_SELF, r.add("state", [] { return std::make_unique<StateRule>(); },
+        "a monitored quantity (-db_switch_quantity) in bands (-db_switch_thresholds) with hysteresis"));
+  PetscCallAbort(PETSC_COMM_SELF, r.add("markov", [] { return std::make_unique<MarkovRule>(); },
+        "every -db_switch_interval a database drawn by -db_switch_weights, seeded (-db_switch_seed)"));
   return r;
 }
 
@@ -369,7 +393,7 @@ PetscErrorCode SwitchRuleRegistry::createFromOptions(MPI_Comm comm, std::unique_
   PetscCall(PetscOptionsString("-db_switch_type", help.c_str(), "", "schedule", text, sizeof text, &set));
   PetscOptionsEnd();
   const std::string name = set ? text : "schedule";
-  PetscCall(collectively(comm, [&] { *rule = create(name); }, PETSC_ERR_USER_INPUT));
+  PetscCall(agreeOnStatus(comm, create(name, rule)));
   PetscCall((*rule)->setFromOptions(comm));
   PetscFunctionReturn(PETSC_SUCCESS);
 }

@@ -60,7 +60,7 @@ private:
 PetscErrorCode runWithDecay() {
   PetscFunctionBeginUser;
   rcfd::OperatorRegistry registry = rcfd::OperatorRegistry::withBuiltins();
-  PetscCallCXX(registry.add("decay", [] { return std::make_unique<Decay>(); },
+  PetscCall(registry.add("decay", [] { return std::make_unique<Decay>(); },
                             "uniform decay of every fraction, -decay_rate k [1/s]"));
   rcfd::Run run(PETSC_COMM_WORLD, registry); // -pipeline shift,decay selects it
   PetscCall(run.setFromOptions());

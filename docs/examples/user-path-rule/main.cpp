@@ -21,7 +21,7 @@ namespace {
 
 class Stride : public rcfd::FramePath {
 public:
-  std::string kind() const override { return "stride"; }
+  std::string type() const override { return "stride"; }
   std::string describe() const override { return "stride " + std::to_string(stride); }
 
   PetscErrorCode setFromOptions(MPI_Comm comm) override {
@@ -59,7 +59,7 @@ PetscErrorCode runWithStride() {
   PetscFunctionBeginUser;
   const rcfd::OperatorRegistry operators = rcfd::OperatorRegistry::withBuiltins();
   rcfd::PathRegistry paths = rcfd::PathRegistry::withBuiltins();
-  PetscCallCXX(paths.add("stride", [] { return std::make_unique<Stride>(); },
+  PetscCall(paths.add("stride", [] { return std::make_unique<Stride>(); },
                          "frames 0, s, 2s, ... modulo K, -path_stride s"));
   rcfd::Run run(PETSC_COMM_WORLD, operators, paths); // -path_type stride selects it
   PetscCall(run.setFromOptions());

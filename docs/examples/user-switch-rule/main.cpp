@@ -17,7 +17,7 @@ namespace {
 
 class Alternate : public rcfd::SwitchRule {
 public:
-  std::string kind() const override { return "alternate"; }
+  std::string type() const override { return "alternate"; }
   std::string describe() const override { return "alternate every " + std::to_string(every) + " steps"; }
 
   PetscErrorCode setFromOptions(MPI_Comm comm) override {
@@ -50,7 +50,7 @@ PetscErrorCode runWithAlternate() {
   PetscFunctionBeginUser;
   const rcfd::OperatorRegistry operators = rcfd::OperatorRegistry::withBuiltins();
   rcfd::SwitchRuleRegistry rules = rcfd::SwitchRuleRegistry::withBuiltins();
-  PetscCallCXX(rules.add("alternate", [] { return std::make_unique<Alternate>(); },
+  PetscCall(rules.add("alternate", [] { return std::make_unique<Alternate>(); },
                          "the next database every n steps, -db_switch_every n"));
   rcfd::Run run(PETSC_COMM_WORLD, operators);
   run.useSwitchRules(rules); // before setFromOptions; -db_switch_type alternate selects it

@@ -66,7 +66,8 @@ struct Columns {
 
 class ColumnCarry : public CarryKind {
 public:
-  PetscErrorCode setFromOptions(MPI_Comm comm, const std::string &prefix) override {
+  std::string type() const override { return "column"; }
+  PetscErrorCode setFromOptions(MPI_Comm comm) override {
     PetscBool set = PETSC_FALSE;
     PetscFunctionBeginUser;
     PetscOptionsBegin(comm, prefix.c_str(), "Column carry (-carry_type column)", "rcfd");

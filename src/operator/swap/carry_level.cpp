@@ -12,7 +12,8 @@ namespace {
 
 class LevelCarry : public CarryKind {
 public:
-  PetscErrorCode setFromOptions(MPI_Comm comm, const std::string &prefix) override;
+  std::string type() const override { return "level"; }
+  PetscErrorCode setFromOptions(MPI_Comm comm) override;
   bool needed() const override { return sweeps > 0 || sweepsPerStep > 0; }
   PetscErrorCode apply(const CarryContext &ctx, const StepInfo &step, FractionState &state) override;
   PetscErrorCode view(PetscViewer viewer) const override;
@@ -24,7 +25,7 @@ private:
   long applications = 0, totalSweeps = 0;
 };
 
-PetscErrorCode LevelCarry::setFromOptions(MPI_Comm comm, const std::string &prefix) {
+PetscErrorCode LevelCarry::setFromOptions(MPI_Comm comm) {
   PetscFunctionBeginUser;
   PetscOptionsBegin(comm, prefix.c_str(), "Levelling carry (-carry_type level)", "rcfd");
   PetscCall(checkedInt(PetscOptionsObject, "-sweeps",

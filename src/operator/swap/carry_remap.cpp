@@ -9,6 +9,7 @@ namespace {
 
 class RemapCarry : public CarryKind {
 public:
+  std::string type() const override { return "remap"; }
   PetscErrorCode apply(const CarryContext &ctx, const StepInfo &step, FractionState &state) override;
   PetscErrorCode view(PetscViewer viewer) const override;
 

@@ -16,15 +16,20 @@
 namespace rcfd {
 
 DriftOperator::DriftOperator() : DriftOperator(SizeLawRegistry::withBuiltins()) {}
-DriftOperator::DriftOperator(SizeLawRegistry laws)
-    : known(std::move(laws)), law(known.has(lawName) ? known.create(lawName) : nullptr) {}
+DriftOperator::DriftOperator(SizeLawRegistry laws) : known(std::move(laws)) {
+  // The default law when known (a registry without it: setFromOptions refuses).
+  if (known.has(lawName) && known.create(lawName, &law) == PETSC_SUCCESS) law->setOptionsPrefix(prefix + "size_law_");
+}
 DriftOperator::~DriftOperator() = default;
 
-void DriftOperator::setSizeLaw(const std::string &name) {
-  law = known.create(name);
+PetscErrorCode DriftOperator::setSizeLaw(const std::string &name) {
+  PetscFunctionBeginUser;
+  PetscCall(known.create(name, &law));
+  law->setOptionsPrefix(prefix + "size_law_");
   lawName = name;
   model = Model::SizeLaw;
   if (!kdGiven) kd = law->defaultK();
+  PetscFunctionReturn(PETSC_SUCCESS);
 }
 
 // -drift_model A|B is the size law of that name; -drift_size_law chooses any
@@ -110,14 +115,15 @@ PetscErrorCode DriftOperator::setFromOptions(MPI_Comm comm) {
     const std::string name = setLaw ? std::string(lawText) : chosen;
     PetscCheck(known.has(name), comm, PETSC_ERR_USER_INPUT, "-%ssize_law %s is not a known size law; known: %s",
                prefix.c_str(), name.c_str(), known.listing().c_str());
-    PetscCallCXX(setSizeLaw(name));
+    PetscCall(setSizeLaw(name));
   } else if (setModel) {
     model = chosen == "constant" ? Model::Constant : chosen == "measured" ? Model::Measured : Model::None;
   }
   if (model == Model::SizeLaw) {
     PetscCheck(law, comm, PETSC_ERR_USER_INPUT, "-%ssize_law %s is not a known size law; known: %s",
                prefix.c_str(), lawName.c_str(), known.listing().c_str());
-    PetscCall(law->setFromOptions(comm, prefix));
+    law->setOptionsPrefix(prefix + "size_law_"); // a law's option -NAME is -drift_size_law_NAME
+    PetscCall(law->setFromOptions(comm));
     if (!kdGiven) kd = law->defaultK();
     PetscCheck(std::isfinite(kd), comm, PETSC_ERR_USER_INPUT,
                "-%ssize_law %s has no default k_d: give -%skd (in %s)", prefix.c_str(), lawName.c_str(),

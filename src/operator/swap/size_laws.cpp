@@ -12,7 +12,13 @@
 
 namespace rcfd {
 
-PetscErrorCode SizeLaw::setFromOptions(MPI_Comm, const std::string &) { return PETSC_SUCCESS; }
+PetscErrorCode SizeLaw::setFromOptions(MPI_Comm) { return PETSC_SUCCESS; }
+
+PetscErrorCode SizeLaw::view(PetscViewer viewer) const {
+  PetscFunctionBeginUser;
+  PetscCall(PetscViewerASCIIPrintf(viewer, "size law %s: %s, kd in %s\n", type().c_str(), formula().c_str(), unitOfK()));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
 
 double SizeLaw::defaultK() const { return std::numeric_limits<double>::quiet_NaN(); }
 
@@ -38,6 +44,7 @@ public:
 
 class LawA : public SquareLaw {
 public:
+  std::string type() const override { return "A"; }
   void velocities(double k, double dRef, const double *d, int n, double *u) const override {
     for (int i = 0; i < n; ++i) u[i] = -k * (d[i] * d[i] - dRef * dRef);
   }
@@ -46,6 +53,7 @@ public:
 
 class LawB : public SquareLaw {
 public:
+  std::string type() const override { return "B"; }
   void velocities(double k, double dRef, const double *d, int n, double *u) const override {
     for (int i = 0; i < n; ++i) u[i] = -k * (d[i] - dRef) * std::fabs(d[i] - dRef);
   }
@@ -55,6 +63,7 @@ public:
 // Dimensionless laws, k in m/s.
 class DragLaw : public SizeLaw {
 public:
+  std::string type() const override { return "drag"; }
   void velocities(double k, double dRef, const double *d, int n, double *u) const override {
     for (int i = 0; i < n; ++i) u[i] = k * (dRef / d[i] - 1.0);
   }
@@ -64,6 +73,7 @@ public:
 
 class LogLaw : public SizeLaw {
 public:
+  std::string type() const override { return "log"; }
   void velocities(double k, double dRef, const double *d, int n, double *u) const override {
     for (int i = 0; i < n; ++i) u[i] = k * std::log(dRef / d[i]);
   }
@@ -73,10 +83,11 @@ public:
 
 class PowerLaw : public SizeLaw {
 public:
-  PetscErrorCode setFromOptions(MPI_Comm comm, const std::string &prefix) override {
+  std::string type() const override { return "power"; }
+  PetscErrorCode setFromOptions(MPI_Comm comm) override {
     PetscFunctionBeginUser;
     PetscOptionsBegin(comm, prefix.c_str(), "Size law power: u = kd ((d32/d)^m - 1)", "rcfd");
-    PetscCall(checkedReal(PetscOptionsObject, "-size_law_exponent", "Exponent m of the power size law", &m,
+    PetscCall(checkedReal(PetscOptionsObject, "-exponent", "Exponent m of the power size law", &m,
                           {0.0, kLargest, false, true, "an exponent m in (0, 20] (m = 1 is the drag law)"}));
     PetscOptionsEnd();
     PetscFunctionReturn(PETSC_SUCCESS);
@@ -105,14 +116,15 @@ private:
 
 SizeLawRegistry SizeLawRegistry::withBuiltins() {
   SizeLawRegistry r;
-  r.add("A", [] { return std::make_unique<LawA>(); }, "u = -kd (d^2 - d32^2), kd in 1/(m s) (paper)");
-  r.add("B", [] { return std::make_unique<LawB>(); }, "u = -kd (d - d32)|d - d32|, kd in 1/(m s) (paper)");
-  r.add("drag", [] { return std::make_unique<DragLaw>(); },
-        "u = kd (d32/d - 1), kd in m/s: drag per unit mass ~ d32/d; no net volume with -drift_local_d32");
-  r.add("log", [] { return std::make_unique<LogLaw>(); },
-        "u = kd ln(d32/d), kd in m/s: the percolation velocity of continuum segregation models");
-  r.add("power", [] { return std::make_unique<PowerLaw>(); },
-        "u = kd ((d32/d)^m - 1), kd in m/s, m = -drift_size_law_exponent (default 1)");
+  // The built-in names are identifiers and distinct: add() cannot fail here.
+  PetscCallAbort(PETSC_COMM_SELF, r.add("A", [] { return std::make_unique<LawA>(); }, "u = -kd (d^2 - d32^2), kd in 1/(m s) (paper)"));
+  PetscCallAbort(PETSC_COMM_SELF, r.add("B", [] { return std::make_unique<LawB>(); }, "u = -kd (d - d32)|d - d32|, kd in 1/(m s) (paper)"));
+  PetscCallAbort(PETSC_COMM_SELF, r.add("drag", [] { return std::make_unique<DragLaw>(); },
+        "u = kd (d32/d - 1), kd in m/s: drag per unit mass ~ d32/d; no net volume with -drift_local_d32"));
+  PetscCallAbort(PETSC_COMM_SELF, r.add("log", [] { return std::make_unique<LogLaw>(); },
+        "u = kd ln(d32/d), kd in m/s: the percolation velocity of continuum segregation models"));
+  PetscCallAbort(PETSC_COMM_SELF, r.add("power", [] { return std::make_unique<PowerLaw>(); },
+        "u = kd ((d32/d)^m - 1), kd in m/s, m = -drift_size_law_exponent (default 1)"));
   return r;
 }
 
