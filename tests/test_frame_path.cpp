@@ -617,11 +617,11 @@ void testClockWindow() {
         const auto state = c->saveState();
         const auto cont = run(*c, 300);
         auto d = makeFramePath(kind, K, R, q);
-        d->restoreState(state);
+        restorePathState(*d, state);
         RCFD_CHECK(same(run(*d, 300), cont));
         PathParams off = q;
         off.clockWindow.reset();
-        RCFD_CHECK(throwsWith([&] { makeFramePath(kind, K, R, off)->restoreState(state); },
+        RCFD_CHECK(throwsWith([&] { restorePathState(*makeFramePath(kind, K, R, off), state); },
                               "other parameters"));
       }
     }

@@ -11,6 +11,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
+#include <cstdlib>
 #include <sstream>
 #include <stdexcept>
 
@@ -347,8 +349,10 @@ private:
       if (std::abs(i - j) >= cfg_.band) near_.push_back(j);
     if (near_.empty())
       for (int j = lo; j <= hi; ++j) near_.push_back(j);
-    if (near_.empty()) // cannot happen: the clock and i are within D
-      throw std::logic_error("clock-following path: no jump target from frame " + std::to_string(i));
+    if (near_.empty()) { // a bug, never a user error (the clock and i are within D): stop, as next() does
+      std::fprintf(stderr, "rcfd: bug: the clock-following path has no jump target from frame %d\n", i);
+      std::abort();
+    }
     const double *row = nearby_.data() + static_cast<std::size_t>(i) * (2 * D + 1);
     const auto r = [row, i, D](int j) { return row[j - i + D]; };
     const auto better = [r](int a, int b) { return r(a) < r(b) || (r(a) == r(b) && a < b); };
