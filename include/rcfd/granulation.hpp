@@ -62,8 +62,36 @@ protected:
   /// Not collective.  Multiplies every fraction of the occupied cells by its
   /// factor (nothing when all are 1), and says the state's bound (`end`, the
   /// occupied end before the operator: it put no mass into an empty cell)
-  /// and this rank's totals, summed in the same pass.
-  PetscErrorCode scaleBed(FractionState &state, const std::vector<double> &factor, PetscInt end) const;
+  /// and this rank's totals, summed in the same pass.  With `owed` (a
+  /// rescale the operator before handed on, takeOwed()) the same pass first
+  /// multiplies every occupied cell outside this operator's zone by it.
+  PetscErrorCode scaleBed(FractionState &state, const std::vector<double> &factor, PetscInt end,
+                          const std::vector<double> *owed = nullptr) const;
+
+  /// The bed's totals (global, per fraction) just before this operator, when
+  /// they are known without reading the bed: from the zone operator just
+  /// before it (its bedAfter), or, for the first of the pipeline's operators
+  /// that change mass, the run's ledger (StepInfo::expectedTotals).  They
+  /// hold the state's totals up to round-off, which moves a factor s_i by
+  /// round-off times the step's change over the bed (docs/granulation.md).
+  bool knownBed(const StepInfo &step, std::vector<double> *bed) const;
+  /// Says the bed's totals after this operator's step (known: before + change).
+  void leaveBed(const StepInfo &step, std::vector<double> bed) { bedAfter = std::move(bed), bedStep = step.step; }
+  /// Keeping the bulk with the operator after it settling the bed's rescale:
+  /// instead of its own pass, the operator leaves `factor` owed (the state
+  /// as it wrote it, with its bound), and the next one multiplies its own
+  /// zone's cells by it before it reads them and the rest of the bed in its
+  /// own pass (scaleBed's `owed`): one pass for two operators, same bits.
+  bool defersRescale() const { return defers; }
+  void oweRescale(const StepInfo &step, const FractionState &state, std::vector<double> factor, PetscInt end);
+  /// Not collective.  Takes the rescale the operator before left owed at this
+  /// step, if any (*factor empty when none): its own zone's cells are scaled
+  /// now; the caller passes `factor` to scaleBed for the rest and uses `end`.
+  PetscErrorCode takeOwed(const StepInfo &step, FractionState &state, std::vector<double> *factor, PetscInt *end);
+  /// Whether this operator takes a rescale the one before it left owed
+  /// (the discharge keeping the bulk), and whether it may leave one (the feed).
+  virtual bool settlesRescale() const { return false; }
+  virtual bool mayDeferRescale() const { return false; }
 
   MPI_Comm comm = MPI_COMM_NULL;
   int nf = 0;
@@ -72,6 +100,26 @@ protected:
   int emptyFrames_ = 0, frames = 0;
   std::vector<double> added; // [kg] per fraction since the start (removed: negative)
   PetscBool keepBulk = PETSC_TRUE;
+
+public:
+  /// Collective.  Finds the zone operator just before it, whether the run's
+  /// ledger gives it the bed's totals, and whether it settles that one's rescale.
+  PetscErrorCode setUpInPipeline(const std::vector<Operator *> &before) override;
+
+private:
+  ZoneOperator *previous = nullptr; // the zone operator just before this one, if any
+  bool ledgerTotals = false;        // StepInfo::expectedTotals hold the bed just before this operator
+  bool defers = false;              // leaves its rescale to the next operator
+  std::vector<double> bedAfter;     // the bed's totals after this operator's step bedStep
+  long bedStep = -1;
+  struct Owed { // the rescale left to the next operator
+    bool pending = false;
+    long step = -1;
+    std::vector<double> factor;
+    PetscInt end = 0;
+    Vec of = nullptr;
+    PetscObjectState state = 0;
+  } owed;
 };
 
 /// Growth in the spray zone (-growth_zone, default "spray").  A global
@@ -149,6 +197,7 @@ public:
   PetscErrorCode view(PetscViewer viewer) const override;
   std::vector<double> saveState() const override;
   PetscErrorCode restoreState(const std::vector<double> &state) override;
+  bool mayDeferRescale() const override { return keepBulk; }
 
   /// Rate [kg/s] and shares (empty: the inventory's), before setUp.
   void setFeed(double kgPerSecond, std::vector<double> massShares = {}) {
@@ -184,6 +233,7 @@ public:
   std::vector<double> saveState() const override;
   PetscErrorCode restoreState(const std::vector<double> &state) override;
   PetscErrorCode monitors(const RunContext &ctx, std::vector<OperatorMonitor> *list) override;
+  bool settlesRescale() const override { return keepBulk; }
 
   void setRate(double kgPerSecond) { rate = kgPerSecond; }
   double dischargeRate() const { return rate; }

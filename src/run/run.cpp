@@ -18,6 +18,10 @@
 namespace rcfd {
 namespace {
 
+// Steps between looks at the wall clock for the periodic flush of the files
+// (one broadcast each: rank 0's clock decides for all).
+constexpr long kFlushCheckSteps = 100;
+
 std::vector<std::string> splitList(const std::string &text) {
   std::vector<std::string> out;
   std::stringstream ss(text);
@@ -376,6 +380,7 @@ PetscErrorCode Run::Impl::march() {
   const bool ledgerOn = conservative || r.ops.accountsMass(); // mass changed on purpose is accounted
   if (ledgerOn && r.startStep == 0) PetscCall(r.ledger.start(r.fstate));
   std::vector<double> added; // by the operators that change mass on purpose, since the start
+  std::vector<double> expected; // what the ledger expects each fraction to hold at a step's start
   // The frame of the next step; after a restart the path stands on it.
   int frame = r.startStep == 0 ? r.path->next() : r.path->frame();
   r.lastStep = r.startStep;
@@ -427,6 +432,12 @@ PetscErrorCode Run::Impl::march() {
                               "after jumps are listed in %s/jumps.csv)\n",
                               info.nextFrame, (s + 1) * dt, r.outputDir.c_str()));
     }
+    if (ledgerOn && !conservative && !r.ledger.reference().empty()) { // the bed's totals for the operators
+      r.ops.addedMass(&added);
+      expected = r.ledger.reference();
+      for (size_t i = 0; i < expected.size() && i < added.size(); ++i) expected[i] += added[i];
+      info.expectedTotals = &expected;
+    }
     if (info.jump) {
       BedSample before, after;
       PetscCall(r.applyAcrossJump(info, &before, &after));
@@ -449,9 +460,16 @@ PetscErrorCode Run::Impl::march() {
       PetscCall(r.writeCheckpoint(s + 1));
       lastFlush = MPI_Wtime();
     }
-    if (MPI_Wtime() - lastFlush > 10.0) { // results so far survive an interruption
-      PetscCall(r.flushMonitors());
-      lastFlush = MPI_Wtime();
+    if ((s + 1) % kFlushCheckSteps == 0) { // results so far survive an interruption
+      // Rank 0's clock decides and the others follow: the flush is collective,
+      // and ranks that read their own clocks could disagree (one flushing while
+      // the other steps on: a hang, seen on a loaded machine).
+      int due = MPI_Wtime() - lastFlush > 10.0;
+      PetscCallMPI(MPI_Bcast(&due, 1, MPI_INT, 0, r.comm));
+      if (due) {
+        PetscCall(r.flushMonitors());
+        lastFlush = MPI_Wtime();
+      }
     }
     if (stop) { // the detector's step is the run's last
       if (!r.quiet)

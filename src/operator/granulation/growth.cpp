@@ -57,15 +57,19 @@ PetscErrorCode GrowthOperator::setUp(const RunContext &ctx) {
 
 // Cost: the zone's cells and two reductions (its projected area before, what
 // moved after); an open top keeping the bulk adds the bed's totals to the
-// first and a pass over the occupied cells for the bed's factors.
+// first (unless the run's ledger gives them) and a pass over the occupied
+// cells for the bed's factors.  It says the bed's totals after it (leaveBed)
+// when it knows them, so the feed after it need not sum the bed.
 PetscErrorCode GrowthOperator::apply(const StepInfo &step, FractionState &state) {
   PetscScalar *m;
   PetscInt end;
   PetscFunctionBeginUser;
   const bool restore = openTop && keepBulk && mass == Mass::Transfer; // number mode departs from the bulk anyway
   PetscCall(state.occupiedEnd(&end));
+  std::vector<double> bed;
+  const bool known = knownBed(step, &bed);
   std::vector<double> first(1, 0.0); // the sum over the zone of m_i / d_i (proportional to N_i d_i^2), the bed's totals
-  if (restore) {
+  if (restore && !known) {
     std::vector<double> own;
     PetscCall(state.localTotals(&own));
     first.insert(first.end(), own.begin(), own.end());
@@ -81,6 +85,8 @@ PetscErrorCode GrowthOperator::apply(const StepInfo &step, FractionState &state)
     PetscCall(state.setOccupiedEnd(end));
     missedMass += toMove;
     ++emptySteps;
+    if (restore && !known) bed.assign(first.begin() + 1, first.end());
+    if (known || restore) leaveBed(step, bed);
     PetscFunctionReturn(PETSC_SUCCESS);
   }
   const double k = toMove / area;
@@ -134,12 +140,17 @@ PetscErrorCode GrowthOperator::apply(const StepInfo &step, FractionState &state)
     }
   }
   for (int i = 0; i < nf; ++i) added[i] += change[i];
+  if (restore && !known) bed.assign(first.begin() + 1, first.end());
   if (restore) {
-    std::vector<double> bed(first.begin() + 1, first.end()), gained(nf);
+    std::vector<double> gained(nf);
     for (int i = 0; i < nf; ++i) gained[i] = change[i] + zoneChange[i]; // the transfers, then the rescale
     PetscCall(scaleBed(state, bedFactors(bed, change, gained), end));
   } else PetscCall(state.setOccupiedEnd(end)); // mass moved only within cells
   limitedMass += sums[nf];
+  if (known || restore) {
+    for (int i = 0; i < nf; ++i) bed[i] += change[i];
+    leaveBed(step, bed);
+  }
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 

@@ -100,20 +100,93 @@ std::vector<double> ZoneOperator::bedFactors(const std::vector<double> &bed, con
   return factor;
 }
 
-PetscErrorCode ZoneOperator::scaleBed(FractionState &state, const std::vector<double> &factor, PetscInt end) const {
+PetscErrorCode ZoneOperator::scaleBed(FractionState &state, const std::vector<double> &factor, PetscInt end,
+                                      const std::vector<double> *owed) const {
   PetscFunctionBeginUser;
-  if (std::all_of(factor.begin(), factor.end(), [](double f) { return f == 1.0; })) {
+  const bool settle = owed && !owed->empty();
+  if (!settle && std::all_of(factor.begin(), factor.end(), [](double f) { return f == 1.0; })) {
     PetscCall(state.setOccupiedEnd(end));
     PetscFunctionReturn(PETSC_SUCCESS);
   }
   std::vector<double> sums(nf, 0.0); // as FractionState::localTotals adds: cell by cell
   PetscScalar *m;
   PetscCall(VecGetArray(state.masses(), &m));
-  for (PetscInt k = 0; k < end * nf; k += nf)
-    for (int i = 0; i < nf; ++i) sums[i] += (m[k + i] *= factor[i]);
+  if (!settle)
+    for (PetscInt k = 0; k < end * nf; k += nf)
+      for (int i = 0; i < nf; ++i) sums[i] += (m[k + i] *= factor[i]);
+  else { // the owed factor first, as the pass of the operator before would have (its zone's cells have it)
+    const double *first = owed->data();
+    PetscInt c = 0;
+    const auto both = [&](PetscInt upto) {
+      for (; c < upto; ++c)
+        for (int i = 0; i < nf; ++i) sums[i] += (m[c * nf + i] = m[c * nf + i] * first[i] * factor[i]);
+    };
+    for (PetscInt z : zone->localCells()) { // ascending
+      if (z >= end) break;
+      both(z);
+      for (int i = 0; i < nf; ++i) sums[i] += (m[z * nf + i] *= factor[i]);
+      c = z + 1;
+    }
+    both(end);
+  }
   PetscCall(VecRestoreArray(state.masses(), &m));
   PetscCall(state.setOccupiedEnd(end)); // an empty cell stays empty
   PetscCall(state.setLocalTotals(sums));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode ZoneOperator::setUpInPipeline(const std::vector<Operator *> &before) {
+  PetscFunctionBeginUser;
+  previous = before.empty() ? nullptr : dynamic_cast<ZoneOperator *>(before.back());
+  // The ledger's totals at the step's start hold here while no operator before changes mass.
+  ledgerTotals = std::all_of(before.begin(), before.end(), [](const Operator *op) { return op->conservesMass(); });
+  if (previous) previous->defers = settlesRescale() && previous->mayDeferRescale();
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+bool ZoneOperator::knownBed(const StepInfo &step, std::vector<double> *bed) const {
+  if (previous && previous->bedStep == step.step && static_cast<int>(previous->bedAfter.size()) == nf) {
+    *bed = previous->bedAfter;
+    return true;
+  }
+  if (ledgerTotals && step.expectedTotals && static_cast<int>(step.expectedTotals->size()) == nf) {
+    *bed = *step.expectedTotals;
+    return true;
+  }
+  return false;
+}
+
+void ZoneOperator::oweRescale(const StepInfo &step, const FractionState &state, std::vector<double> factor,
+                              PetscInt end) {
+  owed.pending = true;
+  owed.step = step.step;
+  owed.factor = std::move(factor);
+  owed.end = end;
+  owed.of = state.masses();
+  PetscObjectStateGet((PetscObject)owed.of, &owed.state);
+}
+
+PetscErrorCode ZoneOperator::takeOwed(const StepInfo &step, FractionState &state, std::vector<double> *factor,
+                                      PetscInt *end) {
+  PetscObjectState now = 0;
+  PetscFunctionBeginUser;
+  factor->clear();
+  if (!previous || !previous->owed.pending) PetscFunctionReturn(PETSC_SUCCESS);
+  Owed &o = previous->owed;
+  PetscCall(PetscObjectStateGet((PetscObject)state.masses(), &now));
+  PetscCheck(o.step == step.step && o.of == state.masses() && o.state == now, PETSC_COMM_SELF, PETSC_ERR_PLIB,
+             "The %s operator's rescale of the bed is owed from another step or state (step %ld, now %ld)",
+             previous->type().c_str(), o.step, step.step);
+  o.pending = false;
+  *factor = std::move(o.factor);
+  *end = o.end;
+  PetscScalar *m;
+  PetscCall(VecGetArray(state.masses(), &m));
+  for (PetscInt c : zone->localCells()) { // as the pass below will scale the others
+    if (c >= *end) break;
+    for (int i = 0; i < nf; ++i) m[c * nf + i] *= (*factor)[i];
+  }
+  PetscCall(VecRestoreArray(state.masses(), &m));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
