@@ -36,7 +36,7 @@ PetscErrorCode DischargeOperator::setUp(const RunContext &ctx) {
 
 // Cost: the zone's cells and one reduction (its sums; the bed's totals too
 // with -keep_bulk when the run's ledger or the operator before does not give
-// them); with -keep_bulk one pass over the occupied cells for the bed's
+// them), none when the feed just before reduced its zone's sums; with -keep_bulk one pass over the occupied cells for the bed's
 // factors (none when the zone was emptied: they are 1), which also settles the
 // feed's rescale when the feed runs just before.  What leaves is known from
 // the zone's sums: share * inZone, or all of it.
@@ -48,9 +48,12 @@ PetscErrorCode DischargeOperator::apply(const StepInfo &step, FractionState &sta
   const double wanted = rate * step.dt + owedMass;
   PetscCall(state.occupiedEnd(&end));
   PetscCall(takeOwed(step, state, &owedFactor, &end)); // the feed's rescale, its zone's cells scaled now
-  const bool known = knownBed(step, &bed);
-  PetscCall(zoneMasses(state, &inZone, &solid, keepBulk && !known ? &bed : nullptr));
-  const bool bedValid = known || keepBulk;
+  bool bedValid = false;
+  if (presummed(step, &inZone) && ((bedValid = knownBed(step, &bed)) || !keepBulk)) {
+    // The feed reduced this zone's sums with its own: no meeting; its rescale on top.
+    solid = 0.0;
+    for (int i = 0; i < nf; ++i) solid += (inZone[i] *= owedFactor.empty() ? 1.0 : owedFactor[i]);
+  } else PetscCall(zoneMasses(step, state, &inZone, &solid, &bed, keepBulk, &bedValid));
   std::vector<double> factor(nf, 1.0), change(nf, 0.0);
   if (!(solid > 0.0)) { // nothing to take: owed
     owedMass = wanted;

@@ -45,7 +45,8 @@ PetscErrorCode FeedOperator::setUp(const RunContext &ctx) {
 
 // Cost: the zone's cells and one reduction (its sums; the bed's totals too
 // with -keep_bulk when the run's ledger or the operator before does not give
-// them); with -keep_bulk one pass over the occupied cells for the bed's
+// them; what the growth before it moved; the discharge's zone sums when it
+// follows); with -keep_bulk one pass over the occupied cells for the bed's
 // factors, whose sums the next reader of the totals gets for free, or none
 // when the discharge after it settles the rescale in its own pass.
 PetscErrorCode FeedOperator::apply(const StepInfo &step, FractionState &state) {
@@ -53,11 +54,12 @@ PetscErrorCode FeedOperator::apply(const StepInfo &step, FractionState &state) {
   double solid;
   PetscInt end;
   PetscFunctionBeginUser;
+  PetscCheck(!defersRescale() || !owedPending(), PETSC_COMM_SELF, PETSC_ERR_PLIB,
+             "The feed's rescale of the last step was not settled by the discharge");
   for (int i = 0; i < nf; ++i) held[i] += rate * step.dt * shares[i];
   PetscCall(state.occupiedEnd(&end));
-  const bool known = knownBed(step, &bed);
-  PetscCall(zoneMasses(state, &inZone, &solid, keepBulk && !known ? &bed : nullptr));
-  const bool bedValid = known || keepBulk;
+  bool bedValid;
+  PetscCall(zoneMasses(step, state, &inZone, &solid, &bed, keepBulk, &bedValid));
   if (!(solid > 0.0)) { // nowhere to put it: held back for the next step with solid in the zone
     ++heldSteps;
     if (bedValid) leaveBed(step, bed);
