@@ -39,12 +39,25 @@ protected:
   /// Resolves the zone on the mesh and checks it holds solid in some frame.
   PetscErrorCode setUpZone(const RunContext &ctx);
   /// Collective, one reduction.  Mass of each fraction in the zone's cells
-  /// (global) into `perFraction` (nf numbers) and their sum into *total;
-  /// with `bed` also every fraction's total in the whole bed (in the same
-  /// reduction; the bed's own sums come free when the last writer said them,
-  /// FractionState::setLocalTotals).
-  PetscErrorCode zoneMasses(const FractionState &state, std::vector<double> *perFraction, double *total,
-                            std::vector<double> *bed = nullptr) const;
+  /// (global) into `perFraction` (nf numbers) and their sum into *total; the
+  /// bed's totals before this operator into *bed when they are known
+  /// (knownBed) or `needBed` (then summed, in the same reduction; free when
+  /// the last writer said them, FractionState::setLocalTotals); *bedValid
+  /// says whether *bed holds them.  The same reduction carries what the zone
+  /// operator before left to reduce (carryOn) and, for the one after, its
+  /// zone's sums (forNext).
+  PetscErrorCode zoneMasses(const StepInfo &step, const FractionState &state, std::vector<double> *perFraction,
+                            double *total, std::vector<double> *bed, bool needBed, bool *bedValid);
+  /// Leaves this rank's `sums` to the next zone operator's reduction (one
+  /// meeting for two); it calls sumsReduced() with the global sums before it
+  /// reads the bed's totals.  False when there is no next zone operator: the
+  /// caller reduces them itself.
+  bool carryOn(const StepInfo &step, std::vector<double> sums, bool leavesBed);
+  virtual PetscErrorCode sumsReduced(const StepInfo &step, const double *global);
+  /// The zone's sums (global, per fraction) the zone operator before reduced
+  /// for this one at this step, before its own change (its rescale owed on
+  /// top), or false.
+  bool presummed(const StepInfo &step, std::vector<double> *perFraction) const;
   /// One line: the zone and its cells, the frames in which it is empty, and
   /// (`bulkNote`, for feed and discharge) whether its cells keep their bulk.
   PetscErrorCode viewZone(PetscViewer viewer, bool bulkNote) const;
@@ -62,8 +75,38 @@ protected:
   /// Not collective.  Multiplies every fraction of the occupied cells by its
   /// factor (nothing when all are 1), and says the state's bound (`end`, the
   /// occupied end before the operator: it put no mass into an empty cell)
-  /// and this rank's totals, summed in the same pass.
-  PetscErrorCode scaleBed(FractionState &state, const std::vector<double> &factor, PetscInt end) const;
+  /// and this rank's totals, summed in the same pass.  With `owed` (a
+  /// rescale the operator before handed on, takeOwed()) the same pass first
+  /// multiplies every occupied cell outside this operator's zone by it.
+  PetscErrorCode scaleBed(FractionState &state, const std::vector<double> &factor, PetscInt end,
+                          const std::vector<double> *owed = nullptr) const;
+
+  /// The bed's totals (global, per fraction) just before this operator, when
+  /// they are known without reading the bed: from the zone operator just
+  /// before it (its bedAfter), or, for the first of the pipeline's operators
+  /// that change mass, the run's ledger (StepInfo::expectedTotals).  They
+  /// hold the state's totals up to round-off, which moves a factor s_i by
+  /// round-off times the step's change over the bed (docs/granulation.md).
+  bool knownBed(const StepInfo &step, std::vector<double> *bed) const;
+  /// Says the bed's totals after this operator's step (known: before + change).
+  void leaveBed(const StepInfo &step, std::vector<double> bed) { bedAfter = std::move(bed), bedStep = step.step; }
+  /// Keeping the bulk with the operator after it settling the bed's rescale:
+  /// instead of its own pass, the operator leaves `factor` owed (the state
+  /// as it wrote it, with its bound), and the next one multiplies its own
+  /// zone's cells by it before it reads them and the rest of the bed in its
+  /// own pass (scaleBed's `owed`): one pass for two operators, same bits.
+  bool defersRescale() const { return defers; }
+  bool owedPending() const { return owed.pending; }
+  bool carriedPending() const { return carried.pending; }
+  void oweRescale(const StepInfo &step, const FractionState &state, std::vector<double> factor, PetscInt end);
+  /// Not collective.  Takes the rescale the operator before left owed at this
+  /// step, if any (*factor empty when none): its own zone's cells are scaled
+  /// now; the caller passes `factor` to scaleBed for the rest and uses `end`.
+  PetscErrorCode takeOwed(const StepInfo &step, FractionState &state, std::vector<double> *factor, PetscInt *end);
+  /// Whether this operator takes a rescale the one before it left owed
+  /// (the discharge keeping the bulk), and whether it may leave one (the feed).
+  virtual bool settlesRescale() const { return false; }
+  virtual bool mayDeferRescale() const { return false; }
 
   MPI_Comm comm = MPI_COMM_NULL;
   int nf = 0;
@@ -72,6 +115,35 @@ protected:
   int emptyFrames_ = 0, frames = 0;
   std::vector<double> added; // [kg] per fraction since the start (removed: negative)
   PetscBool keepBulk = PETSC_TRUE;
+
+public:
+  /// Collective.  Finds the zone operator just before it, whether the run's
+  /// ledger gives it the bed's totals, and whether it settles that one's rescale.
+  PetscErrorCode setUpInPipeline(const std::vector<Operator *> &before) override;
+
+private:
+  ZoneOperator *previous = nullptr; // the zone operator just before this one, if any
+  bool ledgerTotals = false;        // StepInfo::expectedTotals hold the bed just before this operator
+  bool defers = false;              // leaves its rescale to the next operator
+  std::vector<double> bedAfter;     // the bed's totals after this operator's step bedStep
+  long bedStep = -1;
+  ZoneOperator *following = nullptr; // the zone operator just after this one, if any
+  bool sumsForNext = false;           // reduces the following operator's zone sums with its own
+  std::vector<double> nextSums;       // those, global, at step nextSumsStep
+  long nextSumsStep = -1;
+  struct Carried { // this rank's sums left to the following operator's reduction
+    bool pending = false, leavesBed = false;
+    long step = -1;
+    std::vector<double> local;
+  } carried;
+  struct Owed { // the rescale left to the next operator
+    bool pending = false;
+    long step = -1;
+    std::vector<double> factor;
+    PetscInt end = 0;
+    Vec of = nullptr;
+    PetscObjectState state = 0;
+  } owed;
 };
 
 /// Growth in the spray zone (-growth_zone, default "spray").  A global
@@ -130,6 +202,13 @@ private:
   double limitedMass = 0.0, missedMass = 0.0, coating = 0.0, oversizeMass = 0.0;
   long emptySteps = 0;
   bool openTop = false;
+  bool bedKnown = false;         // the bed's totals before this step's transfers are known: bedBefore
+  std::vector<double> bedBefore;
+  /// The step's bookkeeping from the global sums moved per class (and the
+  /// limited mass after them): moved, oversize, coating, added, limited;
+  /// returns the change per class.
+  std::vector<double> account(const double *sums);
+  PetscErrorCode sumsReduced(const StepInfo &step, const double *global) override;
 };
 
 /// Feed into the feed zone (-feed_zone, default "feed"): m_f (-feed_rate,
@@ -149,6 +228,7 @@ public:
   PetscErrorCode view(PetscViewer viewer) const override;
   std::vector<double> saveState() const override;
   PetscErrorCode restoreState(const std::vector<double> &state) override;
+  bool mayDeferRescale() const override { return keepBulk; }
 
   /// Rate [kg/s] and shares (empty: the inventory's), before setUp.
   void setFeed(double kgPerSecond, std::vector<double> massShares = {}) {
@@ -184,6 +264,7 @@ public:
   std::vector<double> saveState() const override;
   PetscErrorCode restoreState(const std::vector<double> &state) override;
   PetscErrorCode monitors(const RunContext &ctx, std::vector<OperatorMonitor> *list) override;
+  bool settlesRescale() const override { return keepBulk; }
 
   void setRate(double kgPerSecond) { rate = kgPerSecond; }
   double dischargeRate() const { return rate; }

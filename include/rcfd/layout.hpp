@@ -59,4 +59,21 @@ private:
   std::vector<PetscInt> toPetsc_, toNatural_, owned;
 };
 
+/// Layout::gatherToAll for a caller that gathers Vecs of the same layout
+/// again and again (the column carry at every jump): one scatter, from the
+/// PETSc rows in natural order straight into a sequential Vec, made at the
+/// first gather and reused while the layout and the block size stay.
+class AllGather {
+public:
+  /// Collective.  The values of `petscOrdered` (block size bs) in natural
+  /// order on every rank, the same as layout.gatherToAll.
+  PetscErrorCode gather(const Layout &layout, PetscInt bs, Vec petscOrdered, std::vector<double> *natural);
+
+private:
+  const Layout *of = nullptr;
+  PetscInt blockSize = 0, size = 0;
+  OwnedVec all;
+  OwnedScatter scatter;
+};
+
 } // namespace rcfd

@@ -75,6 +75,11 @@ public:
   /// Collective, after setUp().  Appends the monitors this operator brings
   /// along to the run's list (the default brings none).
   virtual PetscErrorCode monitors(const RunContext &ctx, std::vector<OperatorMonitor> *list);
+  /// Collective, called by the pipeline once every operator is set up: the
+  /// operators that run before this one in each step, in order, so that an
+  /// operator can share work with its neighbours (the granulation operators
+  /// hand the bed's totals and a rescale on).  The default does nothing.
+  virtual PetscErrorCode setUpInPipeline(const std::vector<Operator *> &before);
 
 protected:
   std::string prefix;

@@ -4,6 +4,8 @@
 
 #include "rcfd/run_context.hpp"
 
+#include <vector>
+
 namespace rcfd {
 
 /// The step being taken: frame k moves the state from t_k to t_k + dt_rec.
@@ -14,6 +16,11 @@ struct StepInfo {
   int frame = 0;      // database frame used by this step
   int nextFrame = 0;  // frame of the following step
   bool jump = false;  // true when nextFrame != frame + 1 (wrap or stitching jump)
+  /// The mass of each fraction [kg] the run's mass ledger expects at the
+  /// step's start (its reference plus what the operators added), which the
+  /// state holds up to round-off; nullptr when the run keeps no ledger.  An
+  /// operator that needs the bed's totals reads them here instead of the bed.
+  const std::vector<double> *expectedTotals = nullptr;
 };
 
 } // namespace rcfd

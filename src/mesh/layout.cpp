@@ -129,4 +129,23 @@ PetscErrorCode Layout::gatherToAll(PetscInt bs, Vec petscOrdered, std::vector<do
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
+PetscErrorCode AllGather::gather(const Layout &layout, PetscInt bs, Vec petscOrdered, std::vector<double> *natural) {
+  const PetscScalar *a;
+  PetscInt n;
+  PetscFunctionBeginUser;
+  PetscCall(VecGetSize(petscOrdered, &n));
+  if (of != &layout || blockSize != bs || size != n) { // every rank decides alike: the same layout and Vec
+    std::vector<PetscInt> rows(layout.numCells()); // the PETSc row of each cell, in natural order
+    for (PetscInt c = 0; c < layout.numCells(); ++c) rows[c] = layout.petscRow(c);
+    PetscCall(layout.rowsScatter(bs, layout.numCells(), rows.data(), all.put(), scatter.put()));
+    of = &layout, blockSize = bs, size = n;
+  }
+  PetscCall(VecScatterBegin(scatter, petscOrdered, all, INSERT_VALUES, SCATTER_FORWARD));
+  PetscCall(VecScatterEnd(scatter, petscOrdered, all, INSERT_VALUES, SCATTER_FORWARD));
+  PetscCall(VecGetArrayRead(all, &a));
+  natural->assign(a, a + n);
+  PetscCall(VecRestoreArrayRead(all, &a));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
 } // namespace rcfd

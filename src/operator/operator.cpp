@@ -21,6 +21,8 @@ PetscErrorCode Operator::restoreState(const std::vector<double> &state) {
 
 PetscErrorCode Operator::monitors(const RunContext &, std::vector<OperatorMonitor> *) { return PETSC_SUCCESS; }
 
+PetscErrorCode Operator::setUpInPipeline(const std::vector<Operator *> &) { return PETSC_SUCCESS; }
+
 PetscErrorCode ShellOperator::setUp(const RunContext &) { return PETSC_SUCCESS; }
 
 OperatorRegistry::OperatorRegistry() : makers("-pipeline", "operator") {}
@@ -111,6 +113,11 @@ PetscErrorCode Pipeline::setUp(const RunContext &ctx) {
   }
   ops = std::move(kept);
   views = std::move(keptViews);
+  std::vector<Operator *> before;
+  for (const auto &op : ops) {
+    PetscCall(op->setUpInPipeline(before));
+    before.push_back(op.get());
+  }
   isSetUp = true;
   PetscFunctionReturn(PETSC_SUCCESS);
 }

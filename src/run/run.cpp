@@ -19,6 +19,10 @@
 namespace rcfd {
 namespace {
 
+// Steps between looks at the wall clock for the periodic flush of the files
+// (one reduction each: the slowest rank's clock decides for all).
+constexpr long kFlushCheckSteps = 16;
+
 std::vector<std::string> splitList(const std::string &text) {
   std::vector<std::string> out;
   std::stringstream ss(text);
@@ -435,6 +439,7 @@ PetscErrorCode Run::Impl::march() {
   const bool ledgerOn = conservative || r.ops.accountsMass(); // mass changed on purpose is accounted
   if (ledgerOn && r.startStep == 0) PetscCall(r.ledger.start(r.fstate));
   std::vector<double> added; // by the operators that change mass on purpose, since the start
+  std::vector<double> expected; // what the ledger expects each fraction to hold at a step's start
   // The frame of the next step; after a restart the path stands on it.
   int frame = r.startStep == 0 ? r.path->next() : r.path->frame();
   r.lastStep = r.startStep;
@@ -486,6 +491,12 @@ PetscErrorCode Run::Impl::march() {
                               "after jumps are listed in %s/jumps.csv)\n",
                               info.nextFrame, (s + 1) * dt, r.outputDir.c_str()));
     }
+    if (ledgerOn && !conservative && !r.ledger.reference().empty()) { // the bed's totals for the operators
+      r.ops.addedMass(&added);
+      expected = r.ledger.reference();
+      for (size_t i = 0; i < expected.size() && i < added.size(); ++i) expected[i] += added[i];
+      info.expectedTotals = &expected;
+    }
     if (info.jump) {
       BedSample before, after;
       PetscCall(r.applyAcrossJump(info, &before, &after));
@@ -510,8 +521,9 @@ PetscErrorCode Run::Impl::march() {
     }
     // Results so far survive an interruption: flushed every 10 s of wall time.
     // Flushing is collective, and the ranks' clocks differ, so they agree on it
-    // (the slowest rank's clock) at every 16th step instead of each reading its own.
-    if ((s + 1) % 16 == 0) {
+    // (the slowest rank's clock) every kFlushCheckSteps steps instead of each reading
+    // its own (which hung two ranks on a loaded machine).
+    if ((s + 1) % kFlushCheckSteps == 0) {
       double waited = MPI_Wtime() - lastFlush;
       PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, &waited, 1, MPI_DOUBLE, MPI_MAX, r.comm));
       if (waited > 10.0) {

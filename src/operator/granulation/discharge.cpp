@@ -34,51 +34,65 @@ PetscErrorCode DischargeOperator::setUp(const RunContext &ctx) {
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
-// Cost: the zone's cells and one reduction (its sums, and the bed's totals
-// with -keep_bulk); with -keep_bulk one pass over the occupied cells for the
-// bed's factors (none when the zone was emptied: they are 1).  What leaves is
-// known from the zone's sums: share * inZone, or all of it.
+// Cost: the zone's cells and one reduction (its sums; the bed's totals too
+// with -keep_bulk when the run's ledger or the operator before does not give
+// them), none when the feed just before reduced its zone's sums; with -keep_bulk one pass over the occupied cells for the bed's
+// factors (none when the zone was emptied: they are 1), which also settles the
+// feed's rescale when the feed runs just before.  What leaves is known from
+// the zone's sums: share * inZone, or all of it.
 PetscErrorCode DischargeOperator::apply(const StepInfo &step, FractionState &state) {
-  std::vector<double> inZone, bed;
+  std::vector<double> inZone, bed, owedFactor;
   double solid;
   PetscInt end;
   PetscFunctionBeginUser;
   const double wanted = rate * step.dt + owedMass;
   PetscCall(state.occupiedEnd(&end));
-  PetscCall(zoneMasses(state, &inZone, &solid, keepBulk ? &bed : nullptr));
+  PetscCall(takeOwed(step, state, &owedFactor, &end)); // the feed's rescale, its zone's cells scaled now
+  bool bedValid = false;
+  if (presummed(step, &inZone) && ((bedValid = knownBed(step, &bed)) || !keepBulk)) {
+    // The feed reduced this zone's sums with its own: no meeting; its rescale on top.
+    solid = 0.0;
+    for (int i = 0; i < nf; ++i) solid += (inZone[i] *= owedFactor.empty() ? 1.0 : owedFactor[i]);
+  } else PetscCall(zoneMasses(step, state, &inZone, &solid, &bed, keepBulk, &bedValid));
+  std::vector<double> factor(nf, 1.0), change(nf, 0.0);
   if (!(solid > 0.0)) { // nothing to take: owed
     owedMass = wanted;
     ++emptySteps;
-    PetscFunctionReturn(PETSC_SUCCESS);
-  }
-  const bool all = wanted >= solid; // the limit: the zone is emptied, the rest owed
-  const double share = all ? 1.0 : wanted / solid;
-  owedMass = all ? wanted - solid : 0.0;
-  limitedCount += all;
-  PetscScalar *m;
-  PetscCall(VecGetArray(state.masses(), &m));
-  for (PetscInt c : zone->localCells()) {
-    PetscScalar *cell = m + c * nf;
-    double bulkBefore = 0.0;
-    for (int i = 0; i < nf; ++i) {
-      bulkBefore += cell[i];
-      cell[i] = all ? 0.0 : cell[i] - cell[i] * share; // never negative
+  } else {
+    const bool all = wanted >= solid; // the limit: the zone is emptied, the rest owed
+    const double share = all ? 1.0 : wanted / solid;
+    owedMass = all ? wanted - solid : 0.0;
+    limitedCount += all;
+    PetscScalar *m;
+    PetscCall(VecGetArray(state.masses(), &m));
+    for (PetscInt c : zone->localCells()) {
+      PetscScalar *cell = m + c * nf;
+      double bulkBefore = 0.0;
+      for (int i = 0; i < nf; ++i) {
+        bulkBefore += cell[i];
+        cell[i] = all ? 0.0 : cell[i] - cell[i] * share; // never negative
+      }
+      if (!keepBulk || all) continue; // an emptied cell stays empty
+      double bulk = 0.0; // back to the cell's bulk before: its composition is kept
+      for (int i = 0; i < nf; ++i) bulk += cell[i];
+      if (bulk > 0.0)
+        for (int i = 0; i < nf; ++i) cell[i] *= bulkBefore / bulk;
     }
-    if (!keepBulk || all) continue; // an emptied cell stays empty
-    double bulk = 0.0; // back to the cell's bulk before: its composition is kept
-    for (int i = 0; i < nf; ++i) bulk += cell[i];
-    if (bulk > 0.0)
-      for (int i = 0; i < nf; ++i) cell[i] *= bulkBefore / bulk;
+    PetscCall(VecRestoreArray(state.masses(), &m));
+    for (int i = 0; i < nf; ++i) change[i] = -(all ? inZone[i] : inZone[i] * share);
+    if (keepBulk) { // the zone keeps its masses (scaled back), or is emptied
+      std::vector<double> zoneChange(nf, 0.0);
+      if (all) zoneChange = change;
+      factor = bedFactors(bed, change, zoneChange);
+    }
   }
-  PetscCall(VecRestoreArray(state.masses(), &m));
-  std::vector<double> change(nf);
-  for (int i = 0; i < nf; ++i) change[i] = -(all ? inZone[i] : inZone[i] * share);
-  if (keepBulk) { // the zone keeps its masses (scaled back), or is emptied
-    std::vector<double> zoneChange(nf, 0.0);
-    if (all) zoneChange = change;
-    PetscCall(scaleBed(state, bedFactors(bed, change, zoneChange), end));
-  } else PetscCall(state.setOccupiedEnd(end));
-  for (int i = 0; i < nf; ++i) added[i] += change[i];
+  if (keepBulk || !owedFactor.empty()) PetscCall(scaleBed(state, factor, end, &owedFactor));
+  else PetscCall(state.setOccupiedEnd(end));
+  for (int i = 0; i < nf; ++i) {
+    added[i] += change[i];
+    if (bedValid) bed[i] += change[i];
+  }
+  if (bedValid) leaveBed(step, bed);
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 

@@ -43,19 +43,26 @@ PetscErrorCode FeedOperator::setUp(const RunContext &ctx) {
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
-// Cost: the zone's cells and one reduction (its sums, and the bed's totals
-// with -keep_bulk); with -keep_bulk one pass over the occupied cells for the
-// bed's factors, whose sums the next reader of the totals gets for free.
+// Cost: the zone's cells and one reduction (its sums; the bed's totals too
+// with -keep_bulk when the run's ledger or the operator before does not give
+// them; what the growth before it moved; the discharge's zone sums when it
+// follows); with -keep_bulk one pass over the occupied cells for the bed's
+// factors, whose sums the next reader of the totals gets for free, or none
+// when the discharge after it settles the rescale in its own pass.
 PetscErrorCode FeedOperator::apply(const StepInfo &step, FractionState &state) {
   std::vector<double> inZone, bed;
   double solid;
   PetscInt end;
   PetscFunctionBeginUser;
+  PetscCheck(!defersRescale() || !owedPending(), PETSC_COMM_SELF, PETSC_ERR_PLIB,
+             "The feed's rescale of the last step was not settled by the discharge");
   for (int i = 0; i < nf; ++i) held[i] += rate * step.dt * shares[i];
   PetscCall(state.occupiedEnd(&end));
-  PetscCall(zoneMasses(state, &inZone, &solid, keepBulk ? &bed : nullptr));
+  bool bedValid;
+  PetscCall(zoneMasses(step, state, &inZone, &solid, &bed, keepBulk, &bedValid));
   if (!(solid > 0.0)) { // nowhere to put it: held back for the next step with solid in the zone
     ++heldSteps;
+    if (bedValid) leaveBed(step, bed);
     PetscFunctionReturn(PETSC_SUCCESS);
   }
   // Each cell of the zone takes its share of the zone's solid; empty cells take none.
@@ -81,12 +88,16 @@ PetscErrorCode FeedOperator::apply(const StepInfo &step, FractionState &state) {
     for (double h : held) fed += h;
     std::vector<double> zoneChange(nf);
     for (int i = 0; i < nf; ++i) zoneChange[i] = (inZone[i] + held[i]) * (solid / (solid + fed)) - inZone[i];
-    PetscCall(scaleBed(state, bedFactors(bed, held, zoneChange), end));
+    std::vector<double> factor = bedFactors(bed, held, zoneChange);
+    if (defersRescale()) oweRescale(step, state, std::move(factor), end); // the discharge's pass settles it
+    else PetscCall(scaleBed(state, factor, end));
   } else PetscCall(state.setOccupiedEnd(end)); // mass went only where there was some
   for (int i = 0; i < nf; ++i) {
     added[i] += held[i];
+    if (bedValid) bed[i] += held[i];
     held[i] = 0.0;
   }
+  if (bedValid) leaveBed(step, bed);
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 

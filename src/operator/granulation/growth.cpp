@@ -56,16 +56,23 @@ PetscErrorCode GrowthOperator::setUp(const RunContext &ctx) {
 }
 
 // Cost: the zone's cells and two reductions (its projected area before, what
-// moved after); an open top keeping the bulk adds the bed's totals to the
-// first and a pass over the occupied cells for the bed's factors.
+// moved after; the second one the feed's when the feed follows: carryOn); an
+// open top keeping the bulk adds the bed's totals to the first (unless the
+// run's ledger gives them) and a pass over the occupied cells for the bed's
+// factors.  It says the bed's totals after it (leaveBed) when it knows them,
+// so the feed after it need not sum the bed.
 PetscErrorCode GrowthOperator::apply(const StepInfo &step, FractionState &state) {
   PetscScalar *m;
   PetscInt end;
   PetscFunctionBeginUser;
+  PetscCheck(!carriedPending(), PETSC_COMM_SELF, PETSC_ERR_PLIB,
+             "What growth moved in the last step was not reduced by the operator after it");
   const bool restore = openTop && keepBulk && mass == Mass::Transfer; // number mode departs from the bulk anyway
   PetscCall(state.occupiedEnd(&end));
+  std::vector<double> bed;
+  const bool known = knownBed(step, &bed);
   std::vector<double> first(1, 0.0); // the sum over the zone of m_i / d_i (proportional to N_i d_i^2), the bed's totals
-  if (restore) {
+  if (restore && !known) {
     std::vector<double> own;
     PetscCall(state.localTotals(&own));
     first.insert(first.end(), own.begin(), own.end());
@@ -81,6 +88,8 @@ PetscErrorCode GrowthOperator::apply(const StepInfo &step, FractionState &state)
     PetscCall(state.setOccupiedEnd(end));
     missedMass += toMove;
     ++emptySteps;
+    if (restore && !known) bed.assign(first.begin() + 1, first.end());
+    if (known || restore) leaveBed(step, bed);
     PetscFunctionReturn(PETSC_SUCCESS);
   }
   const double k = toMove / area;
@@ -116,10 +125,30 @@ PetscErrorCode GrowthOperator::apply(const StepInfo &step, FractionState &state)
     }
   }
   PetscCall(VecRestoreArray(state.masses(), &m));
+  bedKnown = known || restore;
+  if (restore && !known) bed.assign(first.begin() + 1, first.end());
+  bedBefore = bed;
+  if (!restore) {
+    PetscCall(state.setOccupiedEnd(end)); // mass moved only within cells
+    if (carryOn(step, sums, bedKnown)) PetscFunctionReturn(PETSC_SUCCESS); // the feed reduces them with its own
+    PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, sums.data(), static_cast<int>(sums.size()), MPI_DOUBLE, MPI_SUM, comm));
+    PetscCall(sumsReduced(step, sums.data()));
+    PetscFunctionReturn(PETSC_SUCCESS);
+  }
   PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, sums.data(), static_cast<int>(sums.size()), MPI_DOUBLE, MPI_SUM, comm));
+  const std::vector<double> change = account(sums.data());
+  std::vector<double> gained(nf);
+  for (int i = 0; i < nf; ++i) gained[i] = change[i] + zoneChange[i]; // the transfers, then the rescale
+  PetscCall(scaleBed(state, bedFactors(bed, change, gained), end));
+  for (int i = 0; i < nf; ++i) bed[i] += change[i];
+  leaveBed(step, bed);
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+std::vector<double> GrowthOperator::account(const double *sums) {
   std::vector<double> change(nf, 0.0); // this step's, per class
   for (int i = 0; i < nf; ++i) {
-    if (!grows(i)) continue;
+    if (!(next[i] >= 0 || openTop)) continue; // a closed top's own growth moves nothing
     moved[i] += sums[i];
     change[i] -= sums[i];
     if (next[i] < 0) {
@@ -134,12 +163,19 @@ PetscErrorCode GrowthOperator::apply(const StepInfo &step, FractionState &state)
     }
   }
   for (int i = 0; i < nf; ++i) added[i] += change[i];
-  if (restore) {
-    std::vector<double> bed(first.begin() + 1, first.end()), gained(nf);
-    for (int i = 0; i < nf; ++i) gained[i] = change[i] + zoneChange[i]; // the transfers, then the rescale
-    PetscCall(scaleBed(state, bedFactors(bed, change, gained), end));
-  } else PetscCall(state.setOccupiedEnd(end)); // mass moved only within cells
   limitedMass += sums[nf];
+  return change;
+}
+
+// What moved, reduced here or by the feed after it (carryOn); the bed's totals after it when known.
+PetscErrorCode GrowthOperator::sumsReduced(const StepInfo &step, const double *global) {
+  PetscFunctionBeginUser;
+  const std::vector<double> change = account(global);
+  if (bedKnown) {
+    std::vector<double> bed = bedBefore;
+    for (int i = 0; i < nf; ++i) bed[i] += change[i];
+    leaveBed(step, std::move(bed));
+  }
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 

@@ -58,27 +58,69 @@ PetscErrorCode ZoneOperator::setUpZone(const RunContext &ctx) {
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
-// The zone's sums cell by cell and the bed's, reduced together: one meeting.
-PetscErrorCode ZoneOperator::zoneMasses(const FractionState &state, std::vector<double> *perFraction, double *total,
-                                        std::vector<double> *bed) const {
+// The zone's sums cell by cell and the bed's, reduced together with what
+// the zone operators before and after leave for it: one meeting.
+PetscErrorCode ZoneOperator::zoneMasses(const StepInfo &step, const FractionState &state,
+                                        std::vector<double> *perFraction, double *total, std::vector<double> *bed,
+                                        bool needBed, bool *bedValid) {
   const PetscScalar *m;
   PetscFunctionBeginUser;
-  std::vector<double> sums(bed ? 2 * nf : nf, 0.0);
+  const bool carriedIn = previous && previous->carried.pending && previous->carried.step == step.step;
+  bool known = !carriedIn && knownBed(step, bed);
+  const bool willKnow = carriedIn ? previous->carried.leavesBed : known;
+  const bool sumBed = needBed && !willKnow;
+  const bool forNext = sumsForNext && following;
+  std::vector<double> sums(nf, 0.0);
   PetscCall(VecGetArrayRead(state.masses(), &m));
   for (PetscInt c : zone->localCells())
     for (int i = 0; i < nf; ++i) sums[i] += m[c * nf + i];
+  if (forNext) { // the next operator's zone, as it is now (this operator leaves it alone)
+    sums.resize(2 * nf, 0.0);
+    for (PetscInt c : following->zone->localCells())
+      for (int i = 0; i < nf; ++i) sums[nf + i] += m[c * nf + i];
+  }
   PetscCall(VecRestoreArrayRead(state.masses(), &m));
-  if (bed) {
+  const std::size_t bedAt = sums.size();
+  if (sumBed) {
     std::vector<double> own;
     PetscCall(state.localTotals(&own));
-    std::copy(own.begin(), own.end(), sums.begin() + nf);
+    sums.insert(sums.end(), own.begin(), own.end());
   }
+  const std::size_t carriedAt = sums.size();
+  if (carriedIn) sums.insert(sums.end(), previous->carried.local.begin(), previous->carried.local.end());
   PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, sums.data(), static_cast<int>(sums.size()), MPI_DOUBLE, MPI_SUM, comm));
   perFraction->assign(sums.begin(), sums.begin() + nf);
-  if (bed) bed->assign(sums.begin() + nf, sums.end());
   *total = 0.0;
   for (double v : *perFraction) *total += v;
+  if (forNext) {
+    nextSums.assign(sums.begin() + nf, sums.begin() + 2 * nf);
+    nextSumsStep = step.step;
+  }
+  if (sumBed) bed->assign(sums.begin() + bedAt, sums.begin() + bedAt + nf);
+  if (carriedIn) { // the operator before finishes its step, and says the bed after it
+    previous->carried.pending = false;
+    PetscCall(previous->sumsReduced(step, sums.data() + carriedAt));
+    if (willKnow) known = knownBed(step, bed);
+  }
+  *bedValid = known || sumBed;
   PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+bool ZoneOperator::carryOn(const StepInfo &step, std::vector<double> sums, bool leavesBed) {
+  if (!following) return false;
+  carried.pending = true;
+  carried.leavesBed = leavesBed;
+  carried.step = step.step;
+  carried.local = std::move(sums);
+  return true;
+}
+
+PetscErrorCode ZoneOperator::sumsReduced(const StepInfo &, const double *) { return PETSC_SUCCESS; }
+
+bool ZoneOperator::presummed(const StepInfo &step, std::vector<double> *perFraction) const {
+  if (!previous || !previous->sumsForNext || previous->nextSumsStep != step.step) return false;
+  *perFraction = previous->nextSums;
+  return true;
 }
 
 PetscErrorCode ZoneOperator::readKeepBulk(PetscOptionItems *PetscOptionsObject) {
@@ -100,20 +142,106 @@ std::vector<double> ZoneOperator::bedFactors(const std::vector<double> &bed, con
   return factor;
 }
 
-PetscErrorCode ZoneOperator::scaleBed(FractionState &state, const std::vector<double> &factor, PetscInt end) const {
+PetscErrorCode ZoneOperator::scaleBed(FractionState &state, const std::vector<double> &factor, PetscInt end,
+                                      const std::vector<double> *owed) const {
   PetscFunctionBeginUser;
-  if (std::all_of(factor.begin(), factor.end(), [](double f) { return f == 1.0; })) {
+  const bool settle = owed && !owed->empty();
+  if (!settle && std::all_of(factor.begin(), factor.end(), [](double f) { return f == 1.0; })) {
     PetscCall(state.setOccupiedEnd(end));
     PetscFunctionReturn(PETSC_SUCCESS);
   }
   std::vector<double> sums(nf, 0.0); // as FractionState::localTotals adds: cell by cell
   PetscScalar *m;
   PetscCall(VecGetArray(state.masses(), &m));
-  for (PetscInt k = 0; k < end * nf; k += nf)
-    for (int i = 0; i < nf; ++i) sums[i] += (m[k + i] *= factor[i]);
+  if (!settle)
+    for (PetscInt k = 0; k < end * nf; k += nf)
+      for (int i = 0; i < nf; ++i) sums[i] += (m[k + i] *= factor[i]);
+  else { // the owed factor first, as the pass of the operator before would have (its zone's cells have it)
+    const double *first = owed->data();
+    PetscInt c = 0;
+    const auto both = [&](PetscInt upto) {
+      for (; c < upto; ++c)
+        for (int i = 0; i < nf; ++i) sums[i] += (m[c * nf + i] = m[c * nf + i] * first[i] * factor[i]);
+    };
+    for (PetscInt z : zone->localCells()) { // ascending
+      if (z >= end) break;
+      both(z);
+      for (int i = 0; i < nf; ++i) sums[i] += (m[z * nf + i] *= factor[i]);
+      c = z + 1;
+    }
+    both(end);
+  }
   PetscCall(VecRestoreArray(state.masses(), &m));
   PetscCall(state.setOccupiedEnd(end)); // an empty cell stays empty
   PetscCall(state.setLocalTotals(sums));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode ZoneOperator::setUpInPipeline(const std::vector<Operator *> &before) {
+  PetscFunctionBeginUser;
+  previous = before.empty() ? nullptr : dynamic_cast<ZoneOperator *>(before.back());
+  // The ledger's totals at the step's start hold here while no operator before changes mass.
+  ledgerTotals = std::all_of(before.begin(), before.end(), [](const Operator *op) { return op->conservesMass(); });
+  if (!previous) PetscFunctionReturn(PETSC_SUCCESS);
+  previous->following = this;
+  previous->defers = settlesRescale() && previous->mayDeferRescale();
+  // The feed reduces the discharge's zone sums with its own when the zones share
+  // no cell: its change leaves them as they are, its rescale is owed on top.
+  int shared = 0;
+  const std::vector<PetscInt> &a = zone->localCells(), &b = previous->zone->localCells(); // ascending
+  for (std::size_t i = 0, j = 0; i < a.size() && j < b.size() && !shared;) {
+    if (a[i] < b[j]) ++i;
+    else if (b[j] < a[i]) ++j;
+    else shared = 1;
+  }
+  PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, &shared, 1, MPI_INT, MPI_LOR, comm));
+  previous->sumsForNext = previous->defers && !shared;
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+bool ZoneOperator::knownBed(const StepInfo &step, std::vector<double> *bed) const {
+  if (previous && previous->bedStep == step.step && static_cast<int>(previous->bedAfter.size()) == nf) {
+    *bed = previous->bedAfter;
+    return true;
+  }
+  if (ledgerTotals && step.expectedTotals && static_cast<int>(step.expectedTotals->size()) == nf) {
+    *bed = *step.expectedTotals;
+    return true;
+  }
+  return false;
+}
+
+void ZoneOperator::oweRescale(const StepInfo &step, const FractionState &state, std::vector<double> factor,
+                              PetscInt end) {
+  owed.pending = true;
+  owed.step = step.step;
+  owed.factor = std::move(factor);
+  owed.end = end;
+  owed.of = state.masses();
+  PetscObjectStateGet((PetscObject)owed.of, &owed.state);
+}
+
+PetscErrorCode ZoneOperator::takeOwed(const StepInfo &step, FractionState &state, std::vector<double> *factor,
+                                      PetscInt *end) {
+  PetscObjectState now = 0;
+  PetscFunctionBeginUser;
+  factor->clear();
+  if (!previous || !previous->owed.pending) PetscFunctionReturn(PETSC_SUCCESS);
+  Owed &o = previous->owed;
+  PetscCall(PetscObjectStateGet((PetscObject)state.masses(), &now));
+  PetscCheck(o.step == step.step && o.of == state.masses() && o.state == now, PETSC_COMM_SELF, PETSC_ERR_PLIB,
+             "The %s operator's rescale of the bed is owed from another step or state (step %ld, now %ld)",
+             previous->type().c_str(), o.step, step.step);
+  o.pending = false;
+  *factor = std::move(o.factor);
+  *end = o.end;
+  PetscScalar *m;
+  PetscCall(VecGetArray(state.masses(), &m));
+  for (PetscInt c : zone->localCells()) { // as the pass below will scale the others
+    if (c >= *end) break;
+    for (int i = 0; i < nf; ++i) m[c * nf + i] *= (*factor)[i];
+  }
+  PetscCall(VecRestoreArray(state.masses(), &m));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 

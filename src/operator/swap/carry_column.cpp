@@ -84,6 +84,7 @@ private:
   PetscBool wholeBed = PETSC_FALSE;
   const Database *columnsOf = nullptr;
   Columns columns;
+  AllGather gatherMasses, gatherAlpha;
   long jumps = 0;
   double movedAcross = 0.0, movedAcrossMax = 0.0; // share of the bed's mass moved between columns
   double seconds = 0.0;                            // wall time in the carry, this rank
@@ -167,8 +168,8 @@ PetscErrorCode ColumnCarry::carry(const CarryContext &ctx, Vec targetAlpha, Frac
     columnsOf = &db;
   }
   std::vector<double> m, alpha;
-  PetscCall(db.layout().gatherToAll(nf, state.masses(), &m));
-  PetscCall(db.layout().gatherToAll(1, targetAlpha, &alpha));
+  PetscCall(gatherMasses.gather(db.layout(), nf, state.masses(), &m)); // the scatters made once
+  PetscCall(gatherAlpha.gather(db.layout(), 1, targetAlpha, &alpha));
   const std::vector<double> &volume = db.mesh().cellVolume;
   const size_t n = volume.size();
   std::vector<double> target(n), bulk(n, 0.0), before(nf, 0.0);
