@@ -163,7 +163,7 @@ void configureStitching(const std::string &kind, int K, const std::vector<double
     c.band = p.band.value_or(std::max(1, c.clockWindow / 6));
     // band <= clockWindow leaves targets outside the band in every window of
     // a database longer than the window (a sequence ends within
-    // clockWindow + 1 frames of the clock); clockTarget() drops the band
+    // clockWindow + 1 frames of the clock); clockTargets() drops the band
     // where a short database leaves none.
     if (c.band < 1 || c.band > c.clockWindow)
       throw std::invalid_argument(pathParameterError(
