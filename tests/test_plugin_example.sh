@@ -99,6 +99,16 @@ run "calibrate with the plugin" "$rcfd" calibrate -plugin "$plugin" -db "$data/s
   -reference "$work/full1/cog.csv" -score_window 0.1,0.3 -pipeline shift,drift,attrition,carry -attrition_rate 0.2 \
   -calibrate_models linear -calibrate_kd_range 1e-3,1e-1 -calibrate_scan 3 -output_dir "$work/calibrate"
 grep -q "^model linear: best k_d" "$work/out.txt" && ok || fail "calibrate fitted no linear law: $(tail -5 "$work/out.txt")"
+# The plugin's path rule reaches calibrate too, batched replays included.
+run "calibrate on the plugin's path" "$rcfd" calibrate -plugin "$plugin" -db "$data/small.h5" \
+  -fractions_diameters 1.459e-3,4.075e-3 -fractions_mass_shares 0.564,0.436 -fields 0 -path_type stride \
+  -path_stride 3 -reference "$work/full1/cog.csv" -score_window 0.1,0.3 -pipeline shift,drift,carry \
+  -calibrate_models linear -calibrate_kd_range 1e-3,1e-1 -calibrate_scan 3 -calibrate_batch true \
+  -output_dir "$work/calibrate-stride"
+grep -q "^model linear: best k_d" "$work/out.txt" && grep -Eq "[1-9][0-9]* of [0-9]+ in [1-9][0-9]* batched" "$work/out.txt" &&
+  ok || fail "calibrate on the plugin's path rule, batched: $(tail -3 "$work/out.txt")"
+grep -q "stride: every 3 frames" "$work/calibrate-stride/path.txt" && ok ||
+  fail "the calibration did not step the plugin's path: $(head -1 "$work/calibrate-stride/path.txt")"
 
 # Refusals, one sentence each.
 cat >"$work/other.cpp" <<'CPP'

@@ -121,7 +121,7 @@ PetscErrorCode BatchedReplay::shareAgitation(Run &run) {
 
 PetscErrorCode BatchedReplay::setUpGroup(const Candidate &candidate, Group *g) {
   PetscFunctionBeginUser;
-  g->run = std::make_unique<Run>(comm, registry);
+  g->run = registries ? std::make_unique<Run>(comm, *registries) : std::make_unique<Run>(comm, registry);
   g->run->setDefaultOutputDirectory("rcfd-calibrate");
   if (database) g->run->useDatabase(database);
   g->directory = candidate.outputDirectory;
@@ -195,7 +195,8 @@ PetscErrorCode BatchedReplay::solveBatch(const std::vector<Candidate> &candidate
   PetscCall(shift->setUp(lead.context()));
   FractionState batch;
   PetscCall(batch.create(db.layout(), columns));
-  const PathRegistry paths = PathRegistry::withBuiltins();
+  const PathRegistry builtinPaths = registries ? PathRegistry() : PathRegistry::withBuiltins();
+  const PathRegistry &paths = registries ? registries->paths : builtinPaths;
   std::unique_ptr<FramePath> path;
   PetscCall(paths.createFromOptions(comm, &path));
   PetscCall(path->setUp(PathContext{db, true}));

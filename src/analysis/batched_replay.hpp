@@ -25,6 +25,7 @@
 
 #include "observable/cog_monitor.hpp"
 #include "rcfd/agitation.hpp"
+#include "rcfd/plugin.hpp"
 #include "rcfd/mass_ledger.hpp"
 #include "rcfd/run.hpp"
 
@@ -54,6 +55,10 @@ public:
   /// The registry supplies the runs' operators; it must outlive the batch.
   BatchedReplay(MPI_Comm comm, const OperatorRegistry &registry);
   ~BatchedReplay();
+  /// All the program's registries (paths, monitors, ... with what plugins
+  /// added) for the candidates' runs and the shared path; nullptr: the
+  /// operator registry and the built-in paths.
+  void useRegistries(const Registries *all) { registries = all; }
   /// The database every candidate replays (else each batch loads -db once).
   void useDatabase(std::shared_ptr<Database> db) { database = std::move(db); }
 
@@ -94,6 +99,7 @@ private:
 
   MPI_Comm comm;
   const OperatorRegistry &registry;
+  const Registries *registries = nullptr;
   std::shared_ptr<Database> database;
   // The agitation fields of the database by measure, made once for all
   // candidates that scale their drift by one (the same numbers each

@@ -22,7 +22,13 @@ namespace rcfd {
 
 DriftCalibration::DriftCalibration(MPI_Comm comm, const OperatorRegistry &registry)
     : comm(comm), registry(registry) {}
+DriftCalibration::DriftCalibration(MPI_Comm comm, const Registries &registries)
+    : comm(comm), registry(registries.operators), registries(&registries) {}
 DriftCalibration::~DriftCalibration() = default;
+
+std::unique_ptr<Run> DriftCalibration::newRun() const {
+  return registries ? std::make_unique<Run>(comm, *registries) : std::make_unique<Run>(comm, registry);
+}
 
 PetscErrorCode DriftCalibration::setFromOptions() {
   char ref[PETSC_MAX_PATH_LEN] = "", objective[16] = "rms", from[16] = "cog", laws[PETSC_MAX_PATH_LEN] = "";
@@ -109,7 +115,8 @@ PetscErrorCode DriftCalibration::setUp() {
   PetscFunctionBeginUser;
   if (!referenceFile.empty())
     PetscCall(collectively(comm, [&] { reference = readDeltaZCsv(referenceFile); }, PETSC_ERR_USER_INPUT));
-  Run first(comm, registry);
+  const std::unique_ptr<Run> made = newRun();
+  Run &first = *made;
   first.setDefaultOutputDirectory("rcfd-calibrate");
   PetscCall(first.setFromOptions());
   PetscCheck(!first.switchesDatabases(), comm, PETSC_ERR_USER_INPUT,
@@ -189,7 +196,8 @@ PetscErrorCode DriftCalibration::evaluate(const std::string &model, double log10
 PetscErrorCode DriftCalibration::replayOne(const Point &p, DeltaZScore *score) {
   PetscFunctionBeginUser;
   const double start = MPI_Wtime();
-  Run run(comm, registry);
+  const std::unique_ptr<Run> made = newRun();
+  Run &run = *made;
   run.setDefaultOutputDirectory("rcfd-calibrate");
   run.useDatabase(db);
   PetscCall(run.setFromOptions());
@@ -216,6 +224,7 @@ PetscErrorCode DriftCalibration::replayAll(const std::vector<Point> &points, std
   std::vector<BatchedReplay::Candidate> candidates; // no cog.csv: the scores are all a search needs
   for (const Point &p : points) candidates.push_back({"", "", [this, p](Run &run) { return configureDrift(run, p); }});
   BatchedReplay batched(comm, registry);
+  batched.useRegistries(registries);
   batched.useDatabase(db);
   PetscCall(batched.solve(candidates));
   for (std::size_t k = 0; k < points.size(); ++k) PetscCall(scoreSamples(batched.history(static_cast<int>(k)), &(*scores)[k]));
@@ -554,6 +563,7 @@ PetscErrorCode DriftCalibration::runCandidates() {
   std::vector<BatchedReplay::Candidate> candidates;
   for (const auto &l : laws) candidates.push_back({outputDirectory + "/" + l.first, l.second, nullptr});
   BatchedReplay batched(comm, registry);
+  batched.useRegistries(registries);
   batched.useDatabase(db);
   if (canBatch && laws.size() > 1) {
     PetscCall(batched.solve(candidates));
@@ -562,9 +572,9 @@ PetscErrorCode DriftCalibration::runCandidates() {
     batches += batched.batches();
   } else {
     for (std::size_t k = 0; k < laws.size(); ++k) {
-      Run run(comm, registry);
-      PetscCall(batched.solveAlone(candidates[k], run));
-      samples[k] = run.history();
+      const std::unique_ptr<Run> run = newRun();
+      PetscCall(batched.solveAlone(candidates[k], *run));
+      samples[k] = run->history();
     }
   }
   replaySeconds += MPI_Wtime() - start;

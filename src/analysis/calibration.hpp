@@ -24,6 +24,7 @@
 #include "analysis/segregation_score.hpp"
 #include "rcfd/observables.hpp"
 #include "rcfd/operator.hpp"
+#include "rcfd/plugin.hpp"
 
 #include <limits>
 #include <memory>
@@ -52,6 +53,9 @@ public:
 
   /// The registry supplies the run's operators; it must outlive the calibration.
   DriftCalibration(MPI_Comm comm, const OperatorRegistry &registry);
+  /// All the program's registries (operators, paths, switching rules,
+  /// monitors, with what plugins added); they must outlive the calibration.
+  DriftCalibration(MPI_Comm comm, const Registries &registries);
   ~DriftCalibration();
 
   /// Reads -reference, -calibrate_from, -calibrate_models (any registered
@@ -105,6 +109,9 @@ private:
 
   MPI_Comm comm;
   const OperatorRegistry &registry;
+  const Registries *registries = nullptr; // all of them, when given
+  // A run with the calibration's registries.
+  std::unique_ptr<Run> newRun() const;
   std::string referenceFile, objectiveName = "rms"; // rms: RMS/peak of the curve; seg: |Delta_seg|
   std::string source = "cog";                       // cog: replays against -reference; measured: regression
   std::string outputDirectory;                      // the runs' -output_dir

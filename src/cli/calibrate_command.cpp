@@ -13,11 +13,10 @@ PetscErrorCode calibrateCommand(MPI_Comm comm) {
   PetscFunctionBeginUser;
   Registries registries = Registries::withBuiltins();
   PetscCall(loadPlugins(comm, &registries)); // -plugin, $RCFD_PLUGINS
-  const OperatorRegistry &registry = registries.operators;
-  DriftCalibration calibration(comm, registry);
+  DriftCalibration calibration(comm, registries);
   PetscCall(calibration.setFromOptions());
   if (helpRequested()) { // list the run's options too; without -db the run stops early, never mind
-    Run run(comm, registry);
+    Run run(comm, registries);
     run.setDefaultOutputDirectory("rcfd-calibrate");
     (void)run.setFromOptions();
     PetscFunctionReturn(PETSC_SUCCESS);
