@@ -13,7 +13,7 @@ source "$4/tests/script_helpers.sh"
 K=$("$rcfd" info "$data/small.h5" | awk '$1 == "frames:" { print $2 }')
 W=6
 common=(-db "$data/small.h5" -quiet -fields 0 -plot 0 -monitor_digits 17 -path_type random -path_seed 3
-  -path_min_length 2 -path_max_length 5 -fractions_diameters 1.459e-3,4.075e-3 -fractions_mass_shares 0.564,0.436)
+  -path_min_length 2 -path_max_length 5 -path_candidates 16 -fractions_diameters 1.459e-3,4.075e-3 -fractions_mass_shares 0.564,0.436)
 for np in 1 2; do
   mpiexec -n $np "$rcfd" run "${common[@]}" -path_clock_window $W -t_end 8 -output_dir "$work/full$np"
   mpiexec -n $np "$rcfd" run "${common[@]}" -path_clock_window $W -t_end 4 -checkpoint_every 2.5 \
