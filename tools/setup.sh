@@ -5,7 +5,7 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
-packages=(build-essential cmake pkg-config petsc-dev libhdf5-openmpi-dev libmetis-dev
+packages=(build-essential cmake pkg-config petsc-dev slepc-dev libhdf5-openmpi-dev libmetis-dev
   libopenmpi-dev openmpi-bin zlib1g-dev python3-matplotlib valgrind)
 missing=()
 for p in "${packages[@]}"; do

@@ -19,6 +19,8 @@ PetscErrorCode compareCommand(MPI_Comm comm);
 PetscErrorCode calibrateCommand(MPI_Comm comm);
 PetscErrorCode recurrenceCommand(MPI_Comm comm, const char *positional);
 PetscErrorCode plotCommand(MPI_Comm comm, const char *positional);
+/// rcfd markov DB.h5: the frames as the solid's Markov chain (docs/markov.md).
+PetscErrorCode markovCommand(MPI_Comm comm, const char *positional);
 /// `rcfd -help`: what can be chosen by name at every extension point, the
 /// plugins' additions (-plugin, $RCFD_PLUGINS) included (run_command.cpp).
 PetscErrorCode listExtensions(MPI_Comm comm);

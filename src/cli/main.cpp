@@ -25,6 +25,8 @@ const Command commands[] = {
      "rcfd coarsen FILE -factor 2,1,2 [-time_factor 2] -o OUT", rcfd::cli::coarsenCommand},
     {"recurrence", true, "compute, store and draw the recurrence matrix of a database",
      "rcfd recurrence FILE", rcfd::cli::recurrenceCommand},
+    {"markov", true, "the frames as the solid's Markov chain: mixing, relaxation, zone visits",
+     "rcfd markov FILE [-zones spray -zone_spray_layers 20,30]", rcfd::cli::markovCommand},
     {"plot", true, "PNG figures of a run's cog.csv", "rcfd plot RUN/cog.csv", rcfd::cli::plotCommand},
     {"build", false, "a database from DEM particle snapshots (or Eulerian frames: -eulerian)",
      "rcfd build -dumps \"DIR/dump.*.gz\" -times DIR/times.txt -o FILE",

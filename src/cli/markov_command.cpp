@@ -1,0 +1,266 @@
+// rcfd markov DB.h5: what the frames say as the solid's Markov chain, without
+// a run (docs/markov.md): the averaged chain's stationary distribution against
+// the database's mean mass share, its second eigenvalue and relaxation time,
+// the tracer mixing time from the frames, and for named zones the time per
+// visit and the time away between visits.
+#include "cli/commands.hpp"
+#include "base/petsc_compat.hpp"
+
+#include "cli/figures.hpp"
+#include "markov/frame_chain.hpp"
+#include "markov/spectrum.hpp"
+#include "markov/tracer_mixing.hpp"
+#include "markov/zone_passages.hpp"
+#include "rcfd/zone.hpp"
+#include "base/atomic_file.hpp"
+#include "base/checked_options.hpp"
+#include "base/collective.hpp"
+
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+#include <sstream>
+
+namespace rcfd::cli {
+namespace {
+
+struct MarkovOptions {
+  std::string file, directory;
+  FrameChain::Average average = FrameChain::Average::Mass;
+  double alphaMeanMin = 1e-3;
+  MixingSettings mixing;
+  bool allStarts = false, mix = true;
+  PassageSettings passages;
+  PetscInt departures = 10;
+  bool quiet = false;
+};
+
+PetscErrorCode readOptions(MPI_Comm comm, const char *positional, MarkovOptions *o) {
+  char text[PETSC_MAX_PATH_LEN] = "", dir[PETSC_MAX_PATH_LEN] = "";
+  const char *averages[] = {"mass", "plain"};
+  const char *startKinds[] = {"layers", "all"};
+  PetscInt average = 0, starts = 0;
+  PetscBool mix = PETSC_TRUE, quiet = PETSC_FALSE;
+  PetscFunctionBeginUser;
+  PetscOptionsBegin(comm, nullptr, "rcfd markov: the database's frames as the solid's Markov chain", "rcfd");
+  PetscCall(PetscOptionsString("-db", "Database file (or give it as the first argument)", "", "", text, sizeof text,
+                               nullptr));
+  PetscCall(PetscOptionsString("-o", "Output folder (default: the database's name with -markov)", "", "", dir,
+                               sizeof dir, nullptr));
+  PetscCall(PetscOptionsEList("-markov_average",
+                              "Average chain: mass (mean mass flux over mean mass) or plain (mean of the matrices)",
+                              "", averages, 2, averages[average], &average, nullptr));
+  PetscCall(checkedReal(PetscOptionsObject, "-markov_alpha_mean_min",
+                        "States of the averaged chain: cells whose mean alpha_s is at least this", &o->alphaMeanMin,
+                        kNonNegative));
+  PetscCall(PetscOptionsBool("-markov_mix", "Compute the tracer mixing time", "", mix, &mix, nullptr));
+  PetscCall(checkedReal(PetscOptionsObject, "-markov_mix_tolerance",
+                        "Mixed: every counted cell's tracer concentration within this of the mean", &o->mixing.tolerance,
+                        kOpenUnit));
+  PetscCall(checkedReal(PetscOptionsObject, "-markov_mix_alpha_min",
+                        "Cells counted for mixing (and tracer starts): alpha_s at least this", &o->mixing.alphaMin,
+                        kOpenUnit));
+  PetscCall(checkedReal(PetscOptionsObject, "-markov_mix_horizon", "Longest tracer propagation [s]",
+                        &o->mixing.horizon, kPositive));
+  PetscCall(PetscOptionsEList("-markov_mix_starts",
+                              "Tracer start cells: layers (the centre of every layer holding solid) or all", "",
+                              startKinds, 2, startKinds[starts], &starts, nullptr));
+  PetscCall(checkedInt(PetscOptionsObject, "-markov_departures",
+                       "Frames whose zone crossings are followed (spread evenly)", &o->departures, 1, 1000000));
+  PetscCall(checkedReal(PetscOptionsObject, "-markov_passage_horizon", "Longest time a crossing is followed [s]",
+                        &o->passages.horizon, kPositive));
+  PetscCall(checkedReal(PetscOptionsObject, "-markov_passage_tail",
+                        "Stop following a crossing when less than this is left", &o->passages.tail, kOpenUnit));
+  PetscCall(PetscOptionsBool("-quiet", "No report", "", quiet, &quiet, nullptr));
+  PetscOptionsEnd();
+  o->file = positional ? positional : text;
+  o->average = static_cast<FrameChain::Average>(average);
+  o->allStarts = starts == 1;
+  o->mix = mix;
+  o->quiet = quiet;
+  o->directory = *dir ? dir : o->file.substr(0, o->file.rfind('.')) + "-markov";
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+std::string number(double v) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%.10g", v);
+  return text;
+}
+
+} // namespace
+
+PetscErrorCode markovCommand(MPI_Comm comm, const char *positional) {
+  MarkovOptions o;
+  DatabaseLoadOptions loadOptions;
+  ZoneSet zones;
+  ChainEigensolver solver;
+  PetscMPIInt rank;
+  PetscFunctionBeginUser;
+  PetscCallMPI(MPI_Comm_rank(comm, &rank));
+  PetscCall(readOptions(comm, positional, &o));
+  PetscCall(Database::optionsFromCommandLine(&loadOptions));
+  PetscCall(zones.setFromOptions(comm));
+  PetscCall(solver.setFromOptions(comm, "markov_"));
+  if (helpRequested()) PetscFunctionReturn(PETSC_SUCCESS);
+  PetscCall(rejectUnusedOptions(comm, "markov"));
+  PetscCheck(!o.file.empty(), comm, PETSC_ERR_USER_INPUT, "No database given: rcfd markov FILE");
+
+  const double t0 = MPI_Wtime();
+  std::unique_ptr<Database> db;
+  PetscCall(Database::load(comm, o.file, loadOptions, &db));
+  PetscCall(zones.setUp(db->mesh(), db->layout(), db->metadata().gravity));
+  const double tLoad = MPI_Wtime();
+  FrameChain chain;
+  PetscCall(chain.setUp(*db)); // refuses frames that do not conserve mass, before anything is computed
+  const double tChain = MPI_Wtime();
+  ChainSpectrum spectrum;
+  PetscCall(solver.solve(chain, o.average, o.alphaMeanMin, &spectrum));
+  const double tSpectrum = MPI_Wtime();
+
+  const Layout &layout = db->layout();
+  std::vector<double> stationary, mean, alpha0;
+  PetscCall(layout.gatherToAll(1, spectrum.stationary, &stationary));
+  PetscCall(layout.gatherToAll(1, chain.meanShare(), &mean));
+  PetscCall(layout.gatherToAll(1, db->alphaS(0), &alpha0));
+
+  MixingResult mixing;
+  if (o.mix) {
+    o.mixing.starts = mixingStarts(db->mesh(), db->metadata().gravity, alpha0, o.mixing.alphaMin, o.allStarts);
+    PetscCall(tracerMixing(chain, o.mixing, &mixing));
+  }
+  const double tMixing = MPI_Wtime();
+
+  std::vector<const Zone *> zoneList;
+  for (const Zone &z : zones.all()) zoneList.push_back(&z);
+  o.passages.departures = evenFrames(chain.numFrames(), static_cast<int>(o.departures));
+  std::vector<ZonePassages> passages;
+  PetscCall(zonePassages(chain, zoneList, o.passages, &passages));
+  for (size_t z = 0; z < passages.size(); ++z)
+    for (PetscInt i : zoneList[z]->localCells()) passages[z].stationaryShare += stationary[layout.naturalCell(layout.rowStart() + i)];
+  for (ZonePassages &p : passages)
+    PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, &p.stationaryShare, 1, MPI_DOUBLE, MPI_SUM, comm));
+  const double tZones = MPI_Wtime();
+
+  // Mixing summary over the starts.
+  double mixMean = 0.0, mixWorst = 0.0;
+  int mixed = 0;
+  for (double t : mixing.time)
+    if (!std::isnan(t)) mixMean += t, ++mixed, mixWorst = std::max(mixWorst, t);
+  if (mixed) mixMean /= mixed;
+  const bool allMixed = mixed == static_cast<int>(mixing.time.size());
+  const double dt = chain.dt();
+
+  const std::string dir = o.directory + "/";
+  PetscCall(collectively(comm, [&] {
+    if (rank != 0) return;
+    std::filesystem::create_directories(o.directory);
+    const Mesh &mesh = db->mesh();
+    std::ostringstream s;
+    s << "# rcfd markov " << o.file << ": the averaged chain (" << averageName(o.average)
+      << ") stationary share against the database's mean mass share, per cell\n"
+      << "cell,x,y,z,stationary_share,mean_share\n";
+    for (int c = 0; c < mesh.numCells(); ++c)
+      s << c << ',' << number(mesh.cellCentre[c][0]) << ',' << number(mesh.cellCentre[c][1]) << ','
+        << number(mesh.cellCentre[c][2]) << ',' << number(stationary[c]) << ',' << number(mean[c]) << '\n';
+    writeTextAtomically(dir + "stationary.csv", s.str());
+    if (o.mix) {
+      std::ostringstream r;
+      r << "# tracer deviation max_i |c_i - 1| over cells with alpha_s >= " << o.mixing.alphaMin << ", over "
+        << mixing.time.size() << " start cells; lambda2_decay = |lambda2|^n of the averaged chain\n"
+        << "time,mean_deviation,worst_deviation,lambda2_decay\n";
+      for (size_t n = 0; n < mixing.meanDeviation.size(); ++n)
+        r << number((n + 1) * dt) << ',' << number(mixing.meanDeviation[n]) << ',' << number(mixing.worstDeviation[n])
+          << ',' << number(std::pow(spectrum.lambda2, static_cast<double>(n + 1))) << '\n';
+      writeTextAtomically(dir + "relaxation.csv", r.str());
+      std::ostringstream m;
+      m << "# mixing time per start cell (empty: not mixed within " << o.mixing.horizon << " s)\ncell,x,y,z,mixing_time\n";
+      for (size_t c = 0; c < mixing.time.size(); ++c) {
+        const int cell = o.mixing.starts[c];
+        m << cell << ',' << number(mesh.cellCentre[cell][0]) << ',' << number(mesh.cellCentre[cell][1]) << ','
+          << number(mesh.cellCentre[cell][2]) << ',' << (std::isnan(mixing.time[c]) ? "" : number(mixing.time[c]))
+          << '\n';
+      }
+      writeTextAtomically(dir + "mixing.csv", m.str());
+    }
+    for (const ZonePassages &p : passages) {
+      std::ostringstream z;
+      z << "# zone " << p.zone << ": probability that a visit lasts t (residence) and that the time outside "
+        << "between leaving and entering again is t (away), from " << o.passages.departures.size()
+        << " departure frames; tails left after the horizon: residence " << p.residence.tail << ", away "
+        << p.away.tail << "\ntime,residence,away\n";
+      const size_t rows = std::max(p.residence.probability.size(), p.away.probability.size());
+      for (size_t n = 0; n < rows; ++n)
+        z << number((n + 1) * dt) << ','
+          << number(n < p.residence.probability.size() ? p.residence.probability[n] : 0.0) << ','
+          << number(n < p.away.probability.size() ? p.away.probability[n] : 0.0) << '\n';
+      writeTextAtomically(dir + "zone_" + p.zone + ".csv", z.str());
+    }
+    std::ostringstream sum;
+    sum << "# rcfd markov " << o.file << " (docs/markov.md)\nquantity,value\n"
+        << "frames," << chain.numFrames() << "\ndt_rec," << number(dt) << "\nchain_cells," << spectrum.cells
+        << "\naverage," << averageName(o.average) << "\nlargest_column_error," << number(chain.columnError())
+        << "\nlambda1," << number(spectrum.lambda1) << "\nlambda2_modulus," << number(spectrum.lambda2)
+        << "\nlambda2_re," << number(spectrum.lambda2Re) << "\nlambda2_im," << number(spectrum.lambda2Im)
+        << "\nrelaxation_time," << number(spectrum.relaxationTime) << "\nstationary_l1," << number(spectrum.l1)
+        << "\nstationary_max," << number(spectrum.max) << "\nmean_share_residual," << number(spectrum.residual)
+        << "\nstates_left_out_share," << number(spectrum.leftOut) << "\nabsorbing_cells," << spectrum.absorbing
+        << "\nabsorbing_share," << number(spectrum.absorbingShare) << '\n';
+    if (o.mix)
+      sum << "mixing_starts," << mixing.time.size() << "\nmixing_mixed," << mixed << "\nmixing_mean,"
+          << number(mixMean) << "\nmixing_worst," << (allMixed ? number(mixWorst) : "") << '\n';
+    for (const ZonePassages &p : passages)
+      sum << "zone_" << p.zone << "_stationary_share," << number(p.stationaryShare) << "\nzone_" << p.zone
+          << "_database_share," << number(p.databaseShare) << "\nzone_" << p.zone << "_mean_residence,"
+          << number(p.residence.mean) << "\nzone_" << p.zone << "_mean_away," << number(p.away.mean) << "\nzone_"
+          << p.zone << "_residence_tail," << number(p.residence.tail) << "\nzone_" << p.zone << "_away_tail,"
+          << number(p.away.tail) << "\nzone_" << p.zone << "_conservation,"
+          << number(std::max(p.residence.conservation, p.away.conservation)) << '\n';
+    writeTextAtomically(dir + "summary.csv", sum.str());
+  }));
+  if (o.mix)
+    PetscCall(drawFigure(comm, "markov_relaxation.py",
+                         {dir + "relaxation.csv", "-o", dir + "relaxation.png", "--relaxation_time",
+                          number(spectrum.relaxationTime), "--tolerance", number(o.mixing.tolerance), "--title",
+                          "tracer mixing, " + o.file}));
+  for (const ZonePassages &p : passages)
+    PetscCall(drawFigure(comm, "markov_zone.py",
+                         {dir + "zone_" + p.zone + ".csv", "-o", dir + "zone_" + p.zone + ".png", "--title",
+                          "zone " + p.zone + ", " + o.file}));
+
+  if (!o.quiet) {
+    PetscCall(PetscPrintf(comm,
+                          "Markov chain of %s: %d frames, dt_rec %g s; columns sum to 1 within %.1e\n"
+                          "  averaged chain (%s): |Q m - m|_1 = %.3e for the mean mass share m\n"
+                          "  %d cells keep their solid in every frame they hold some (absorbing; %.2e of the mass)\n"
+                          "  on the %d other cells with mean alpha_s >= %g (the rest hold %.2e of the mass): lambda1 = %.10f, "
+                          "lambda2 = %.8f%+.8fi, |lambda2| = %.8f, relaxation time %.4g s (SLEPc, %d restarts)\n"
+                          "  stationary distribution against the mean mass share: L1 %.3e, max %.3e\n",
+                          o.file.c_str(), chain.numFrames(), dt, chain.columnError(), averageName(o.average),
+                          spectrum.residual, spectrum.absorbing, spectrum.absorbingShare, spectrum.cells, o.alphaMeanMin, spectrum.leftOut, spectrum.lambda1,
+                          spectrum.lambda2Re, spectrum.lambda2Im, spectrum.lambda2, spectrum.relaxationTime,
+                          spectrum.iterations, spectrum.l1, spectrum.max));
+    if (o.mix) {
+      if (allMixed)
+        PetscCall(PetscPrintf(comm, "  tracer mixing (within %g in cells with alpha_s >= %g), %zu start cells: mean %.4g s, worst %.4g s\n",
+                              o.mixing.tolerance, o.mixing.alphaMin, mixing.time.size(), mixMean, mixWorst));
+      else
+        PetscCall(PetscPrintf(comm, "  tracer mixing (within %g in cells with alpha_s >= %g): %d of %zu start cells mixed within %g s (mean of those %.4g s)\n",
+                              o.mixing.tolerance, o.mixing.alphaMin, mixed, mixing.time.size(), o.mixing.horizon, mixMean));
+    }
+    for (const ZonePassages &p : passages)
+      PetscCall(PetscPrintf(comm,
+                            "  zone %s: mass share %.4f (stationary) / %.4f (frames); per visit %.4g s (tail %.1e), "
+                            "away %.4g s (tail %.1e); Kac: %.4f; absorbed + left = 1 within %.1e\n",
+                            p.zone.c_str(), p.stationaryShare, p.databaseShare, p.residence.mean, p.residence.tail,
+                            p.away.mean, p.away.tail, p.residence.mean / (p.residence.mean + p.away.mean),
+                            std::max(p.residence.conservation, p.away.conservation)));
+    PetscCall(PetscPrintf(comm, "  seconds: load %.2f, chain %.2f, eigenvalues %.2f, mixing %.2f, zones %.2f; wrote %s\n",
+                          tLoad - t0, tChain - tLoad, tSpectrum - tChain, tMixing - tSpectrum, tZones - tMixing,
+                          o.directory.c_str()));
+  }
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+} // namespace rcfd::cli

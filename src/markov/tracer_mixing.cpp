@@ -1,0 +1,111 @@
+#include "markov/tracer_mixing.hpp"
+#include "base/petsc_compat.hpp"
+
+#include "rcfd/zone.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace rcfd {
+
+std::vector<int> mixingStarts(const Mesh &mesh, const Vec3 &gravity, const std::vector<double> &alpha0,
+                              double alphaMin, bool all) {
+  std::vector<int> starts;
+  if (all || !mesh.isBox()) {
+    for (int c = 0; c < mesh.numCells(); ++c)
+      if (alpha0[c] >= alphaMin) starts.push_back(c);
+    return starts;
+  }
+  int vertical;
+  bool upward;
+  verticalAxis(gravity, &vertical, &upward);
+  const BoxSpec &b = mesh.boxSpec();
+  const int n[3] = {b.nx, b.ny, b.nz};
+  int centre[3] = {b.nx / 2, b.ny / 2, b.nz / 2};
+  for (int layer = 0; layer < n[vertical]; ++layer) {
+    centre[vertical] = layer;
+    const int c = b.cellIndex(centre[0], centre[1], centre[2]);
+    if (alpha0[c] >= alphaMin) starts.push_back(c);
+  }
+  return starts;
+}
+
+PetscErrorCode tracerMixing(const FrameChain &chain, const MixingSettings &settings, MixingResult *out) {
+  const Database &db = chain.database();
+  const Layout &layout = db.layout();
+  const MPI_Comm comm = layout.comm();
+  const PetscInt s = static_cast<PetscInt>(settings.starts.size());
+  const PetscInt bs = s + 1; // column 0: the bulk; 1..s: the tracers
+  const PetscInt nlocal = layout.numLocal();
+  PetscFunctionBeginUser;
+  out->time.assign(s, std::numeric_limits<double>::quiet_NaN());
+  out->meanDeviation.clear();
+  out->worstDeviation.clear();
+  out->confirm = chain.numFrames();
+  if (s == 0) PetscFunctionReturn(PETSC_SUCCESS);
+  std::vector<OwnedMat> step;
+  PetscCall(chain.blockTransfers(bs, &step));
+  OwnedVec x, y;
+  PetscCall(VecCreateMPI(comm, nlocal * bs, PETSC_DETERMINE, x.put()));
+  PetscCall(VecSetBlockSize(x, bs));
+  PetscCall(VecDuplicate(x, y.put()));
+  {
+    PetscScalar *px;
+    const PetscScalar *pm;
+    PetscCall(VecGetArrayWrite(x, &px));
+    std::fill(px, px + nlocal * bs, 0.0);
+    PetscCall(VecGetArrayRead(chain.massShare(0), &pm));
+    for (PetscInt i = 0; i < nlocal; ++i) px[i * bs] = pm[i];
+    PetscCall(VecRestoreArrayRead(chain.massShare(0), &pm));
+    for (PetscInt c = 0; c < s; ++c) {
+      const PetscInt row = layout.petscRow(settings.starts[c]);
+      if (row >= layout.rowStart() && row < layout.rowEnd()) px[(row - layout.rowStart()) * bs + 1 + c] = 1.0;
+    }
+    PetscCall(VecRestoreArrayWrite(x, &px));
+  }
+  const long long horizon = std::max<long long>(1, std::llround(settings.horizon / chain.dt()));
+  std::vector<long long> within(s, -1); // first step of the current run within the tolerance
+  std::vector<double> deviation(s);
+  PetscInt open = s;
+  for (long long n = 1; n <= horizon && open > 0; ++n) {
+    PetscCall(MatMult(step[static_cast<size_t>((n - 1) % chain.numFrames())], x, y));
+    std::swap(x, y);
+    // Deviation at t_n, over the cells whose alpha_s at frame n is at least alphaMin.
+    const PetscScalar *px, *pa;
+    PetscCall(VecGetArrayRead(x, &px));
+    PetscCall(VecGetArrayRead(db.alphaS(static_cast<int>(n % chain.numFrames())), &pa));
+    std::fill(deviation.begin(), deviation.end(), 0.0);
+    for (PetscInt i = 0; i < nlocal; ++i) {
+      if (pa[i] < settings.alphaMin) continue;
+      const double bulk = px[i * bs];
+      for (PetscInt c = 0; c < s; ++c) {
+        const double d = bulk > 0 ? std::fabs(px[i * bs + 1 + c] / bulk - 1.0) : 1.0;
+        deviation[c] = std::max(deviation[c], d);
+      }
+    }
+    PetscCall(VecRestoreArrayRead(db.alphaS(static_cast<int>(n % chain.numFrames())), &pa));
+    PetscCall(VecRestoreArrayRead(x, &px));
+    PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, deviation.data(), static_cast<int>(s), MPI_DOUBLE, MPI_MAX, comm));
+    double mean = 0.0, worst = 0.0;
+    for (PetscInt c = 0; c < s; ++c) {
+      mean += deviation[c] / s;
+      worst = std::max(worst, deviation[c]);
+      if (!std::isnan(out->time[c])) continue;
+      if (deviation[c] > settings.tolerance) {
+        within[c] = -1;
+        continue;
+      }
+      if (within[c] < 0) within[c] = n;
+      if (n - within[c] + 1 >= out->confirm) {
+        out->time[c] = within[c] * chain.dt();
+        --open;
+      }
+    }
+    out->meanDeviation.push_back(mean);
+    out->worstDeviation.push_back(worst);
+  }
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+} // namespace rcfd

@@ -1,0 +1,42 @@
+// How long a tracer started in one cell takes to spread over the bed, from the
+// frames themselves (docs/markov.md, "Mixing time").  Each tracer and the bulk
+// step together with the frames in order, cycling from frame 0; the tracer's
+// concentration in a cell is its share of the tracer over the bulk's share of
+// the solid (both propagated, so a perfectly mixed tracer reads 1 everywhere).
+#pragma once
+
+#include "markov/frame_chain.hpp"
+
+#include <vector>
+
+namespace rcfd {
+
+struct MixingSettings {
+  double tolerance = 0.05;  ///< mixed: every counted cell within this of 1
+  double alphaMin = 0.1;    ///< counted cells: alpha_s of the current frame at least this
+  double horizon = 60.0;    ///< give up after this time [s]
+  std::vector<int> starts;  ///< natural cells the tracers start in (at frame 0)
+};
+
+struct MixingResult {
+  /// Per start: the mixing time [s], or NaN when not mixed within the horizon.
+  std::vector<double> time;
+  /// Per step n = 1, 2, ...: the mean and the largest over the starts of the
+  /// deviation max_i |c_i - 1| at t = n dt_rec.
+  std::vector<double> meanDeviation, worstDeviation;
+  int confirm = 0; ///< steps the deviation had to stay within the tolerance
+};
+
+/// Collective.  The mixing time of a start is t_n = n dt_rec for the first
+/// step n from which the deviation stays within the tolerance for K steps (K
+/// frames: one pass through the database).  Stops when every start is mixed or
+/// at the horizon.
+PetscErrorCode tracerMixing(const FrameChain &chain, const MixingSettings &settings, MixingResult *out);
+
+/// The natural cell at the horizontal centre of every layer (along gravity) of a
+/// box mesh whose alpha_s at frame 0 is at least alphaMin; all cells holding at
+/// least alphaMin at frame 0 when `all` or when the mesh is not a box.
+std::vector<int> mixingStarts(const Mesh &mesh, const Vec3 &gravity, const std::vector<double> &alpha0,
+                              double alphaMin, bool all);
+
+} // namespace rcfd

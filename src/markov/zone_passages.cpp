@@ -1,0 +1,174 @@
+#include "markov/zone_passages.hpp"
+#include "base/petsc_compat.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace rcfd {
+
+std::vector<int> evenFrames(int K, int count) {
+  std::vector<int> frames;
+  count = std::max(1, std::min(count, K));
+  for (int j = 0; j < count; ++j) frames.push_back(static_cast<int>(static_cast<long long>(j) * K / count));
+  return frames;
+}
+
+namespace {
+
+// One followed crossing: a column of the block vector.
+struct Cohort {
+  size_t zone = 0;
+  bool away = false; // left the zone (absorbed back in it) or entered it (absorbed outside)
+  int departure = 0; // the frame whose step it crossed in
+  double weight = 0.0;
+  double absorbed = 0.0;
+  std::vector<double> f;
+  bool done = false;
+};
+
+} // namespace
+
+PetscErrorCode zonePassages(const FrameChain &chain, const std::vector<const Zone *> &zones,
+                            const PassageSettings &settings, std::vector<ZonePassages> *out) {
+  const Layout &layout = chain.database().layout();
+  const MPI_Comm comm = layout.comm();
+  const PetscInt nlocal = layout.numLocal();
+  const int K = chain.numFrames();
+  PetscFunctionBeginUser;
+  out->clear();
+  std::vector<Cohort> cohorts;
+  std::vector<std::vector<char>> inside(zones.size(), std::vector<char>(nlocal, 0));
+  for (size_t z = 0; z < zones.size(); ++z) {
+    for (PetscInt i : zones[z]->localCells()) inside[z][i] = 1;
+    for (bool away : {false, true})
+      for (int k : settings.departures) {
+        Cohort h;
+        h.zone = z;
+        h.away = away;
+        h.departure = k;
+        cohorts.push_back(std::move(h));
+      }
+    ZonePassages p;
+    p.zone = zones[z]->name();
+    const PetscScalar *pm;
+    PetscCall(VecGetArrayRead(chain.meanShare(), &pm));
+    for (PetscInt i : zones[z]->localCells()) p.databaseShare += pm[i];
+    PetscCall(VecRestoreArrayRead(chain.meanShare(), &pm));
+    PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, &p.databaseShare, 1, MPI_DOUBLE, MPI_SUM, comm));
+    out->push_back(std::move(p));
+  }
+  const PetscInt bs = static_cast<PetscInt>(cohorts.size());
+  if (bs == 0) PetscFunctionReturn(PETSC_SUCCESS);
+  std::vector<OwnedMat> step;
+  PetscCall(chain.blockTransfers(bs, &step));
+  OwnedVec x, y, source, moved;
+  PetscCall(VecCreateMPI(comm, nlocal * bs, PETSC_DETERMINE, x.put()));
+  PetscCall(VecSetBlockSize(x, bs));
+  PetscCall(VecDuplicate(x, y.put()));
+  PetscCall(VecSet(x, 0.0));
+  PetscCall(VecDuplicate(chain.meanShare(), source.put()));
+  PetscCall(VecDuplicate(chain.meanShare(), moved.put()));
+  const long long horizon = std::max<long long>(1, std::llround(settings.horizon / chain.dt()));
+  const int lastDeparture = *std::max_element(settings.departures.begin(), settings.departures.end());
+  std::vector<double> sums(bs);
+  for (long long s = 0;; ++s) {
+    // Move every cohort from t_s to t_{s+1}; the ones not yet started are empty.
+    PetscCall(MatMult(step[static_cast<size_t>(s % K)], x, y));
+    std::swap(x, y);
+    // Absorb: what reached the side it left ends its duration, n = s - departure steps.
+    PetscScalar *px;
+    PetscCall(VecGetArray(x, &px));
+    std::fill(sums.begin(), sums.end(), 0.0);
+    for (PetscInt c = 0; c < bs; ++c) {
+      const Cohort &h = cohorts[c];
+      if (h.departure >= s || h.done) continue;
+      const std::vector<char> &in = inside[h.zone];
+      for (PetscInt i = 0; i < nlocal; ++i)
+        if (static_cast<bool>(in[i]) == h.away) {
+          sums[c] += px[i * bs + c];
+          px[i * bs + c] = 0.0;
+        }
+    }
+    PetscCall(VecRestoreArray(x, &px));
+    PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, sums.data(), static_cast<int>(bs), MPI_DOUBLE, MPI_SUM, comm));
+    bool open = s < lastDeparture;
+    for (PetscInt c = 0; c < bs; ++c) {
+      Cohort &h = cohorts[c];
+      if (h.departure >= s || h.done) continue;
+      h.f.push_back(sums[c]);
+      h.absorbed += sums[c];
+      h.done = 1.0 - h.absorbed < settings.tail || static_cast<long long>(h.f.size()) >= horizon || h.weight == 0;
+      open = open || !h.done;
+    }
+    // Start the cohorts that cross during frame s: the solid on one side at
+    // t_s found on the other at t_{s+1}, as a distribution.
+    for (PetscInt c = 0; c < bs; ++c) {
+      Cohort &h = cohorts[c];
+      if (h.departure != s) continue;
+      const std::vector<char> &in = inside[h.zone];
+      const PetscScalar *pm;
+      PetscScalar *pv;
+      PetscCall(VecGetArrayRead(chain.massShare(s), &pm));
+      PetscCall(VecGetArrayWrite(source, &pv));
+      for (PetscInt i = 0; i < nlocal; ++i) pv[i] = static_cast<bool>(in[i]) == h.away ? pm[i] : 0.0;
+      PetscCall(VecRestoreArrayWrite(source, &pv));
+      PetscCall(VecRestoreArrayRead(chain.massShare(s), &pm));
+      PetscCall(MatMult(chain.transfer(s), source, moved));
+      double w = 0.0;
+      PetscCall(VecGetArray(moved, &pv));
+      for (PetscInt i = 0; i < nlocal; ++i) {
+        if (static_cast<bool>(in[i]) == h.away) pv[i] = 0.0; // stayed on its side
+        w += pv[i];
+      }
+      PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, &w, 1, MPI_DOUBLE, MPI_SUM, comm));
+      h.weight = w;
+      PetscCall(VecGetArray(x, &px));
+      for (PetscInt i = 0; i < nlocal; ++i) px[i * bs + c] = w > 0 ? pv[i] / w : 0.0;
+      PetscCall(VecRestoreArray(x, &px));
+      PetscCall(VecRestoreArray(moved, &pv));
+      open = open || w > 0;
+    }
+    if (!open) break;
+  }
+  // Mix the departures, weighted by the mass that crossed.
+  for (size_t z = 0; z < zones.size(); ++z)
+    for (bool away : {false, true}) {
+      PassageDistribution &d = away ? (*out)[z].away : (*out)[z].residence;
+      double total = 0.0;
+      for (const Cohort &h : cohorts)
+        if (h.zone == z && h.away == away) total += h.weight;
+      d.flux = total / settings.departures.size();
+      for (const Cohort &h : cohorts) {
+        if (h.zone != z || h.away != away || h.weight == 0) continue;
+        // Left unabsorbed: the remaining mass, counted directly.
+        if (d.probability.size() < h.f.size()) d.probability.resize(h.f.size(), 0.0);
+        for (size_t n = 0; n < h.f.size(); ++n) d.probability[n] += h.weight / total * h.f[n];
+        d.tail += h.weight / total * (1.0 - h.absorbed);
+      }
+      double absorbed = 0.0, first = 0.0;
+      for (size_t n = 0; n < d.probability.size(); ++n) {
+        absorbed += d.probability[n];
+        first += (n + 1) * chain.dt() * d.probability[n];
+      }
+      d.mean = absorbed > 0 ? first / absorbed : 0.0;
+    }
+  // Conservation: absorbed plus what is left in the block vector is 1 for every cohort.
+  std::vector<double> left(bs, 0.0);
+  {
+    const PetscScalar *px;
+    PetscCall(VecGetArrayRead(x, &px));
+    for (PetscInt i = 0; i < nlocal; ++i)
+      for (PetscInt c = 0; c < bs; ++c) left[c] += px[i * bs + c];
+    PetscCall(VecRestoreArrayRead(x, &px));
+    PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, left.data(), static_cast<int>(bs), MPI_DOUBLE, MPI_SUM, comm));
+  }
+  for (PetscInt c = 0; c < bs; ++c) {
+    const Cohort &h = cohorts[c];
+    if (h.weight == 0) continue;
+    PassageDistribution &d = h.away ? (*out)[h.zone].away : (*out)[h.zone].residence;
+    d.conservation = std::max(d.conservation, std::fabs(h.absorbed + left[c] - 1.0));
+  }
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+} // namespace rcfd
