@@ -36,16 +36,18 @@ Mesh row(int n) {
   return Mesh::box(s);
 }
 
-// One frame with shift `shift` and alpha_s `alpha` on row(n); rank 0 writes.
-void writeChain(const std::string &path, int n, const std::vector<double> &alpha, const CsrMatrix &shift) {
+// Frames with the shifts `shifts` and alpha_s `alpha` on row(n); rank 0 writes.
+void writeChain(const std::string &path, int n, const std::vector<double> &alpha, const std::vector<CsrMatrix> &shifts) {
   if (rank == 0) {
     DatabaseMetadata meta;
     meta.dtRec = dt;
     DatabaseWriter w(path, row(n), meta);
-    FrameRecord f;
-    f.alphaS = alpha;
-    f.shift = shift;
-    w.append(f);
+    for (const CsrMatrix &shift : shifts) {
+      FrameRecord f;
+      f.alphaS = alpha;
+      f.shift = shift;
+      w.append(f);
+    }
     w.finish();
   }
   MPI_Barrier(PETSC_COMM_WORLD);
@@ -110,7 +112,7 @@ void checkAbsorption(const PassageDistribution &d) {
 void twoCells() {
   const double a = 0.3, b = 0.1;
   const std::string path = dir + "/two_cells.h5";
-  writeChain(path, 2, {0.2, 0.6}, shiftFromTransfers(2, {0, 1, 0, 1}, {0, 0, 1, 1}, {1 - a, a, b, 1 - b}));
+  writeChain(path, 2, {0.2, 0.6}, {shiftFromTransfers(2, {0, 1, 0, 1}, {0, 0, 1, 1}, {1 - a, a, b, 1 - b})});
   Answers r;
   RCFD_CHECK(succeeded(analyse(path, {0, 1}, &r)));
   const double lambda = 1 - a - b;
@@ -149,9 +151,7 @@ void twoCells() {
 // 1 - p + p exp(2 pi i k / N); a visit to one cell lasts a geometric time, the
 // time away is the time of N - 1 moves (negative binomial); the mixing time is
 // the same from every cell, found here by propagating the tracer by hand.
-void ring() {
-  const int N = 8;
-  const double p = 0.25;
+CsrMatrix lazyRing(int N, double p) {
   std::vector<int32_t> dest, src;
   std::vector<double> w;
   for (int c = 0; c < N; ++c) {
@@ -159,8 +159,29 @@ void ring() {
     src.insert(src.end(), {c, c});
     w.insert(w.end(), {1 - p, p});
   }
+  return shiftFromTransfers(N, dest, src, w);
+}
+
+// The ring's step count to mix by hand: x <- (1 - p) x + p shift(x) from cell
+// 0 until max |N x_i - 1| <= 0.05.
+int ringMixingSteps(int N, double p) {
+  std::vector<double> x(N, 0.0), y(N);
+  x[0] = 1.0;
+  for (int n = 1; n < 1000; ++n) {
+    for (int c = 0; c < N; ++c) y[(c + 1) % N] = p * x[c];
+    for (int c = 0; c < N; ++c) x[c] = (1 - p) * x[c] + y[c];
+    double d = 0.0;
+    for (double v : x) d = std::max(d, std::fabs(N * v - 1.0));
+    if (d <= 0.05) return n;
+  }
+  return -1;
+}
+
+void ring() {
+  const int N = 8;
+  const double p = 0.25;
   const std::string path = dir + "/ring.h5";
-  writeChain(path, N, std::vector<double>(N, 0.5), shiftFromTransfers(N, dest, src, w));
+  writeChain(path, N, std::vector<double>(N, 0.5), {lazyRing(N, p)});
   std::vector<int> all(N);
   for (int c = 0; c < N; ++c) all[c] = c;
   Answers r;
@@ -169,18 +190,7 @@ void ring() {
   RCFD_CHECK_CLOSE(r.spectrum.lambda2, lambda2, 1e-10);
   RCFD_CHECK_CLOSE(std::fabs(r.spectrum.lambda2Im), p * std::sin(2 * M_PI / N), 1e-10);
   RCFD_CHECK(r.spectrum.max < 1e-10);
-  // The tracer by hand: x <- (1 - p) x + p shift(x); deviation max |N x_i - 1|.
-  std::vector<double> x(N, 0.0), y(N);
-  x[0] = 1.0;
-  int mixedAt = -1, n = 0;
-  while (mixedAt < 0 && n < 1000) {
-    ++n;
-    for (int c = 0; c < N; ++c) y[(c + 1) % N] = p * x[c];
-    for (int c = 0; c < N; ++c) x[c] = (1 - p) * x[c] + y[c];
-    double d = 0.0;
-    for (double v : x) d = std::max(d, std::fabs(N * v - 1.0));
-    if (d <= 0.05) mixedAt = n;
-  }
+  const int mixedAt = ringMixingSteps(N, p);
   RCFD_CHECK(mixedAt > 10);
   RCFD_CHECK(r.mixing.time.size() == static_cast<size_t>(N));
   for (double t : r.mixing.time) RCFD_CHECK_CLOSE(t, mixedAt * dt, 1e-12);
@@ -205,6 +215,32 @@ void ring() {
   checkAbsorption(z.away);
 }
 
+// Two frames: the lazy ring, then the identity.  The averaged chain is
+// (T + I) / 2, |lambda2| = |1 - p/2 + p/2 exp(2 pi i / N)|; the tracer moves on
+// the odd steps only, so it first reaches the tolerance at step 2 m - 1 (m the
+// ring's steps) and stays there through the identity step: the mixing time
+// counts from that first step, not from the end of the K steps it must stay.
+void ringWithPauses() {
+  const int N = 8;
+  const double p = 0.25;
+  const std::string path = dir + "/ring_pauses.h5";
+  writeChain(path, N, std::vector<double>(N, 0.5), {lazyRing(N, p), shiftFromTransfers(N, {}, {}, {})});
+  Answers r;
+  RCFD_CHECK(succeeded(analyse(path, {0, 3}, &r)));
+  const double lambda2 = std::abs(std::complex<double>(1 - p / 2) + p / 2 * std::polar(1.0, 2 * M_PI / N));
+  RCFD_CHECK_CLOSE(r.spectrum.lambda2, lambda2, 1e-10);
+  RCFD_CHECK(r.mixing.confirm == 2);
+  const int m = ringMixingSteps(N, p);
+  RCFD_CHECK(r.mixing.time.size() == 2);
+  for (double t : r.mixing.time) RCFD_CHECK_CLOSE(t, (2 * m - 1) * dt, 1e-12);
+  for (const ZonePassages &z : r.zones) {
+    checkAbsorption(z.residence);
+    checkAbsorption(z.away);
+    // Half the steps move nothing: a visit lasts twice as long on average.
+    RCFD_CHECK_CLOSE(z.residence.mean, 2 * dt / p, 1e-6);
+  }
+}
+
 // Frames that lose mass are no Markov chain: a file with a column summing to
 // 0.9 is refused by the load, and a chain made in memory whose shift loses 1e-9
 // of every column by the chain itself before anything is computed; 1e-14 is
@@ -213,7 +249,7 @@ void nonConserving() {
   const std::string path = dir + "/losing.h5";
   CsrMatrix T = shiftFromTransfers(2, {0, 1, 0, 1}, {0, 0, 1, 1}, {0.7, 0.3, 0.1, 0.9});
   T.val[0] = 0.6; // column 0 sums to 0.9
-  writeChain(path, 2, {0.2, 0.6}, T);
+  writeChain(path, 2, {0.2, 0.6}, {T});
   const std::string refusal = rcfd::test::loadRefusal(path);
   RCFD_CHECK(refusal.find("sum") != std::string::npos);
   const std::string good = dir + "/two_cells.h5";
@@ -252,6 +288,7 @@ int main(int argc, char **argv) {
   if (rank == 0 && std::system(("mkdir -p '" + dir + "'").c_str()) != 0) return 1;
   twoCells();
   ring();
+  ringWithPauses();
   nonConserving();
   PetscPopErrorHandler();
   PetscCall(PetscFinalize());

@@ -31,8 +31,9 @@ struct MarkovOptions {
   double alphaMeanMin = 1e-3;
   MixingSettings mixing;
   bool allStarts = false, mix = true;
+  PetscInt stride = 4;
   PassageSettings passages;
-  PetscInt departures = 10;
+  PetscInt departures = 4;
   bool quiet = false;
 };
 
@@ -64,8 +65,10 @@ PetscErrorCode readOptions(MPI_Comm comm, const char *positional, MarkovOptions 
   PetscCall(checkedReal(PetscOptionsObject, "-markov_mix_horizon", "Longest tracer propagation [s]",
                         &o->mixing.horizon, kPositive));
   PetscCall(PetscOptionsEList("-markov_mix_starts",
-                              "Tracer start cells: layers (the centre of every layer holding solid) or all", "",
+                              "Tracer start cells: layers (the centre of every -markov_mix_stride-th layer holding solid) or all", "",
                               startKinds, 2, startKinds[starts], &starts, nullptr));
+  PetscCall(checkedInt(PetscOptionsObject, "-markov_mix_stride",
+                       "With -markov_mix_starts layers: every this many layers from the bottom", &o->stride, 1, 1000000));
   PetscCall(checkedInt(PetscOptionsObject, "-markov_departures",
                        "Frames whose zone crossings are followed (spread evenly)", &o->departures, 1, 1000000));
   PetscCall(checkedReal(PetscOptionsObject, "-markov_passage_horizon", "Longest time a crossing is followed [s]",
@@ -127,7 +130,8 @@ PetscErrorCode markovCommand(MPI_Comm comm, const char *positional) {
 
   MixingResult mixing;
   if (o.mix) {
-    o.mixing.starts = mixingStarts(db->mesh(), db->metadata().gravity, alpha0, o.mixing.alphaMin, o.allStarts);
+    o.mixing.starts = mixingStarts(db->mesh(), db->metadata().gravity, alpha0, o.mixing.alphaMin, o.allStarts,
+                                   static_cast<int>(o.stride));
     PetscCall(tracerMixing(chain, o.mixing, &mixing));
   }
   const double tMixing = MPI_Wtime();

@@ -10,7 +10,7 @@
 namespace rcfd {
 
 std::vector<int> mixingStarts(const Mesh &mesh, const Vec3 &gravity, const std::vector<double> &alpha0,
-                              double alphaMin, bool all) {
+                              double alphaMin, bool all, int stride) {
   std::vector<int> starts;
   if (all || !mesh.isBox()) {
     for (int c = 0; c < mesh.numCells(); ++c)
@@ -23,10 +23,11 @@ std::vector<int> mixingStarts(const Mesh &mesh, const Vec3 &gravity, const std::
   const BoxSpec &b = mesh.boxSpec();
   const int n[3] = {b.nx, b.ny, b.nz};
   int centre[3] = {b.nx / 2, b.ny / 2, b.nz / 2};
-  for (int layer = 0; layer < n[vertical]; ++layer) {
+  for (int l = 0; l < n[vertical]; ++l) {
+    const int layer = upward ? l : n[vertical] - 1 - l;
     centre[vertical] = layer;
     const int c = b.cellIndex(centre[0], centre[1], centre[2]);
-    if (alpha0[c] >= alphaMin) starts.push_back(c);
+    if (alpha0[c] >= alphaMin && l % std::max(1, stride) == 0) starts.push_back(c);
   }
   return starts;
 }
@@ -64,6 +65,15 @@ PetscErrorCode tracerMixing(const FrameChain &chain, const MixingSettings &setti
     }
     PetscCall(VecRestoreArrayWrite(x, &px));
   }
+  // The bulk's share y_i holds alpha y_i S / V_i, S the solid volume of frame 0.
+  double solid = 0.0;
+  {
+    const PetscScalar *pa;
+    PetscCall(VecGetArrayRead(db.alphaS(0), &pa));
+    for (PetscInt i = 0; i < nlocal; ++i) solid += pa[i] * db.localVolumes()[i];
+    PetscCall(VecRestoreArrayRead(db.alphaS(0), &pa));
+    PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, &solid, 1, MPI_DOUBLE, MPI_SUM, comm));
+  }
   const long long horizon = std::max<long long>(1, std::llround(settings.horizon / chain.dt()));
   std::vector<long long> within(s, -1); // first step of the current run within the tolerance
   std::vector<double> deviation(s);
@@ -71,20 +81,15 @@ PetscErrorCode tracerMixing(const FrameChain &chain, const MixingSettings &setti
   for (long long n = 1; n <= horizon && open > 0; ++n) {
     PetscCall(MatMult(step[static_cast<size_t>((n - 1) % chain.numFrames())], x, y));
     std::swap(x, y);
-    // Deviation at t_n, over the cells whose alpha_s at frame n is at least alphaMin.
-    const PetscScalar *px, *pa;
+    // Deviation at t_n, over the cells where the propagated bulk holds alpha_s >= alphaMin.
+    const PetscScalar *px;
     PetscCall(VecGetArrayRead(x, &px));
-    PetscCall(VecGetArrayRead(db.alphaS(static_cast<int>(n % chain.numFrames())), &pa));
     std::fill(deviation.begin(), deviation.end(), 0.0);
     for (PetscInt i = 0; i < nlocal; ++i) {
-      if (pa[i] < settings.alphaMin) continue;
       const double bulk = px[i * bs];
-      for (PetscInt c = 0; c < s; ++c) {
-        const double d = bulk > 0 ? std::fabs(px[i * bs + 1 + c] / bulk - 1.0) : 1.0;
-        deviation[c] = std::max(deviation[c], d);
-      }
+      if (bulk * solid < settings.alphaMin * db.localVolumes()[i]) continue;
+      for (PetscInt c = 0; c < s; ++c) deviation[c] = std::max(deviation[c], std::fabs(px[i * bs + 1 + c] / bulk - 1.0));
     }
-    PetscCall(VecRestoreArrayRead(db.alphaS(static_cast<int>(n % chain.numFrames())), &pa));
     PetscCall(VecRestoreArrayRead(x, &px));
     PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, deviation.data(), static_cast<int>(s), MPI_DOUBLE, MPI_MAX, comm));
     double mean = 0.0, worst = 0.0;

@@ -13,8 +13,8 @@ namespace rcfd {
 
 struct MixingSettings {
   double tolerance = 0.05;  ///< mixed: every counted cell within this of 1
-  double alphaMin = 0.1;    ///< counted cells: alpha_s of the current frame at least this
-  double horizon = 60.0;    ///< give up after this time [s]
+  double alphaMin = 0.1;    ///< counted cells: the propagated bulk holds alpha_s at least this
+  double horizon = 120.0;   ///< give up after this time [s]
   std::vector<int> starts;  ///< natural cells the tracers start in (at frame 0)
 };
 
@@ -33,10 +33,11 @@ struct MixingResult {
 /// at the horizon.
 PetscErrorCode tracerMixing(const FrameChain &chain, const MixingSettings &settings, MixingResult *out);
 
-/// The natural cell at the horizontal centre of every layer (along gravity) of a
-/// box mesh whose alpha_s at frame 0 is at least alphaMin; all cells holding at
-/// least alphaMin at frame 0 when `all` or when the mesh is not a box.
+/// The natural cell at the horizontal centre of every stride-th layer (along
+/// gravity, from the bottom) of a box mesh whose alpha_s at frame 0 is at least
+/// alphaMin; all cells holding at least alphaMin at frame 0 when `all` or when
+/// the mesh is not a box.
 std::vector<int> mixingStarts(const Mesh &mesh, const Vec3 &gravity, const std::vector<double> &alpha0,
-                              double alphaMin, bool all);
+                              double alphaMin, bool all, int stride = 1);
 
 } // namespace rcfd

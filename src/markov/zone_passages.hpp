@@ -12,7 +12,7 @@
 namespace rcfd {
 
 struct PassageSettings {
-  double horizon = 30.0;     ///< follow each crossing this long [s]
+  double horizon = 20.0;     ///< follow each crossing this long [s]
   double tail = 1e-6;        ///< stop when less than this is left unabsorbed
   std::vector<int> departures; ///< the frames whose crossings are followed
 };
