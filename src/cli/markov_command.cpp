@@ -33,7 +33,7 @@ struct MarkovOptions {
   bool allStarts = false, mix = true;
   PetscInt stride = 4;
   PassageSettings passages;
-  PetscInt departures = 4;
+  PetscInt departures = 16;
   bool quiet = false;
 };
 
@@ -229,9 +229,10 @@ PetscErrorCode markovCommand(MPI_Comm comm, const char *positional) {
                           number(spectrum.relaxationTime), "--tolerance", number(o.mixing.tolerance), "--title",
                           "tracer mixing, " + o.file}));
   for (const ZonePassages &p : passages)
-    PetscCall(drawFigure(comm, "markov_zone.py",
-                         {dir + "zone_" + p.zone + ".csv", "-o", dir + "zone_" + p.zone + ".png", "--title",
-                          "zone " + p.zone + ", " + o.file}));
+    if (!p.residence.probability.empty() || !p.away.probability.empty())
+      PetscCall(drawFigure(comm, "markov_zone.py",
+                           {dir + "zone_" + p.zone + ".csv", "-o", dir + "zone_" + p.zone + ".png", "--title",
+                            "zone " + p.zone + ", " + o.file}));
 
   if (!o.quiet) {
     PetscCall(PetscPrintf(comm,
@@ -254,6 +255,10 @@ PetscErrorCode markovCommand(MPI_Comm comm, const char *positional) {
                               o.mixing.tolerance, o.mixing.alphaMin, mixed, mixing.time.size(), o.mixing.horizon, mixMean));
     }
     for (const ZonePassages &p : passages)
+      if (p.residence.flux == 0 && p.away.flux == 0)
+        PetscCall(PetscPrintf(comm, "  zone %s: mass share %.4f (stationary) / %.4f (frames); no solid crosses its boundary during the %zu departure frames\n",
+                              p.zone.c_str(), p.stationaryShare, p.databaseShare, o.passages.departures.size()));
+      else
       PetscCall(PetscPrintf(comm,
                             "  zone %s: mass share %.4f (stationary) / %.4f (frames); per visit %.4g s (tail %.1e), "
                             "away %.4g s (tail %.1e); Kac: %.4f; absorbed + left = 1 within %.1e\n",
