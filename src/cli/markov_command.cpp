@@ -132,6 +132,7 @@ PetscErrorCode markovCommand(MPI_Comm comm, const char *positional) {
   if (o.mix) {
     o.mixing.starts = mixingStarts(db->mesh(), db->metadata().gravity, alpha0, o.mixing.alphaMin, o.allStarts,
                                    static_cast<int>(o.stride));
+    o.mixing.excluded = spectrum.absorbingLocal;
     PetscCall(tracerMixing(chain, o.mixing, &mixing));
   }
   const double tMixing = MPI_Wtime();

@@ -81,8 +81,10 @@ PetscErrorCode ChainEigensolver::solve(const FrameChain &chain, FrameChain::Aver
     PetscCall(VecGetArrayRead(diagonal, &pd));
     std::vector<PetscInt> rows;
     double left[3] = {0.0, 0.0, 0.0}; // share left out, absorbing cells, their share
+    out->absorbingLocal.assign(end - start, 0);
     for (PetscInt i = 0; i < end - start; ++i) {
       const bool absorbing = pa[i] > 0 && pd[i] >= 1.0 - kAbsorbing;
+      out->absorbingLocal[i] = absorbing;
       if (pa[i] >= alphaMeanMin && pa[i] > 0 && !absorbing) {
         rows.push_back(start + i);
         continue;

@@ -15,6 +15,7 @@ struct ChainSpectrum {
   double leftOut = 0.0;           ///< the mean mass share of the other cells
   int absorbing = 0;              ///< cells holding solid that never moves in a frame it is there (Q(i, i) = 1)
   double absorbingShare = 0.0;    ///< their mean mass share
+  std::vector<char> absorbingLocal; ///< per own cell (local index): whether it is absorbing
   double lambda1 = 0.0;           ///< the eigenvalue closest to 1 (1 for a stochastic matrix)
   double lambda2Re = 0.0, lambda2Im = 0.0; ///< the next-largest in modulus
   double lambda2 = 0.0;           ///< its modulus

@@ -88,6 +88,7 @@ PetscErrorCode tracerMixing(const FrameChain &chain, const MixingSettings &setti
     for (PetscInt i = 0; i < nlocal; ++i) {
       const double bulk = px[i * bs];
       if (bulk * solid < settings.alphaMin * db.localVolumes()[i]) continue;
+      if (!settings.excluded.empty() && settings.excluded[i]) continue;
       for (PetscInt c = 0; c < s; ++c) deviation[c] = std::max(deviation[c], std::fabs(px[i * bs + 1 + c] / bulk - 1.0));
     }
     PetscCall(VecRestoreArrayRead(x, &px));

@@ -16,6 +16,10 @@ struct MixingSettings {
   double alphaMin = 0.1;    ///< counted cells: the propagated bulk holds alpha_s at least this
   double horizon = 120.0;   ///< give up after this time [s]
   std::vector<int> starts;  ///< natural cells the tracers start in (at frame 0)
+  /// Per own cell (local index; empty: none): cells left out of the deviation,
+  /// the averaged chain's absorbing cells (ChainSpectrum::absorbingLocal),
+  /// whose solid never moves and so never takes up a tracer.
+  std::vector<char> excluded;
 };
 
 struct MixingResult {

@@ -1,0 +1,40 @@
+#!/usr/bin/env bash
+# rcfd markov on the small synthetic database: the same numbers on 1 and 2
+# ranks (every CSV within 1e-12, the eigenvalue-derived ones within SLEPc's
+# tolerance), absorbed + left = 1 for a zone, and bad input refused with one
+# sentence before any output is written.
+# usage: test_markov_cli.sh RCFD CSV_COMPARE DATA_DIR SOURCE_DIR
+set -u
+rcfd=$1 compare=$2 data=$3
+source "$(dirname "${BASH_SOURCE[0]}")/script_helpers.sh"
+export PATH=/usr/bin:$PATH
+db=$data/small.h5
+common=(-zones low -zone_low_layers 0,4 -markov_mix_starts all -markov_mix_alpha_min 0.3 -markov_mix_horizon 60
+  -markov_mix_tolerance 0.3
+  -markov_departures 6 -markov_passage_horizon 5 -quiet)
+mpiexec -n 1 "$rcfd" markov "$db" "${common[@]}" -o "$work/np1" && ok || fail "rcfd markov on 1 rank failed"
+mpiexec -n 2 "$rcfd" markov "$db" "${common[@]}" -o "$work/np2" && ok || fail "rcfd markov on 2 ranks failed"
+# Propagations: the sums over cells differ in order only (1e-12).  lambda2_decay
+# comes from SLEPc's eigenvalue (1e-8 absolute on numbers below 1).
+"$compare" "$work/np1/mixing.csv" "$work/np2/mixing.csv" 1e-12 && ok || fail "mixing.csv differs between 1 and 2 ranks"
+"$compare" "$work/np1/relaxation.csv" "$work/np2/relaxation.csv" 1e-12 1e-15 lambda2_decay=1e-8 && ok ||
+  fail "relaxation.csv differs between 1 and 2 ranks"
+"$compare" "$work/np1/zone_low.csv" "$work/np2/zone_low.csv" 1e-12 1e-15 && ok || fail "zone_low.csv differs"
+"$compare" "$work/np1/stationary.csv" "$work/np2/stationary.csv" 1e-12 1e-15 stationary_share=1e-8 && ok ||
+  fail "stationary.csv differs"
+value() { grep "^$2," "$1/summary.csv" | cut -d, -f2; }
+# Most tracers mixed within 60 s (the bed relaxes in about 16 s; starts in nearly dead cells do not: 123 of 138).
+awk -v m="$(value "$work/np1" mixing_mixed)" -v n="$(value "$work/np1" mixing_starts)" 'BEGIN { exit !(n > 100 && m > n / 2) }' &&
+  ok || fail "$(value "$work/np1" mixing_mixed) of $(value "$work/np1" mixing_starts) tracers mixed within 60 s"
+awk -v a="$(value "$work/np1" relaxation_time)" -v b="$(value "$work/np2" relaxation_time)" \
+  'BEGIN { exit !(a > 0 && (a - b < 1e-6 * a && b - a < 1e-6 * a)) }' && ok ||
+  fail "relaxation time $(value "$work/np1" relaxation_time) vs $(value "$work/np2" relaxation_time)"
+awk -v c="$(value "$work/np1" zone_low_conservation)" 'BEGIN { exit !(c < 1e-12) }' && ok ||
+  fail "absorbed + left - 1 = $(value "$work/np1" zone_low_conservation)"
+# Refusals: one sentence, nothing written.
+expect_error "Unknown option -markov_mix_tolerence" markov "$db" -markov_mix_tolerence 0.1 -o "$work/bad"
+expect_error "-markov_mix_tolerance 2: expected a number between 0 and 1" markov "$db" -markov_mix_tolerance 2 -o "$work/bad"
+expect_error "No database given" markov -o "$work/bad"
+[ ! -e "$work/bad" ] && ok || fail "a refused rcfd markov wrote $work/bad"
+echo "$passed passed, $failures failed"
+[ $failures -eq 0 ]
