@@ -106,6 +106,10 @@ PetscErrorCode ChainEigensolver::solve(const FrameChain &chain, FrameChain::Aver
   PetscInt n;
   PetscCall(MatGetSize(Q, &n, nullptr));
   out->cells = static_cast<int>(n);
+  PetscCheck(n > 0, comm, PETSC_ERR_USER_INPUT,
+             "Database '%s': no cell has a mean alpha_s of at least %g and moving solid, so the averaged chain has no "
+             "state (lower -markov_alpha_mean_min)",
+             chain.database().path().c_str(), alphaMeanMin);
   {
     PetscCall(EPSSetOperators(eps, Q, nullptr));
     if (n <= 2) PetscCall(EPSSetDimensions(eps, n > 1 ? 2 : 1, n, n));
