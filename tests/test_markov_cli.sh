@@ -31,6 +31,12 @@ awk -v a="$(value "$work/np1" relaxation_time)" -v b="$(value "$work/np2" relaxa
   fail "relaxation time $(value "$work/np1" relaxation_time) vs $(value "$work/np2" relaxation_time)"
 awk -v c="$(value "$work/np1" zone_low_conservation)" 'BEGIN { exit !(c < 1e-12) }' && ok ||
   fail "absorbed + left - 1 = $(value "$work/np1" zone_low_conservation)"
+# The figures, where matplotlib is there to draw them.
+if /usr/bin/python3 -c "import matplotlib, numpy" 2>/dev/null; then
+  for png in relaxation zone_low; do
+    [ "$(head -c 4 "$work/np1/$png.png" | tail -c 3)" = PNG ] && ok || fail "$work/np1/$png.png is not a PNG"
+  done
+fi
 # Refusals: one sentence, nothing written.
 expect_error "Unknown option -markov_mix_tolerence" markov "$db" -markov_mix_tolerence 0.1 -o "$work/bad"
 expect_error "-markov_mix_tolerance 2: expected a number between 0 and 1" markov "$db" -markov_mix_tolerance 2 -o "$work/bad"
