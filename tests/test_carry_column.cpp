@@ -10,6 +10,9 @@
 //    kept to 2 %;
 //  - the state carried on the ranks of the test equals, bit for bit, the one
 //    carried on one rank (the database loaded on PETSC_COMM_SELF);
+//  - one carry, jump after jump onto lower, shifted and higher beds: the
+//    state's bound said (only the occupied rows gathered and computed) or
+//    not, the same bits, every row above the bound it leaves empty;
 //  - gravity along no axis of the mesh is refused with one sentence.
 // Runs at 1 and 2 ranks.
 #include "check.hpp"
@@ -201,6 +204,60 @@ void acrossColumns() {
   RCFD_CHECK(carried(*self, start, 2) == m);
 }
 
+// One carry, jump after jump (its buffers kept between jumps): onto a lower
+// bed, across columns, onto a higher bed.  The state's bound said before each
+// jump (only the occupied rows travel) or not (every row): the same bits;
+// after each jump every own row at or above the bound the carry says is empty.
+std::vector<std::vector<double>> jumps(const Database &db, const std::vector<double> &start, bool sayBound,
+                                       bool *emptyAbove) {
+  const FractionSet set({1e-3, 3e-3}, {0.5, 0.5});
+  const RunContext ctx{db, set, kRho};
+  auto carry = created(OperatorRegistry::withBuiltins(), "carry");
+  {
+    ScopedOptions options("-carry_type column");
+    PetscCallAbort(PETSC_COMM_WORLD, carry->setFromOptions(db.layout().comm()));
+  }
+  PetscCallAbort(PETSC_COMM_WORLD, carry->setUp(ctx));
+  FractionState st;
+  PetscCallAbort(PETSC_COMM_WORLD, st.create(db.layout(), kNf));
+  setNatural(db, st, start);
+  std::vector<std::vector<double>> out;
+  for (int next : {0, 2, 1}) {
+    const PetscScalar *m;
+    PetscInt end = db.layout().numLocal();
+    PetscCallAbort(PETSC_COMM_WORLD, VecGetArrayRead(st.masses(), &m));
+    while (sayBound && end > 0 && m[(end - 1) * kNf] == 0.0 && m[(end - 1) * kNf + 1] == 0.0) --end;
+    PetscCallAbort(PETSC_COMM_WORLD, VecRestoreArrayRead(st.masses(), &m));
+    PetscCallAbort(PETSC_COMM_WORLD, st.setOccupiedEnd(end));
+    StepInfo step;
+    step.dt = 5e-3;
+    step.nextFrame = next;
+    step.jump = true;
+    PetscCallAbort(PETSC_COMM_WORLD, carry->apply(step, st));
+    PetscCallAbort(PETSC_COMM_WORLD, st.occupiedEnd(&end));
+    PetscCallAbort(PETSC_COMM_WORLD, VecGetArrayRead(st.masses(), &m));
+    for (PetscInt k = end * kNf; k < db.layout().numLocal() * kNf; ++k) *emptyAbove = *emptyAbove && m[k] == 0.0;
+    PetscCallAbort(PETSC_COMM_WORLD, VecRestoreArrayRead(st.masses(), &m));
+    out.push_back(gatherNatural(db, st.masses(), kNf));
+  }
+  return out;
+}
+
+// Gravity along -z: a column's cells ascend in natural order with its levels;
+// along +z they descend, so a column's levels reach cells above the bound.
+void occupiedCellsOnly(const std::string &name, const Vec3 &gravity) {
+  auto db = load(PETSC_COMM_WORLD, name, gravity);
+  const auto alpha = frames(db->mesh());
+  const auto start = composed(db->mesh(), alpha[1], [](int k) { return 0.05 + 0.08 * k; }); // the higher bed
+  bool emptyAbove = true;
+  const auto bounded = jumps(*db, start, true, &emptyAbove), full = jumps(*db, start, false, &emptyAbove);
+  RCFD_CHECK(bounded == full);
+  RCFD_CHECK(emptyAbove);
+  RCFD_CHECK(bounded[0] != start && bounded[1] != bounded[0] && bounded[2] != bounded[1]);
+  auto self = load(PETSC_COMM_SELF, name, gravity);
+  RCFD_CHECK(jumps(*self, start, true, &emptyAbove) == full); // 1 rank == the ranks of the test
+}
+
 void tiltedGravityRefused() {
   auto db = load(PETSC_COMM_WORLD, "tilted", {1.0, 0.0, -9.81});
   const FractionSet set({1e-3, 3e-3}, {0.5, 0.5});
@@ -229,6 +286,8 @@ int main(int argc, char **argv) {
   matchingStateUnchanged();
   layersKept();
   acrossColumns();
+  occupiedCellsOnly("bounds", {0.0, 0.0, -9.81});
+  occupiedCellsOnly("bounds-up", {0.0, 0.0, 9.81});
   tiltedGravityRefused();
   const int total = rcfd::test::globalFailures();
   PetscCall(PetscFinalize());

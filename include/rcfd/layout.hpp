@@ -59,21 +59,29 @@ private:
   std::vector<PetscInt> toPetsc_, toNatural_, owned;
 };
 
-/// Layout::gatherToAll for a caller that gathers Vecs of the same layout
-/// again and again (the column carry at every jump): one scatter, from the
-/// PETSc rows in natural order straight into a sequential Vec, made at the
-/// first gather and reused while the layout and the block size stay.
-class AllGather {
+/// Layout::gatherToAll of a Vec whose rows at and above a bound on each rank
+/// are zero (a state's occupied cells, FractionState::occupiedEnd), for a
+/// caller that gathers again and again (the column carry at every jump): only
+/// the rows below the bounds travel (one MPI_Allgatherv straight from the
+/// Vec's array), and only the natural cells below end() are written.  The
+/// values are those of gatherToAll, bit for bit.
+class OccupiedGather {
 public:
-  /// Collective.  The values of `petscOrdered` (block size bs) in natural
-  /// order on every rank, the same as layout.gatherToAll.
-  PetscErrorCode gather(const Layout &layout, PetscInt bs, Vec petscOrdered, std::vector<double> *natural);
+  /// Collective.  `localEnd`: every own row (local index) at or above it
+  /// holds zeros.  Afterwards values() holds every cell's bs values in
+  /// natural order, zero for every cell at or above end().
+  PetscErrorCode gather(const Layout &layout, PetscInt bs, Vec petscOrdered, PetscInt localEnd);
+  const std::vector<double> &values() const { return natural; }
+  /// One past the last natural cell that may hold a nonzero value.
+  PetscInt end() const { return naturalEnd; }
 
 private:
   const Layout *of = nullptr;
-  PetscInt blockSize = 0, size = 0;
-  OwnedVec all;
-  OwnedScatter scatter;
+  PetscInt blockSize = 0, naturalEnd = 0;
+  std::vector<PetscInt> starts;         // each rank's first PETSc row, and the number of cells
+  std::vector<int> owner;               // the rank of each natural cell
+  std::vector<double> rows, natural;    // PETSc row order as received; natural order
+  std::vector<PetscMPIInt> counts, displs;
 };
 
 } // namespace rcfd

@@ -129,22 +129,51 @@ PetscErrorCode Layout::gatherToAll(PetscInt bs, Vec petscOrdered, std::vector<do
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
-PetscErrorCode AllGather::gather(const Layout &layout, PetscInt bs, Vec petscOrdered, std::vector<double> *natural) {
+PetscErrorCode OccupiedGather::gather(const Layout &layout, PetscInt bs, Vec petscOrdered, PetscInt localEnd) {
+  PetscMPIInt size;
   const PetscScalar *a;
-  PetscInt n;
   PetscFunctionBeginUser;
-  PetscCall(VecGetSize(petscOrdered, &n));
-  if (of != &layout || blockSize != bs || size != n) { // every rank decides alike: the same layout and Vec
-    std::vector<PetscInt> rows(layout.numCells()); // the PETSc row of each cell, in natural order
-    for (PetscInt c = 0; c < layout.numCells(); ++c) rows[c] = layout.petscRow(c);
-    PetscCall(layout.rowsScatter(bs, layout.numCells(), rows.data(), all.put(), scatter.put()));
-    of = &layout, blockSize = bs, size = n;
+  const MPI_Comm comm = layout.comm();
+  const PetscInt n = layout.numCells();
+  PetscCallMPI(MPI_Comm_size(comm, &size));
+  if (of != &layout || blockSize != bs) { // every rank decides alike: the same layout and block size
+    const PetscInt first = layout.rowStart();
+    starts.assign(size + 1, n);
+    PetscCallMPI(MPI_Allgather(&first, 1, MPIU_INT, starts.data(), 1, MPIU_INT, comm));
+    owner.resize(n);
+    for (PetscInt c = 0; c < n; ++c) // the last rank whose first row is at or below the cell's
+      owner[c] = static_cast<int>(std::upper_bound(starts.begin(), starts.begin() + size, layout.petscRow(c)) -
+                                  starts.begin() - 1);
+    rows.assign(static_cast<std::size_t>(n) * bs, 0.0);
+    natural.assign(static_cast<std::size_t>(n) * bs, 0.0);
+    counts.resize(size);
+    displs.resize(size);
+    of = &layout, blockSize = bs, naturalEnd = 0;
   }
-  PetscCall(VecScatterBegin(scatter, petscOrdered, all, INSERT_VALUES, SCATTER_FORWARD));
-  PetscCall(VecScatterEnd(scatter, petscOrdered, all, INSERT_VALUES, SCATTER_FORWARD));
-  PetscCall(VecGetArrayRead(all, &a));
-  natural->assign(a, a + n);
-  PetscCall(VecRestoreArrayRead(all, &a));
+  std::vector<PetscInt> ends(size);
+  PetscCallMPI(MPI_Allgather(&localEnd, 1, MPIU_INT, ends.data(), 1, MPIU_INT, comm));
+  // A rank's rows ascend in natural order: its rows below its bound are its
+  // cells below the natural index one past the last of them.
+  std::vector<PetscInt> naturalBound(size, 0);
+  PetscInt end = 0;
+  for (PetscMPIInt p = 0; p < size; ++p) {
+    counts[p] = static_cast<PetscMPIInt>(ends[p] * bs);
+    displs[p] = static_cast<PetscMPIInt>(starts[p] * bs);
+    if (ends[p] > 0) naturalBound[p] = layout.naturalCell(starts[p] + ends[p] - 1) + 1;
+    end = std::max(end, naturalBound[p]);
+  }
+  PetscCall(VecGetArrayRead(petscOrdered, &a));
+  PetscCallMPI(MPI_Allgatherv(a, static_cast<PetscMPIInt>(localEnd * bs), MPIU_SCALAR, rows.data(), counts.data(),
+                              displs.data(), MPIU_SCALAR, comm));
+  PetscCall(VecRestoreArrayRead(petscOrdered, &a));
+  for (PetscInt c = 0; c < end; ++c) {
+    double *to = &natural[static_cast<std::size_t>(c) * bs];
+    if (c < naturalBound[owner[c]]) std::copy_n(&rows[static_cast<std::size_t>(layout.petscRow(c)) * bs], bs, to);
+    else std::fill_n(to, bs, 0.0);
+  }
+  if (end < naturalEnd) // what the last gather wrote above this one's end
+    std::fill(natural.begin() + end * bs, natural.begin() + naturalEnd * bs, 0.0);
+  naturalEnd = end;
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 

@@ -2,6 +2,7 @@
 #include "base/petsc_compat.hpp"
 
 #include "rcfd/zone.hpp"
+#include "state/cell_passes.hpp"
 
 #include <cmath>
 #include <limits>
@@ -59,8 +60,20 @@ PetscErrorCode HorizontalLayers::sumLayers(Vec masses, int nf, PetscInt end, std
   std::vector<double> local(centre.size() * nf, 0.0);
   const PetscScalar *m;
   PetscCall(VecGetArrayRead(masses, &m));
-  for (PetscInt c = 0; c < end; ++c)
-    for (int i = 0; i < nf; ++i) local[layerOfLocal[c] * nf + i] += m[c * nf + i];
+  byFractions(nf, [&](auto k) {
+    constexpr int N = decltype(k)::value;
+    if constexpr (N == 0) {
+      for (PetscInt c = 0; c < end; ++c)
+        for (int i = 0; i < nf; ++i) local[layerOfLocal[c] * nf + i] += m[c * nf + i];
+    } else
+      for (PetscInt c = 0; c < end;) { // a run of cells of one layer, its sums in registers (the same order)
+        const int l = layerOfLocal[c];
+        PetscInt to = c + 1;
+        while (to < end && layerOfLocal[to] == l) ++to;
+        sumCells<N>(N, m, c, to, &local[static_cast<std::size_t>(l) * N]);
+        c = to;
+      }
+  });
   PetscCall(VecRestoreArrayRead(masses, &m));
   perLayer->assign(local.size(), 0.0);
   PetscCallMPI(MPI_Allreduce(local.data(), perLayer->data(), static_cast<int>(local.size()), MPI_DOUBLE,

@@ -3,6 +3,7 @@
 
 #include "base/checked_options.hpp"
 #include "base/collective.hpp"
+#include "state/cell_passes.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -155,8 +156,7 @@ PetscErrorCode FractionState::localTotals(std::vector<double> *perFraction) cons
   perFraction->assign(nf, 0.0);
   double *sum = perFraction->data();
   PetscCall(VecGetArrayRead(current, &m));
-  for (PetscInt c = 0; c < end; ++c, m += nf)
-    for (int i = 0; i < nf; ++i) sum[i] += m[i];
+  byFractions(nf, [&](auto n) { sumCells<decltype(n)::value>(nf, m, 0, end, sum); });
   PetscCall(VecRestoreArrayRead(current, &m));
   PetscFunctionReturn(PETSC_SUCCESS);
 }

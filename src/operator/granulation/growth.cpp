@@ -78,8 +78,10 @@ PetscErrorCode GrowthOperator::apply(const StepInfo &step, FractionState &state)
     first.insert(first.end(), own.begin(), own.end());
   }
   PetscCall(VecGetArray(state.masses(), &m));
+  double zoneArea = 0.0; // in a register: first[0] may alias the masses for the compiler
   for (PetscInt c : zone->localCells())
-    for (int i = 0; i < nf; ++i) first[0] += m[c * nf + i] / diameter[i];
+    for (int i = 0; i < nf; ++i) zoneArea += m[c * nf + i] / diameter[i];
+  first[0] = zoneArea;
   PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, first.data(), static_cast<int>(first.size()), MPI_DOUBLE, MPI_SUM, comm));
   const double area = first[0];
   const double toMove = fraction * rate * step.dt;

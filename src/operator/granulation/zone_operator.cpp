@@ -2,6 +2,7 @@
 // case's zones, and the check that it ever holds solid.
 #include "rcfd/granulation.hpp"
 #include "base/petsc_compat.hpp"
+#include "state/cell_passes.hpp"
 
 #include <algorithm>
 #include <numeric>
@@ -153,24 +154,20 @@ PetscErrorCode ZoneOperator::scaleBed(FractionState &state, const std::vector<do
   std::vector<double> sums(nf, 0.0); // as FractionState::localTotals adds: cell by cell
   PetscScalar *m;
   PetscCall(VecGetArray(state.masses(), &m));
-  if (!settle)
-    for (PetscInt k = 0; k < end * nf; k += nf)
-      for (int i = 0; i < nf; ++i) sums[i] += (m[k + i] *= factor[i]);
-  else { // the owed factor first, as the pass of the operator before would have (its zone's cells have it)
-    const double *first = owed->data();
-    PetscInt c = 0;
-    const auto both = [&](PetscInt upto) {
-      for (; c < upto; ++c)
-        for (int i = 0; i < nf; ++i) sums[i] += (m[c * nf + i] = m[c * nf + i] * first[i] * factor[i]);
-    };
-    for (PetscInt z : zone->localCells()) { // ascending
-      if (z >= end) break;
-      both(z);
-      for (int i = 0; i < nf; ++i) sums[i] += (m[z * nf + i] *= factor[i]);
-      c = z + 1;
+  byFractions(nf, [&](auto n) {
+    constexpr int N = decltype(n)::value;
+    if (!settle) scaleAndSumCells<N>(nf, m, 0, end, nullptr, factor.data(), sums.data());
+    else { // the owed factor first, as the pass of the operator before would have (its zone's cells have it)
+      PetscInt c = 0;
+      for (PetscInt z : zone->localCells()) { // ascending
+        if (z >= end) break;
+        scaleAndSumCells<N>(nf, m, c, z, owed->data(), factor.data(), sums.data());
+        scaleAndSumCells<N>(nf, m, z, z + 1, nullptr, factor.data(), sums.data());
+        c = z + 1;
+      }
+      scaleAndSumCells<N>(nf, m, c, end, owed->data(), factor.data(), sums.data());
     }
-    both(end);
-  }
+  });
   PetscCall(VecRestoreArray(state.masses(), &m));
   PetscCall(state.setOccupiedEnd(end)); // an empty cell stays empty
   PetscCall(state.setLocalTotals(sums));

@@ -84,7 +84,12 @@ private:
   PetscBool wholeBed = PETSC_FALSE;
   const Database *columnsOf = nullptr;
   Columns columns;
-  AllGather gatherMasses, gatherAlpha;
+  std::vector<PetscInt> lowestAbove; // per column and level: the smallest natural cell at or above the level
+  OccupiedGather gatherMasses, gatherAlpha;
+  // Natural order, zero at and above `valid` (the last jump's bound), kept
+  // between jumps: a jump writes only the cells below its bound.
+  std::vector<double> bulk, target, out;
+  PetscInt valid = 0;
   long jumps = 0;
   double movedAcross = 0.0, movedAcrossMax = 0.0; // share of the bed's mass moved between columns
   double seconds = 0.0;                            // wall time in the carry, this rank
@@ -140,9 +145,25 @@ void transport(const std::vector<Piece> &pieces, const PetscInt *cells, const do
   }
 }
 
+// One past the last own row (local index) whose value is not zero.
+PetscErrorCode nonzeroEnd(Vec v, PetscInt *end) {
+  const PetscScalar *a;
+  PetscInt n;
+  PetscFunctionBeginUser;
+  PetscCall(VecGetLocalSize(v, &n));
+  PetscCall(VecGetArrayRead(v, &a));
+  while (n > 0 && a[n - 1] == 0.0) --n;
+  PetscCall(VecRestoreArrayRead(v, &a));
+  *end = n;
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
 // Every rank gathers the state and the target bulk in natural order and
 // computes the whole carry in that order, so 1 and n ranks give the same bits;
-// then keeps its own cells.
+// then keeps its own cells.  Only the occupied cells travel and are computed:
+// the state's (FractionState::occupiedEnd) and the next frame's; the cells
+// above both, in natural order, hold nothing before and after and add
+// nothing to any sum (the same bits as gathering and computing all).
 //  1. Target bulk M*_c = rho alpha_c V_c, scaled to the state's total (one
 //     factor, 1 when the frame holds the bed's mass).
 //  2. A column whose bulk already matches (sum |M - M*| <= 1e-13 of its mass)
@@ -158,42 +179,74 @@ void transport(const std::vector<Piece> &pieces, const PetscInt *cells, const do
 PetscErrorCode ColumnCarry::carry(const CarryContext &ctx, Vec targetAlpha, FractionState &state) {
   PetscFunctionBeginUser;
   const Database &db = ctx.db;
+  const Layout &layout = db.layout();
   const int nf = ctx.numFractions;
+  const std::vector<double> &volume = db.mesh().cellVolume;
+  const size_t n = volume.size();
   if (columnsOf != &db) {
     const std::string missing = Columns::problem(db.mesh(), db.metadata().gravity);
-    PetscCheck(missing.empty(), db.layout().comm(), PETSC_ERR_USER_INPUT,
+    PetscCheck(missing.empty(), layout.comm(), PETSC_ERR_USER_INPUT,
                "-carry_type column needs %s; database '%s' does not have it (choose -carry_type remap)",
                missing.c_str(), db.path().c_str());
     columns = wholeBed ? Columns::bed(db.mesh(), db.metadata().gravity) : Columns::of(db.mesh(), db.metadata().gravity);
+    const int L = columns.levels;
+    lowestAbove.resize(columns.cells.size());
+    for (int col = 0; col < columns.count; ++col)
+      for (int l = L - 1; l >= 0; --l) {
+        const size_t k = static_cast<size_t>(col) * L + l;
+        lowestAbove[k] = l == L - 1 ? columns.cells[k] : std::min(columns.cells[k], lowestAbove[k + 1]);
+      }
+    bulk.assign(n, 0.0);
+    target.assign(n, 0.0);
+    out.assign(n * nf, 0.0);
+    valid = 0;
     columnsOf = &db;
   }
-  std::vector<double> m, alpha;
-  PetscCall(gatherMasses.gather(db.layout(), nf, state.masses(), &m)); // the scatters made once
-  PetscCall(gatherAlpha.gather(db.layout(), 1, targetAlpha, &alpha));
-  const std::vector<double> &volume = db.mesh().cellVolume;
-  const size_t n = volume.size();
-  std::vector<double> target(n), bulk(n, 0.0), before(nf, 0.0);
+  PetscInt massEnd = 0, alphaEnd = 0;
+  PetscCall(state.occupiedEnd(&massEnd));
+  PetscCall(nonzeroEnd(targetAlpha, &alphaEnd));
+  PetscCall(gatherMasses.gather(layout, nf, state.masses(), massEnd));
+  PetscCall(gatherAlpha.gather(layout, 1, targetAlpha, alphaEnd));
+  const std::vector<double> &m = gatherMasses.values(), &alpha = gatherAlpha.values();
+  const size_t end = static_cast<size_t>(std::max(gatherMasses.end(), gatherAlpha.end()));
+  if (end < static_cast<size_t>(valid)) { // what the last jump wrote above this one's bound
+    std::fill(bulk.begin() + end, bulk.begin() + valid, 0.0);
+    std::fill(target.begin() + end, target.begin() + valid, 0.0);
+    std::fill(out.begin() + end * nf, out.begin() + valid * nf, 0.0);
+  }
+  valid = static_cast<PetscInt>(end);
+  std::vector<double> before(nf, 0.0);
   double inventory = 0.0, targetTotal = 0.0;
-  for (size_t c = 0; c < n; ++c) {
+  for (size_t c = 0; c < end; ++c) {
+    bulk[c] = 0.0;
     for (int i = 0; i < nf; ++i) bulk[c] += m[c * nf + i], before[i] += m[c * nf + i];
     target[c] = ctx.solidDensity * alpha[c] * volume[c];
     inventory += bulk[c];
     targetTotal += target[c];
   }
-  PetscCheck(targetTotal > 0.0 || !(inventory > 0.0), db.layout().comm(), PETSC_ERR_USER_INPUT,
+  PetscCheck(targetTotal > 0.0 || !(inventory > 0.0), layout.comm(), PETSC_ERR_USER_INPUT,
              "The carry cannot move the bed onto a frame of database '%s' that holds no solid", db.path().c_str());
   if (targetTotal > 0.0 && targetTotal != inventory)
-    for (double &t : target) t *= inventory / targetTotal;
+    for (size_t c = 0; c < end; ++c) target[c] *= inventory / targetTotal;
 
+  // The levels of each column below which all its cells below `end` lie.
   const int L = columns.levels;
-  std::vector<double> out(m), colTarget(L), pool(nf, 0.0), pieceStore(static_cast<size_t>(L + 1) * nf);
+  std::vector<int> height(columns.count);
+  for (int col = 0; col < columns.count; ++col) {
+    const PetscInt *above = &lowestAbove[static_cast<size_t>(col) * L];
+    height[col] = static_cast<int>(
+        std::partition_point(above, above + L, [&](PetscInt c) { return static_cast<size_t>(c) < end; }) - above);
+  }
+  std::copy(m.begin(), m.begin() + end * nf, out.begin());
+  std::vector<double> colTarget(L), pool(nf, 0.0), pieceStore(static_cast<size_t>(L + 1) * nf);
   std::vector<double> oldTotal(columns.count, 0.0), newTotal(columns.count, 0.0);
   std::vector<char> moves(columns.count, 0);
   double deficit = 0.0;
   for (int col = 0; col < columns.count; ++col) {
     const PetscInt *cells = &columns.cells[static_cast<size_t>(col) * L];
+    const int H = height[col];
     double off = 0.0;
-    for (int l = 0; l < L; ++l) {
+    for (int l = 0; l < H; ++l) {
       oldTotal[col] += bulk[cells[l]];
       newTotal[col] += target[cells[l]];
       off += std::fabs(bulk[cells[l]] - target[cells[l]]);
@@ -203,7 +256,7 @@ PetscErrorCode ColumnCarry::carry(const CarryContext &ctx, Vec targetAlpha, Frac
     if (newTotal[col] > oldTotal[col]) deficit += newTotal[col] - oldTotal[col];
     else { // the slice above the new total goes to the pool
       double below = 0.0;
-      for (int l = 0; l < L; ++l) {
+      for (int l = 0; l < H; ++l) {
         const double M = bulk[cells[l]];
         const double above = std::min(M, std::max(0.0, below + M - newTotal[col]));
         if (above > 0.0)
@@ -219,10 +272,11 @@ PetscErrorCode ColumnCarry::carry(const CarryContext &ctx, Vec targetAlpha, Frac
   for (int col = 0; col < columns.count; ++col) {
     if (!moves[col]) continue;
     const PetscInt *cells = &columns.cells[static_cast<size_t>(col) * L];
+    const int H = height[col];
     pieces.clear();
     const double keep = std::min(oldTotal[col], newTotal[col]);
     double below = 0.0;
-    for (int l = 0; l < L && below < keep; ++l) {
+    for (int l = 0; l < H && below < keep; ++l) {
       const double M = bulk[cells[l]];
       if (!(M > 0.0)) continue;
       const double part = std::min(M, keep - below);
@@ -238,21 +292,25 @@ PetscErrorCode ColumnCarry::carry(const CarryContext &ctx, Vec targetAlpha, Frac
       for (int i = 0; i < nf; ++i) f[i] = share * pool[i], M += f[i];
       if (M > 0.0) pieces.push_back({M, f});
     }
-    for (int l = 0; l < L; ++l) colTarget[l] = target[cells[l]];
-    transport(pieces, cells, colTarget.data(), L, nf, out);
+    for (int l = 0; l < H; ++l) colTarget[l] = target[cells[l]];
+    transport(pieces, cells, colTarget.data(), H, nf, out);
   }
 
   std::vector<double> after(nf, 0.0);
-  for (size_t c = 0; c < n; ++c)
+  for (size_t c = 0; c < end; ++c)
     for (int i = 0; i < nf; ++i) after[i] += out[c * nf + i];
   std::vector<double> factor(nf, 1.0);
   for (int i = 0; i < nf; ++i) factor[i] = after[i] > 0.0 ? before[i] / after[i] : 1.0;
+  // The own cells below the bound; those above held nothing and hold nothing.
+  const std::vector<PetscInt> &owned = layout.ownedNatural(); // ascending
+  const PetscInt ownEnd = static_cast<PetscInt>(
+      std::lower_bound(owned.begin(), owned.end(), static_cast<PetscInt>(end)) - owned.begin());
   PetscScalar *own;
   PetscCall(VecGetArray(state.masses(), &own));
-  const std::vector<PetscInt> &owned = db.layout().ownedNatural();
-  for (size_t r = 0; r < owned.size(); ++r)
+  for (PetscInt r = 0; r < ownEnd; ++r)
     for (int i = 0; i < nf; ++i) own[r * nf + i] = out[owned[r] * nf + i] * factor[i];
   PetscCall(VecRestoreArray(state.masses(), &own));
+  PetscCall(state.setOccupiedEnd(ownEnd));
   const double across = inventory > 0.0 ? poolMass / inventory : 0.0;
   movedAcross += across;
   movedAcrossMax = std::max(movedAcrossMax, across);
