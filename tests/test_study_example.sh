@@ -22,8 +22,10 @@ fit=(-score_window 0.1,0.3 -calibrate_kd_range 1e4,1e7 -calibrate_scan 7)
 run "reference run" "$rcfd" run "${common[@]}" -drift_kd 2e5 -quiet -plot 0 -monitor_digits 17 \
   -output_dir "$work/reference"
 run "rcfd calibrate" mpiexec -n 2 "$rcfd" calibrate "${common[@]}" -reference "$work/reference/cog.csv" "${fit[@]}" \
-  -output_dir "$work/calibrate"
+  -output_dir "$work/calibrate" -calibrate_view
 program_kd=$(sed -n 's/^model B: best k_d = \([^ ]*\) .*/\1/p' "$work/out.txt")
+# -calibrate_view: the calibration's view, its k_d as printed.
+grep -q "^  B: k_d = $program_kd 1/(m s), mean" "$work/out.txt" && ok || fail "-calibrate_view printed no view: $(cat "$work/out.txt")"
 
 if run "study" mpiexec -n 2 "$work/study/study" "${common[@]}" -reference "$work/reference/cog.csv" "${fit[@]}" \
   -study_members 3 -output_dir "$work/out"; then
@@ -49,6 +51,13 @@ if run "study" mpiexec -n 2 "$work/study/study" "${common[@]}" -reference "$work
     compare_seg=$(awk '$1 == "ensemble" { print $3 }' "$work/out.txt")
     same "Delta_seg of the study and of rcfd compare" "$seg" "$compare_seg" 0.051
   fi
+fi
+
+# rcfd run -ensemble is the same rcfd::Ensemble: -ensemble_view prints its view.
+if run "rcfd run -ensemble 2" "$rcfd" run "${common[@]}" -path_type random -ensemble 2 -plot 0 -quiet \
+  -output_dir "$work/ensemble" -ensemble_view; then
+  grep -q "^Ensemble: 2 members, path seeds 1 to 2, summary $work/ensemble/ensemble.csv" "$work/out.txt" && ok ||
+    fail "-ensemble_view printed no view: $(cat "$work/out.txt")"
 fi
 
 echo "$passed passed, $failures failed"

@@ -58,7 +58,8 @@ public:
   void setOptionsPrefix(const std::string &prefix);
   /// Reads -reference, -calibrate_from, -calibrate_models, -calibrate_objective,
   /// -calibrate_kd_range, -calibrate_tolerance, -calibrate_scan, -rcfd_time_offset,
-  /// -score_window, -calibrate_batch, -calibrate_candidates (rcfd calibrate -help).
+  /// -score_window, -calibrate_batch, -calibrate_candidates (rcfd calibrate -help),
+  /// and -calibrate_view [viewer]: view() at the end of solve().
   PetscErrorCode setFromOptions();
   /// Reads the reference and loads the database through a first run.
   PetscErrorCode setUp();
@@ -93,6 +94,7 @@ public:
   PetscErrorCode setMembers(int members);
   /// Lets the first member read the run options (rcfd run -help): every
   /// member reads the same ones and then gets its own seed and directory.
+  /// -ensemble_view [viewer]: view() at the end of solve().
   PetscErrorCode setFromOptions();
   /// Use an already loaded database instead of -db (e.g. the calibration's).
   void useDatabase(std::shared_ptr<Database> database);

@@ -8,6 +8,7 @@
 #include "analysis/comparison.hpp"
 #include "analysis/ensemble.hpp"
 #include "base/collective.hpp"
+#include "rcfd/handle.hpp"
 #include "rcfd/run.hpp"
 
 #include <numeric>
@@ -27,6 +28,26 @@ CurveAgreement agreementOf(const DeltaZScore &s) {
   return a;
 }
 
+// A viewer asked for with -<prefix>NAME (e.g. -calibrate_view ascii:FILE).
+struct AskedViewer {
+  OwnedViewer viewer;
+  PetscViewerFormat format = PETSC_VIEWER_DEFAULT;
+  PetscErrorCode read(MPI_Comm comm, const std::string &prefix, const char *name) {
+    PetscFunctionBeginUser;
+    PetscCall(PetscOptionsGetViewer(comm, nullptr, prefix.empty() ? nullptr : prefix.c_str(), name, viewer.put(),
+                                    &format, nullptr));
+    PetscFunctionReturn(PETSC_SUCCESS);
+  }
+  template <typename Object> PetscErrorCode show(const Object &object) const {
+    PetscFunctionBeginUser;
+    if (!viewer) PetscFunctionReturn(PETSC_SUCCESS);
+    PetscCall(PetscViewerPushFormat(viewer, format));
+    PetscCall(object.view(viewer));
+    PetscCall(PetscViewerPopFormat(viewer));
+    PetscFunctionReturn(PETSC_SUCCESS);
+  }
+};
+
 PetscErrorCode viewAgreement(PetscViewer viewer, const CurveAgreement &a) {
   PetscFunctionBeginUser;
   PetscCall(PetscViewerASCIIPrintf(viewer,
@@ -41,16 +62,28 @@ PetscErrorCode viewAgreement(PetscViewer viewer, const CurveAgreement &a) {
 // Calibration
 
 struct Calibration::Impl {
-  Impl(MPI_Comm comm, const Registries &registries) : search(comm, registries) {}
+  Impl(MPI_Comm c, const Registries &registries) : comm(c), search(c, registries) {}
+  MPI_Comm comm;
+  std::string prefix;
   DriftCalibration search;
+  AskedViewer asked; // -calibrate_view
 };
 
 Calibration::Calibration(MPI_Comm comm, const Registries &registries)
     : impl(std::make_unique<Impl>(comm, registries)) {}
 Calibration::~Calibration() = default;
 
-void Calibration::setOptionsPrefix(const std::string &prefix) { impl->search.setOptionsPrefix(prefix); }
-PetscErrorCode Calibration::setFromOptions() { return impl->search.setFromOptions(); }
+void Calibration::setOptionsPrefix(const std::string &prefix) {
+  impl->prefix = prefix;
+  impl->search.setOptionsPrefix(prefix);
+}
+
+PetscErrorCode Calibration::setFromOptions() {
+  PetscFunctionBeginUser;
+  PetscCall(impl->search.setFromOptions());
+  PetscCall(impl->asked.read(impl->comm, impl->prefix, "-calibrate_view"));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
 PetscErrorCode Calibration::setUp() { return impl->search.setUp(); }
 int Calibration::evaluations() const { return impl->search.evaluations(); }
 
@@ -68,6 +101,7 @@ PetscErrorCode Calibration::solve() {
     if (r.scored) out.agreement = agreementOf(r.score);
     best.push_back(out);
   }
+  PetscCall(impl->asked.show(*this));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
@@ -96,6 +130,7 @@ struct Ensemble::Impl {
   std::unique_ptr<Run> first; // read the options; the members read them again
   std::shared_ptr<Database> db;
   std::uint64_t seed = 0;
+  AskedViewer asked; // -ensemble_view
 };
 
 Ensemble::Ensemble(MPI_Comm comm, const Registries &registries) : impl(std::make_unique<Impl>(comm, registries)) {}
@@ -113,6 +148,7 @@ PetscErrorCode Ensemble::setFromOptions() {
   impl->first = std::make_unique<Run>(impl->comm, impl->registries);
   if (impl->db) impl->first->useDatabase(impl->db);
   PetscCall(impl->first->setFromOptions());
+  PetscCall(impl->asked.read(impl->comm, "", "-ensemble_view"));
   directory = impl->first->outputDirectory();
   PetscFunctionReturn(PETSC_SUCCESS);
 }
@@ -177,6 +213,7 @@ PetscErrorCode Ensemble::solve() {
   PetscCall(collectively(comm, [&] {
     if (rank == 0) writeEnsembleSummary(csvs, summaryFile());
   }));
+  PetscCall(impl->asked.show(*this));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 

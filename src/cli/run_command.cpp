@@ -9,23 +9,21 @@
 #include "rcfd/plugin.hpp"
 #include "rcfd/run.hpp"
 
+#include <memory>
 #include <string>
 #include <vector>
 
 namespace rcfd::cli {
 namespace {
 
-// An ensemble (rcfd::Ensemble, include/rcfd/study.hpp), then its figure.
-PetscErrorCode runEnsemble(MPI_Comm comm, const Registries &registry, PetscInt members, bool plot) {
+// An ensemble (rcfd::Ensemble, include/rcfd/study.hpp) set from the options, then solved, then its figure.
+PetscErrorCode runEnsemble(MPI_Comm comm, Ensemble &ensemble, bool plot) {
   PetscFunctionBeginUser;
-  Ensemble ensemble(comm, registry);
-  PetscCall(ensemble.setMembers(static_cast<int>(members)));
-  PetscCall(ensemble.setFromOptions());
   PetscCall(ensemble.setUp());
   PetscCall(ensemble.solve());
   const std::string dir = ensemble.outputDirectory();
   if (plot) PetscCall(drawCogFigures(comm, ensemble.summaryFile(), dir + "/ensemble.png", dir));
-  PetscCall(PetscPrintf(comm, "Ensemble of %d paths: %s/ensemble.csv%s\n", (int)members, dir.c_str(),
+  PetscCall(PetscPrintf(comm, "Ensemble of %d paths: %s/ensemble.csv%s\n", ensemble.members(), dir.c_str(),
                         plot ? ", ensemble.png" : ""));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
@@ -68,10 +66,16 @@ PetscErrorCode runCommand(MPI_Comm comm) {
     PetscCall(viewExtensions(comm, registry));
     PetscFunctionReturn(PETSC_SUCCESS);
   }
-  PetscCall(rejectUnusedOptions(comm, "run"));
   PetscCheck(members >= 1, comm, PETSC_ERR_USER_INPUT, "-ensemble must be at least 1");
-  if (members > 1) { // `run` only read the options; the ensemble's members read them again
-    PetscCall(runEnsemble(comm, registry, members, plot));
+  std::unique_ptr<Ensemble> ensemble; // `run` only read the options; the ensemble's members read them again
+  if (members > 1) {
+    ensemble = std::make_unique<Ensemble>(comm, registry);
+    PetscCall(ensemble->setMembers(static_cast<int>(members)));
+    PetscCall(ensemble->setFromOptions()); // -ensemble_view
+  }
+  PetscCall(rejectUnusedOptions(comm, "run"));
+  if (ensemble) {
+    PetscCall(runEnsemble(comm, *ensemble, plot));
     PetscFunctionReturn(PETSC_SUCCESS);
   }
   PetscCall(run.setUp());
