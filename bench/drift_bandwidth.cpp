@@ -77,9 +77,11 @@ int main(int argc, char **argv) {
     const long steps = argc > 3 && argv[3][0] != '-' ? std::atol(argv[3]) : 2000;
     std::unique_ptr<Database> db;
     PetscCall(Database::load(PETSC_COMM_WORLD, argv[1], DatabaseLoadOptions{}, &db));
-    const FractionSet set = nf == 5 ? FractionSet({1.783e-3, 1.998e-3, 2.284e-3, 2.855e-3, 3.426e-3},
-                                                  {0.100, 0.205, 0.445, 0.150, 0.100})
-                                    : FractionSet({1.950e-3, 2.820e-3}, {0.473, 0.527});
+    FractionSet set;
+    if (nf == 5)
+      PetscCall(FractionSet::create({1.783e-3, 1.998e-3, 2.284e-3, 2.855e-3, 3.426e-3},
+                                    {0.100, 0.205, 0.445, 0.150, 0.100}, &set));
+    else PetscCall(FractionSet::create({1.950e-3, 2.820e-3}, {0.473, 0.527}, &set));
     const double rho = 1440.0;
     RunContext ctx{*db, set, rho};
     FractionState st;

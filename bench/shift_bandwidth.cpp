@@ -25,7 +25,8 @@ int main(int argc, char **argv) {
     PetscCall(Database::load(PETSC_COMM_WORLD, argv[1], DatabaseLoadOptions{}, &db));
     std::vector<double> d(nf), w(nf, 1.0 / nf);
     for (int i = 0; i < nf; ++i) d[i] = 1e-3 * (1 + i);
-    FractionSet set(d, w);
+    FractionSet set;
+    PetscCall(FractionSet::create(d, w, &set));
     FractionState st;
     PetscCall(st.create(db->layout(), nf));
     PetscCall(VecSet(st.masses(), 1.0));

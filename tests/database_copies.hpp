@@ -7,6 +7,7 @@
 #include "database/quantise.hpp"
 #include "database/stored_frame.hpp"
 #include "rcfd/database.hpp"
+#include "database/database_file_writer.hpp"
 
 #include <memory>
 #include <string>
@@ -27,7 +28,7 @@ inline PetscErrorCode rewriteDatabase(const std::string &in, const std::string &
   if (rank == 0) {
     DatabaseMetadata meta = header->metadata();
     meta.weightBits = bits;
-    DatabaseWriter w(out, header->mesh(), meta, version);
+    DatabaseFileWriter w(out, header->mesh(), meta, version);
     const h5::File f = h5::File::openRead(in, MPI_COMM_NULL);
     for (int k = 0; k < header->numFrames(); ++k) {
       FrameRecord r = readStoredFrame(f, k, header->mesh().numCells());

@@ -6,6 +6,7 @@
 #include "rcfd/database.hpp"
 #include "check.hpp"
 #include "rcfd/fractions.hpp"
+#include "database/database_file_writer.hpp"
 
 #include <cstdlib>
 #include <string>
@@ -39,7 +40,7 @@ inline void writeIdentityDatabase(const std::string &path, const Mesh &mesh,
   int rank;
   MPI_Comm_rank(PETSC_COMM_WORLD, &rank);
   if (rank == 0) {
-    DatabaseWriter w(path, mesh, meta, formatVersion);
+    DatabaseFileWriter w(path, mesh, meta, formatVersion);
     FrameRecord f;
     f.alphaS = alpha;
     f.shift = shiftFromTransfers(mesh.numCells(), {}, {}, {});

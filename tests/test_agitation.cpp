@@ -3,11 +3,12 @@
 // hand, on 1 and 2 ranks.
 #include "check.hpp"
 #include "base/petsc_compat.hpp"
+#include "scoped_options.hpp"
 #include "state_access.hpp"
 
 #include "rcfd/agitation.hpp"
+#include "database/database_file_writer.hpp"
 
-#include <stdexcept>
 
 using namespace rcfd;
 
@@ -26,7 +27,7 @@ PetscErrorCode run(const std::string &dir) {
     s.ny = 1;
     s.nz = 3;
     s.length = {0.1, 0.1, 0.3};
-    DatabaseWriter w(path, Mesh::box(s), DatabaseMetadata{}); // dt_rec 5 ms
+    DatabaseFileWriter w(path, Mesh::box(s), DatabaseMetadata{}); // dt_rec 5 ms
     FrameRecord f0, f1;
     f0.alphaS = {0.4, 0.4, 0.1};
     f0.shift = shiftFromTransfers(3, {0, 1, 1, 2, 2}, {0, 0, 1, 1, 2}, {1, 1, 1, 3, 1});
@@ -63,14 +64,14 @@ PetscErrorCode run(const std::string &dir) {
   RCFD_CHECK_CLOSE(d0[1], 1.5, 1e-12);
   RCFD_CHECK(d0[2] == 0.0);
   RCFD_CHECK_CLOSE(dispersion.maximum(), 1.5, 1e-12);
-  RCFD_CHECK(parseAgitationMeasure("dispersion") == AgitationMeasure::Dispersion);
-  bool refused = false;
-  try {
-    parseAgitationMeasure("bubbles");
-  } catch (const std::invalid_argument &) {
-    refused = true;
+  AgitationMeasure parsed = AgitationMeasure::LeavingShare;
+  PetscCall(parseAgitationMeasure("dispersion", &parsed));
+  RCFD_CHECK(parsed == AgitationMeasure::Dispersion);
+  {
+    ErrorCapture capture;
+    RCFD_CHECK(parseAgitationMeasure("bubbles", &parsed) == PETSC_ERR_ARG_OUTOFRANGE);
+    RCFD_CHECK(capture.message() == "the agitation measure 'bubbles' is not known; use leaving or dispersion");
   }
-  RCFD_CHECK(refused);
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 

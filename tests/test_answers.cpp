@@ -5,6 +5,7 @@
 // and profiles and halves equal to rcfd reference's counting of particles
 // standing for the same state.
 #include "check.hpp"
+#include "fraction_sets.hpp"
 #include "base/petsc_compat.hpp"
 #include "state_access.hpp"
 
@@ -52,7 +53,7 @@ double wenYu(double d, double rhoP) {
 
 struct Bed {
   std::unique_ptr<Database> db;
-  FractionSet fractions{{1.5e-3, 3.0e-3}, {0.5, 0.5}};
+  FractionSet fractions = rcfd::test::fractionSet({1.5e-3, 3.0e-3}, {0.5, 0.5});
   FractionState state;
   double rho = 0.0;
   std::string out; // output directory of this test and rank count
@@ -113,7 +114,7 @@ PetscErrorCode layeredBed(const std::string &dir) {
   std::vector<Monitor *> all{&profiles, &halves, &bottom, &mixing, &dynamics, &snapshot};
   for (Monitor *m : all) PetscCall(m->setUp(run, bed.state, out));
   // Lacey's n_c uses the inventory's shares: give the mixing monitor the bed's own (16 : 4 kg).
-  const FractionSet inventory({1.5e-3, 3.0e-3}, {0.8, 0.2});
+  const FractionSet inventory = rcfd::test::fractionSet({1.5e-3, 3.0e-3}, {0.8, 0.2});
   PetscCall(mixing.setUp(RunContext{*bed.db, inventory, rho}, bed.state, out));
   // Steps 0..4 every 5 ms: the window [0.01, 0.02] s holds steps 2, 3, 4.
   for (long step = 0; step <= 4; ++step) {

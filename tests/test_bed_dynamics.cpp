@@ -7,6 +7,7 @@
 
 #include "observable/bed_dynamics.hpp"
 #include "rcfd/database.hpp"
+#include "database/database_file_writer.hpp"
 
 #include <cstdio>
 #include <string>
@@ -30,7 +31,7 @@ PetscErrorCode run(const std::string &dir) {
     s.ny = 1;
     s.nz = 3;
     s.length = {0.1, 0.1, 0.3};
-    DatabaseWriter w(path, Mesh::box(s), DatabaseMetadata{});
+    DatabaseFileWriter w(path, Mesh::box(s), DatabaseMetadata{});
     const std::vector<std::vector<double>> alphas = {{0.5, 0, 0}, {0.25, 0.25, 0}, {0, 0.2, 0.2}};
     for (const auto &a : alphas) {
       FrameRecord f;

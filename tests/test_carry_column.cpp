@@ -16,11 +16,13 @@
 //  - gravity along no axis of the mesh is refused with one sentence.
 // Runs at 1 and 2 ranks.
 #include "check.hpp"
+#include "fraction_sets.hpp"
 #include "registry_helpers.hpp"
 #include "rcfd/run.hpp"
 #include "scoped_options.hpp"
 #include "state_access.hpp"
 #include "base/petsc_compat.hpp"
+#include "database/database_file_writer.hpp"
 
 #include <cmath>
 
@@ -68,7 +70,7 @@ std::unique_ptr<Database> load(MPI_Comm comm, const std::string &name, const Vec
   if (rank == 0 && comm == PETSC_COMM_WORLD) {
     DatabaseMetadata meta;
     meta.gravity = gravity;
-    DatabaseWriter w(path, mesh, meta);
+    DatabaseFileWriter w(path, mesh, meta);
     for (const auto &alpha : frames(mesh)) {
       FrameRecord f;
       f.alphaS = alpha;
@@ -98,7 +100,7 @@ std::vector<double> composed(const Mesh &mesh, const std::vector<double> &alpha,
 // What one carry of the state `start` from frame 0 onto frame `next` gives.
 std::vector<double> carried(const Database &db, const std::vector<double> &start, int next, bool jump = true,
                             const std::string &kind = "column") {
-  const FractionSet set({1e-3, 3e-3}, {0.5, 0.5});
+  const FractionSet set = rcfd::test::fractionSet({1e-3, 3e-3}, {0.5, 0.5});
   const RunContext ctx{db, set, kRho};
   const OperatorRegistry registry = OperatorRegistry::withBuiltins();
   auto carry = created(registry, "carry");
@@ -260,7 +262,7 @@ void occupiedCellsOnly(const std::string &name, const Vec3 &gravity) {
 
 void tiltedGravityRefused() {
   auto db = load(PETSC_COMM_WORLD, "tilted", {1.0, 0.0, -9.81});
-  const FractionSet set({1e-3, 3e-3}, {0.5, 0.5});
+  const FractionSet set = rcfd::test::fractionSet({1e-3, 3e-3}, {0.5, 0.5});
   const RunContext ctx{*db, set, kRho};
   auto carry = created(OperatorRegistry::withBuiltins(), "carry");
   ScopedOptions options("-carry_type column");

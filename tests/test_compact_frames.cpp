@@ -21,6 +21,7 @@
 #include "operator/moving_rows.hpp"
 #include "scoped_options.hpp"
 #include "state_access.hpp"
+#include "database/database_file_writer.hpp"
 
 #include <cmath>
 #include <cstdio>
@@ -230,7 +231,7 @@ PetscErrorCode badQuantisationRefused(const std::string &dir, const std::string 
     try {
       DatabaseMetadata meta;
       meta.weightBits = 16;
-      DatabaseWriter w(dir + "/unwritten.h5", Mesh::box(BoxSpec{2, 1, 1, {0, 0, 0}, {1, 1, 1}}), meta);
+      DatabaseFileWriter w(dir + "/unwritten.h5", Mesh::box(BoxSpec{2, 1, 1, {0, 0, 0}, {1, 1, 1}}), meta);
       FrameRecord f;
       f.alphaS = {0.5, 0.5};
       f.shift.n = 2;

@@ -2,11 +2,13 @@
 // shift operator, a permutation moves mass exactly, and every broken file is
 // refused with its sentence.  Runs at 1 and 2 ranks.
 #include "check.hpp"
+#include "fraction_sets.hpp"
 #include "rcfd/database.hpp"
 #include "rcfd/operator.hpp"
 #include "state_access.hpp"
 #include "base/h5.hpp"
 #include "database_copies.hpp"
+#include "database/database_file_writer.hpp"
 
 #include <cstdio>
 #include <functional>
@@ -35,7 +37,7 @@ Mesh column3() {
 // version 2 (full CSR), so that the broken files below keep the version 2
 // reader covered; test_database_v3 breaks version 3 files.
 void writeColumn(const std::string &path) {
-  DatabaseWriter w(path, column3(), DatabaseMetadata{}, 2);
+  DatabaseFileWriter w(path, column3(), DatabaseMetadata{}, 2);
   FrameRecord f0;
   f0.alphaS = {0.4, 0.4, 0.1};
   f0.shift = shiftFromTransfers(3, {0, 1, 1, 2, 2}, {0, 0, 1, 1, 2}, {1, 1, 1, 3, 1});
@@ -80,7 +82,7 @@ void handMadeColumn() {
   if (!db) return;
   RCFD_CHECK(db->numFrames() == 2);
   RCFD_CHECK(db->mesh().numCells() == 3);
-  FractionSet set({1e-3, 2e-3}, {0.5, 0.5});
+  FractionSet set = rcfd::test::fractionSet({1e-3, 2e-3}, {0.5, 0.5});
   FractionState st;
   st.create(db->layout(), 2);
   setNatural(*db, st, {1, 2, 3, 4, 5, 6});
@@ -111,7 +113,7 @@ void permutation() {
   auto pi = [n](int c) { return (7 * c + 3) % n; };
   const std::string path = dir + "/permutation.h5";
   if (rank == 0) {
-    DatabaseWriter w(path, mesh, DatabaseMetadata{});
+    DatabaseFileWriter w(path, mesh, DatabaseMetadata{});
     FrameRecord f;
     f.alphaS.assign(n, 0.5);
     std::vector<int32_t> dest(n), src(n);
@@ -125,7 +127,7 @@ void permutation() {
   RCFD_CHECK(Database::load(PETSC_COMM_WORLD, path, DatabaseLoadOptions{}, &db) == 0);
   if (!db) return;
   const int nf = 3;
-  FractionSet set({1e-3, 2e-3, 3e-3}, {0.2, 0.3, 0.5});
+  FractionSet set = rcfd::test::fractionSet({1e-3, 2e-3, 3e-3}, {0.2, 0.3, 0.5});
   FractionState st;
   st.create(db->layout(), nf);
   std::vector<double> start(n * nf);
@@ -187,6 +189,40 @@ void brokenFiles() {
                 "dt_rec must be a positive number of seconds");
 }
 
+// The public writer (rcfd/database.hpp): the same file as the internal one,
+// its refusals as PETSc errors with their sentence.
+void publicWriter() {
+  if (rank == 0) {
+    const std::string internal = dir + "/column.h5", path = dir + "/column-public.h5";
+    DatabaseWriter w;
+    RCFD_CHECK(w.append(FrameRecord{}) == PETSC_ERR_ORDER); // not created yet
+    RCFD_CHECK(w.create(path, column3(), DatabaseMetadata{}, 2) == 0);
+    RCFD_CHECK(w.setNote("dt_rec", "1") == PETSC_ERR_ARG_WRONG); // a format attribute
+    FrameRecord f0;
+    f0.alphaS = {0.4, 0.4, 0.1};
+    f0.shift = shiftFromTransfers(3, {0, 1, 1, 2, 2}, {0, 0, 1, 1, 2}, {1, 1, 1, 3, 1});
+    FrameRecord f1;
+    f1.alphaS = {0.2, 0.3, 0.4};
+    f1.shift = shiftFromTransfers(3, {}, {}, {});
+    FrameRecord wrong;
+    wrong.alphaS = {0.1};
+    RCFD_CHECK(w.append(wrong) == PETSC_ERR_ARG_WRONG);
+    RCFD_CHECK(w.append(f0) == 0 && w.append(f1) == 0 && w.numFrames() == 2);
+    RCFD_CHECK(w.finish() == 0);
+    DatabaseHeader a, b;
+    RCFD_CHECK(Database::readHeader(PETSC_COMM_SELF, internal, DatabaseLoadOptions{}, &a) == 0);
+    RCFD_CHECK(Database::readHeader(PETSC_COMM_SELF, path, DatabaseLoadOptions{}, &b) == 0);
+    RCFD_CHECK(!a.identity.empty() && a.identity == b.identity);
+    DatabaseWriter empty;
+    RCFD_CHECK(empty.create(dir + "/empty.h5", column3(), DatabaseMetadata{}) == 0);
+    RCFD_CHECK(empty.finish() == PETSC_ERR_ARG_WRONG);
+    char *why = nullptr;
+    PetscErrorMessage(PETSC_ERR_ARG_WRONG, nullptr, &why);
+    RCFD_CHECK(why && std::string(why) == "a database needs at least one frame");
+  }
+  MPI_Barrier(PETSC_COMM_WORLD);
+}
+
 } // namespace
 
 int main(int argc, char **argv) {
@@ -201,6 +237,7 @@ int main(int argc, char **argv) {
   handMadeColumn();
   permutation();
   brokenFiles();
+  publicWriter();
   const int total = rcfd::test::globalFailures();
   PetscFinalize();
   return total == 0 ? 0 : 1;

@@ -17,6 +17,7 @@
 #include "database_copies.hpp"
 #include "operator/moving_rows.hpp"
 #include "state_access.hpp"
+#include "database/database_file_writer.hpp"
 
 #include <filesystem>
 #include <functional>
@@ -104,7 +105,7 @@ PetscErrorCode roundOffColumn() {
     f.shift.col = {0, 0, 1, 1, 2, 3};
     f.shift.val = {1.0, 1e-12, 0.5, 0.5, 1.0, 1.0};
     for (const auto &[path, version] : {std::pair{v2, 2LL}, std::pair{v3, 3LL}}) {
-      DatabaseWriter w(path, Mesh::box(s), DatabaseMetadata{}, version);
+      DatabaseFileWriter w(path, Mesh::box(s), DatabaseMetadata{}, version);
       w.append(f);
       w.finish();
     }

@@ -19,6 +19,7 @@
 // an error (a database that does not load, a set-up or step that fails)
 // stops the test with PETSc's message and a non-zero exit, never a silent pass.
 #include "check.hpp"
+#include "fraction_sets.hpp"
 #include "registry_helpers.hpp"
 #include "scoped_options.hpp"
 #include "rcfd/agitation.hpp"
@@ -96,7 +97,7 @@ void completeSeparation() {
   const BoxSpec spec = column(2, 20, 0.2);
   const std::vector<double> alpha(20, 0.5);
   auto db = identityDb(spec, alpha, {0, 0, -9.81});
-  FractionSet set({1e-3, 3e-3}, {0.5, 0.5});
+  FractionSet set = rcfd::test::fractionSet({1e-3, 3e-3}, {0.5, 0.5});
   RunContext ctx{*db, set, 1440.0};
   auto drift = makeOperator<DriftOperator>("-model constant -velocities 0.02,-0.02");
   RCFD_CHECK(drift->needed(ctx));
@@ -127,7 +128,7 @@ void completeSeparation() {
 void driftEvery() {
   const std::vector<double> alpha(20, 0.5);
   auto db = identityDb(column(2, 20, 0.2), alpha, {0, 0, -9.81});
-  FractionSet set({1e-3, 3e-3}, {0.5, 0.5});
+  FractionSet set = rcfd::test::fractionSet({1e-3, 3e-3}, {0.5, 0.5});
   RunContext ctx{*db, set, 1440.0};
   auto every4 = makeOperator<DriftOperator>("-model constant -velocities 0.02,-0.02 -every 4");
   auto each = makeOperator<DriftOperator>("-model constant -velocities 0.02,-0.02");
@@ -183,7 +184,7 @@ void driftAgainstDispersion() {
   const BoxSpec spec = column(2, n, n * dz);
   const std::vector<double> alpha(n, 0.5);
   auto db = identityDb(spec, alpha, {0, 0, -9.81});
-  FractionSet set({1e-3, 2e-3}, {share, 1 - share});
+  FractionSet set = rcfd::test::fractionSet({1e-3, 2e-3}, {share, 1 - share});
   RunContext ctx{*db, set, 1440.0};
   const auto exact = steadyProfile(n, u, D, dz, share);
   auto runTo = [&](double tEnd, double dt) {
@@ -233,7 +234,7 @@ void otherAxis() {
   const int n = 16;
   std::vector<double> alpha(n);
   for (int k = 0; k < n; ++k) alpha[k] = 0.3 + 0.02 * k;
-  FractionSet set({1.5e-3, 2.5e-3, 4e-3}, {0.3, 0.4, 0.3});
+  FractionSet set = rcfd::test::fractionSet({1.5e-3, 2.5e-3, 4e-3}, {0.3, 0.4, 0.3});
   std::vector<std::vector<double>> result;
   for (int axis : {2, 0}) {
     Vec3 g{0, 0, 0};
@@ -281,7 +282,7 @@ void stress(int nf, const std::string &options, bool expectSubsteps) {
   auto db = identityDb(spec, alpha, {0, 0, -9.81});
   std::vector<double> d(nf), w(nf, 1.0 / nf);
   for (int i = 0; i < nf; ++i) d[i] = nf == 1 ? 2e-3 : 0.5e-3 + 5.5e-3 * i / (nf - 1);
-  FractionSet set(d, w);
+  FractionSet set = rcfd::test::fractionSet(d, w);
   RunContext ctx{*db, set, 1440.0};
   auto drift = makeOperator<DriftOperator>(options);
   PetscCallAbort(PETSC_COMM_WORLD, drift->setUp(ctx));
@@ -359,7 +360,7 @@ void agitationScaling() {
   std::unique_ptr<Database> db;
   PetscCallAbort(PETSC_COMM_WORLD,
                  Database::load(PETSC_COMM_WORLD, dataDir + "/small.h5", DatabaseLoadOptions{}, &db));
-  FractionSet set({1.459e-3, 4.075e-3}, {0.564, 0.436});
+  FractionSet set = rcfd::test::fractionSet({1.459e-3, 4.075e-3}, {0.564, 0.436});
   RunContext ctx{*db, set, 1440.0};
   const int N = db->mesh().numCells();
   std::mt19937_64 rng(7);
@@ -413,7 +414,7 @@ void agitationOfTheFrame() {
   rcfd::test::writeIdentityDatabase(path, Mesh::box(spec), alpha, meta, 2);
   std::unique_ptr<Database> db;
   PetscCallAbort(PETSC_COMM_WORLD, Database::load(PETSC_COMM_WORLD, path, DatabaseLoadOptions{}, &db));
-  FractionSet set({1e-3, 3e-3}, {0.5, 0.5});
+  FractionSet set = rcfd::test::fractionSet({1e-3, 3e-3}, {0.5, 0.5});
   RunContext ctx{*db, set, 1440.0};
   const PetscInt n = db->layout().numLocal();
   auto field = std::make_shared<AgitationField>();
@@ -451,7 +452,7 @@ void agitationOfTheSendingCell() {
   rcfd::test::writeIdentityDatabase(path, Mesh::box(spec), alpha, DatabaseMetadata{}, 2);
   std::unique_ptr<Database> db;
   PetscCallAbort(PETSC_COMM_WORLD, Database::load(PETSC_COMM_WORLD, path, DatabaseLoadOptions{}, &db));
-  FractionSet set({1e-3, 3e-3}, {0.5, 0.5});
+  FractionSet set = rcfd::test::fractionSet({1e-3, 3e-3}, {0.5, 0.5});
   RunContext ctx{*db, set, 1440.0};
   std::vector<std::vector<double>> values(2);
   for (PetscInt i = 0; i < db->layout().numLocal(); ++i) {
@@ -489,7 +490,7 @@ void agitationFollowsTheDatabase() {
   }
   PetscCallAbort(PETSC_COMM_WORLD,
                  Database::fromFrames(*db, "reversed", std::move(alpha), std::move(shifts), &reversed));
-  FractionSet set({1.459e-3, 4.075e-3}, {0.564, 0.436});
+  FractionSet set = rcfd::test::fractionSet({1.459e-3, 4.075e-3}, {0.564, 0.436});
   const std::string law = "-model B -kd 2e5 -agitation leaving -agitation_exponent 2";
   auto switched = makeOperator<DriftOperator>(law), fresh = makeOperator<DriftOperator>(law);
   PetscCallAbort(PETSC_COMM_WORLD, switched->setUp(RunContext{*db, set, 1440.0}));
@@ -630,7 +631,7 @@ void againstReference() {
   int checked = 0;
   auto compare = [&](const std::vector<double> &d, const std::vector<double> &w, const std::string &options,
                      ReferenceDrift reference) {
-    FractionSet set(d, w);
+    FractionSet set = rcfd::test::fractionSet(d, w);
     const int nf = set.size();
     std::mt19937_64 rng(11);
     std::uniform_real_distribution<double> U(0.0, 1.0);
@@ -735,7 +736,7 @@ void occupiedBound() {
   std::unique_ptr<Database> db;
   PetscCallAbort(PETSC_COMM_WORLD,
                  Database::load(PETSC_COMM_WORLD, dataDir + "/small.h5", DatabaseLoadOptions{}, &db));
-  const FractionSet set({1.783e-3, 1.998e-3, 2.284e-3, 2.855e-3, 3.426e-3}, {0.100, 0.205, 0.445, 0.150, 0.100});
+  const FractionSet set = rcfd::test::fractionSet({1.783e-3, 1.998e-3, 2.284e-3, 2.855e-3, 3.426e-3}, {0.100, 0.205, 0.445, 0.150, 0.100});
   const int nf = set.size();
   const PetscInt nlocal = db->layout().numLocal();
   std::vector<double> alpha;
@@ -810,7 +811,7 @@ void occupiedBound() {
 
 void leftOutWhenNotNeeded() {
   auto db = identityDb(column(2, 4, 0.04), std::vector<double>(4, 0.5), {0, 0, -9.81});
-  FractionSet one({2e-3}, {1.0}), two({1e-3, 2e-3}, {0.5, 0.5});
+  FractionSet one = rcfd::test::fractionSet({2e-3}, {1.0}), two = rcfd::test::fractionSet({1e-3, 2e-3}, {0.5, 0.5});
   RCFD_CHECK(!makeOperator<DriftOperator>("-model B")->needed(RunContext{*db, one, 1440.0}));
   RCFD_CHECK(!makeOperator<DriftOperator>("-model B -kd 0")->needed(RunContext{*db, two, 1440.0}));
   RCFD_CHECK(!makeOperator<DriftOperator>("-model none")->needed(RunContext{*db, two, 1440.0}));
@@ -842,7 +843,7 @@ std::unique_ptr<Database> twoCells(int frames = 1) {
 void sizeLawsByHand() {
   auto db = twoCells();
   const std::vector<double> d{1.5e-3, 2.0e-3, 3.0e-3};
-  FractionSet set(d, {0.3, 0.4, 0.3});
+  FractionSet set = rcfd::test::fractionSet(d, {0.3, 0.4, 0.3});
   RunContext ctx{*db, set, 1440.0};
   RCFD_CHECK_CLOSE(set.inventorySauterDiameter(), 2e-3, 1e-15);
   struct Case {
@@ -963,7 +964,7 @@ void userSizeLaw() {
   auto *drift = dynamic_cast<DriftOperator *>(op.get());
   RCFD_CHECK(drift && drift->sizeLawName() == "linear");
   auto db = twoCells();
-  FractionSet set({1e-3, 3e-3}, {0.5, 0.5}); // d32 1.5 mm
+  FractionSet set = rcfd::test::fractionSet({1e-3, 3e-3}, {0.5, 0.5}); // d32 1.5 mm
   PetscCallAbort(PETSC_COMM_WORLD, drift->setUp(RunContext{*db, set, 1440.0}));
   RCFD_CHECK_CLOSE(drift->velocity(0, 1.5e-3), 0.01 / 3.0, 1e-15);
   RCFD_CHECK_CLOSE(drift->velocity(1, 1.5e-3), -0.01, 1e-15);
@@ -984,7 +985,7 @@ void userSizeLaw() {
 // difference.
 void agitationReference() {
   auto db = twoCells();
-  FractionSet set({1e-3, 3e-3}, {0.5, 0.5});
+  FractionSet set = rcfd::test::fractionSet({1e-3, 3e-3}, {0.5, 0.5});
   RunContext ctx{*db, set, 1440.0};
   const auto m0 = uniformState(db->mesh(), {0.5, 0.5}, set);
   auto moved = [&](double a, const std::string &options, double *normaliser) {
@@ -1018,7 +1019,7 @@ void agitationReference() {
 // drift at all, and a run that knows no u_sup is refused.
 void excessGas() {
   auto db = twoCells();
-  FractionSet set({1e-3, 3e-3}, {0.5, 0.5});
+  FractionSet set = rcfd::test::fractionSet({1e-3, 3e-3}, {0.5, 0.5});
   const auto m0 = uniformState(db->mesh(), {0.5, 0.5}, set);
   const double d32 = 1.0 / (0.5 / 1e-3 + 0.5 / 3e-3), rhoG = 1.189, nu = 1e-5, mu = rhoG * nu;
   const Vec3 g = db->metadata().gravity;

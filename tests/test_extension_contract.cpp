@@ -11,6 +11,7 @@
 //     after steps, frames, decisions, file bytes) as set up once.
 // Runs at 1 and 2 ranks.  usage: test_extension_contract DATA_DIR (with small.h5)
 #include "check.hpp"
+#include "fraction_sets.hpp"
 #include "registry_helpers.hpp"
 #include "scoped_options.hpp"
 #include "base/petsc_compat.hpp"
@@ -101,7 +102,7 @@ template <typename Object> void viewPrinted(const Object &object) {
 
 struct Bed {
   std::unique_ptr<Database> db;
-  FractionSet set{{1.0e-3, 1.8e-3, 3.0e-3}, {0.3, 0.3, 0.4}};
+  FractionSet set = rcfd::test::fractionSet({1.0e-3, 1.8e-3, 3.0e-3}, {0.3, 0.3, 0.4});
   double rho = 2500.0;
   RunContext ctx() const { return RunContext{*db, set, rho}; }
 };

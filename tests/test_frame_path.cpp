@@ -648,7 +648,9 @@ void testClockWindow() {
 
 } // namespace
 
-int main() {
+int main(int argc, char **argv) {
+  // PETSc up: a path's restoreState() reports its refusal as a PETSc error.
+  if (PetscInitialize(&argc, &argv, nullptr, nullptr)) return 1;
   testPrng();
   testReplay();
   testRandom();
@@ -662,5 +664,6 @@ int main() {
   testClockWindow();
   testRecorded();
   testBadParameters();
-  return RCFD_TEST_RESULT();
+  const int result = RCFD_TEST_RESULT();
+  return PetscFinalize() ? 1 : result;
 }

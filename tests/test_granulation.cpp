@@ -19,6 +19,7 @@
 //  - the steady-state criterion on a constructed product series.
 // Runs at 1 and 2 ranks.  usage: test_granulation DATA_DIR SMALL_DB
 #include "check.hpp"
+#include "fraction_sets.hpp"
 #include "rcfd/granulation.hpp"
 #include "rcfd/run.hpp"
 #include "scoped_options.hpp"
@@ -50,7 +51,7 @@ int col(const csv::Table &t, const std::string &name) {
 // cell 3 never holds solid in the database.
 struct Bed {
   std::unique_ptr<Database> db;
-  FractionSet fractions{{2e-3, 1e-3, 4e-3}, {0.5, 0.3, 0.2}}; // not sorted: next larger of 1 mm is 2 mm
+  FractionSet fractions = rcfd::test::fractionSet({2e-3, 1e-3, 4e-3}, {0.5, 0.3, 0.2}); // not sorted: next larger of 1 mm is 2 mm
   FractionState state;
   RunContext run() const { return RunContext{*db, fractions, 1440.0}; }
 };

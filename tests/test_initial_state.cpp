@@ -3,6 +3,7 @@
 // cells that frame 0 says are empty), on 1 and 2 ranks.
 #include "base/petsc_compat.hpp"
 #include "check.hpp"
+#include "fraction_sets.hpp"
 #include "state_access.hpp"
 
 #include "base/h5.hpp"
@@ -29,7 +30,7 @@ PetscErrorCode run(const std::string &dir) {
   test::writeIdentityDatabase(path, Mesh::box(s), {0.5, 0.5, 0.25, 0.0}, DatabaseMetadata{});
   std::unique_ptr<Database> db;
   PetscCall(Database::load(PETSC_COMM_WORLD, path, DatabaseLoadOptions{}, &db));
-  const FractionSet set({1e-3, 3e-3}, {0.25, 0.75});
+  const FractionSet set = rcfd::test::fractionSet({1e-3, 3e-3}, {0.25, 0.75});
   FractionState state;
   PetscCall(state.create(db->layout(), 2));
   const double rho = 1000.0; // cell masses 0.5, 0.5, 0.25, 0 kg: 1.25 kg

@@ -2,6 +2,7 @@
 // layer's Sauter diameter, the mass-median layer and the halves' size
 // distributions against hand-computed numbers, on 1 and 2 ranks.
 #include "check.hpp"
+#include "fraction_sets.hpp"
 #include "base/petsc_compat.hpp"
 #include "state_access.hpp"
 
@@ -26,7 +27,7 @@ PetscErrorCode run(const std::string &dir) {
   test::writeIdentityDatabase(path, mesh, std::vector<double>(8, 0.5), DatabaseMetadata{});
   std::unique_ptr<Database> db;
   PetscCall(Database::load(PETSC_COMM_WORLD, path, DatabaseLoadOptions{}, &db));
-  const FractionSet fractions({1.5e-3, 3.0e-3}, {0.5, 0.5});
+  const FractionSet fractions = rcfd::test::fractionSet({1.5e-3, 3.0e-3}, {0.5, 0.5});
   FractionState state;
   PetscCall(state.create(db->layout(), 2));
   // Layer l: each of its two cells holds (l + 1) kg, split small/large as

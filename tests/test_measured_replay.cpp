@@ -17,10 +17,12 @@
 // - refusals in one sentence: a database without the field, a fraction no
 //   stored class matches within 1 %, -drift_agitation with it.
 #include "check.hpp"
+#include "fraction_sets.hpp"
 #include "analysis/regional_drift.hpp"
 #include "rcfd/measured_drift_field.hpp"
 #include "rcfd/swaps.hpp"
 #include "state_access.hpp"
+#include "database/database_file_writer.hpp"
 
 #include <cmath>
 #include <random>
@@ -51,7 +53,7 @@ std::unique_ptr<Database> fieldDb(const BoxSpec &spec, int frames, const std::ve
   MPI_Comm_rank(PETSC_COMM_WORLD, &rank);
   const Mesh mesh = Mesh::box(spec);
   if (rank == 0) {
-    DatabaseWriter w(path, mesh, DatabaseMetadata{});
+    DatabaseFileWriter w(path, mesh, DatabaseMetadata{});
     FrameRecord f;
     f.alphaS.assign(mesh.numCells(), 0.5);
     f.shift = shiftFromTransfers(mesh.numCells(), {}, {}, {});
@@ -161,7 +163,7 @@ void handValues() {
       0.5, 0, 0.0, -0.01, 3, 1e-6,    // frame 1, cell 0: no small particle
       -0.02, 4, 1e-6, 0.02, 4, 1e-6}; // frame 1, cell 1
   auto db = fieldDb(box(1, 2, 0.01), 2, layout, field);
-  FractionSet set({1e-3, 3e-3}, {0.5, 0.5});
+  FractionSet set = rcfd::test::fractionSet({1e-3, 3e-3}, {0.5, 0.5});
   RunContext ctx{*db, set, kRho};
   auto drift = measuredDrift();
   RCFD_CHECK(drift->needed(ctx));
@@ -242,7 +244,7 @@ void againstReference() {
         field.insert(field.end(), {(U(rng) - 0.5) * (k == 3 ? 4.0 : 0.1), empty ? 0.0 : 3.0, empty ? 0.0 : 1e-5});
       }
   auto db = fieldDb(b, K, layout, field);
-  FractionSet set({1.4e-3, 2.31e-3, 3.6e-3}, {0.3, 0.4, 0.3}); // 2.31 mm matches 2.3 within 1 %
+  FractionSet set = rcfd::test::fractionSet({1.4e-3, 2.31e-3, 3.6e-3}, {0.3, 0.4, 0.3}); // 2.31 mm matches 2.3 within 1 %
   RunContext ctx{*db, set, kRho};
   auto drift = measuredDrift();
   PetscCallAbort(PETSC_COMM_WORLD, drift->setUp(ctx));
@@ -294,7 +296,7 @@ void againstReference() {
 }
 
 void refusals() {
-  FractionSet set({1e-3, 3e-3}, {0.5, 0.5});
+  FractionSet set = rcfd::test::fractionSet({1e-3, 3e-3}, {0.5, 0.5});
   auto without = fieldDb(box(1, 2, 0.01), 2, {}, {});
   {
     RunContext ctx{*without, set, kRho};
@@ -308,7 +310,7 @@ void refusals() {
   const std::vector<double> field(2 * 2 * 6, 0.0);
   auto db = fieldDb(box(1, 2, 0.01), 2, layout, field);
   {
-    FractionSet other({1e-3, 2.95e-3}, {0.5, 0.5}); // 1.7 % from 3 mm
+    FractionSet other = rcfd::test::fractionSet({1e-3, 2.95e-3}, {0.5, 0.5}); // 1.7 % from 3 mm
     RunContext ctx{*db, other, kRho};
     auto drift = measuredDrift();
     const std::string text = refusal(drift->setUp(ctx));

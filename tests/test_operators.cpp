@@ -12,12 +12,14 @@
 //    declares its loss, runs through.
 // Runs at 1 and 2 ranks.  PETSc calls that must succeed use PetscCallAbort.
 #include "check.hpp"
+#include "fraction_sets.hpp"
 #include "registry_helpers.hpp"
 #include "rcfd/run.hpp"
 #include "rcfd/swaps.hpp"
 #include "scoped_options.hpp"
 #include "state_access.hpp"
 #include "base/petsc_compat.hpp"
+#include "database/database_file_writer.hpp"
 
 #include <cmath>
 #include <cstdio>
@@ -72,7 +74,7 @@ std::unique_ptr<Database> risingBubbleDb(const std::string &name) {
   int rank;
   MPI_Comm_rank(PETSC_COMM_WORLD, &rank);
   if (rank == 0) {
-    DatabaseWriter w(path, mesh, DatabaseMetadata{});
+    DatabaseFileWriter w(path, mesh, DatabaseMetadata{});
     for (int bubble : {4, 5}) {
       FrameRecord f;
       f.alphaS = bedWithBubble(mesh, bubble);
@@ -139,7 +141,7 @@ StepInfo jumpStep() {
 void carryLevel() {
   auto db = risingBubbleDb("carry_level");
   const Mesh &mesh = db->mesh();
-  const FractionSet set({1e-3, 1.5e-3, 3e-3}, {0.3, 0.3, 0.4});
+  const FractionSet set = rcfd::test::fractionSet({1e-3, 1.5e-3, 3e-3}, {0.3, 0.3, 0.4});
   const RunContext ctx{*db, set, kRho};
   const OperatorRegistry registry = OperatorRegistry::withBuiltins();
   auto carry = created(registry, "carry");
@@ -204,7 +206,7 @@ private:
 
 void userCarryKind() {
   auto db = risingBubbleDb("carry_user");
-  const FractionSet set({1e-3, 3e-3}, {0.5, 0.5});
+  const FractionSet set = rcfd::test::fractionSet({1e-3, 3e-3}, {0.5, 0.5});
   const RunContext ctx{*db, set, kRho};
   Tally tally;
   OperatorRegistry registry = OperatorRegistry::withBuiltins();
@@ -250,7 +252,7 @@ void userCarryKind() {
 // from the registry: each view in its own file, the velocities of model B.
 void viewsToFiles() {
   auto db = risingBubbleDb("views");
-  const FractionSet set({1e-3, 3e-3}, {0.5, 0.5});
+  const FractionSet set = rcfd::test::fractionSet({1e-3, 3e-3}, {0.5, 0.5});
   const std::string driftFile = dir + "/drift.txt", shiftFile = dir + "/shift.txt";
   const OperatorRegistry registry = OperatorRegistry::withBuiltins();
   Pipeline pipeline;
@@ -329,7 +331,7 @@ public:
 void userSwapOperator() {
   auto db = risingBubbleDb("swap_user");
   const Mesh &mesh = db->mesh();
-  const FractionSet set({1e-3, 1.5e-3, 3e-3}, {0.3, 0.3, 0.4});
+  const FractionSet set = rcfd::test::fractionSet({1e-3, 1.5e-3, 3e-3}, {0.3, 0.3, 0.4});
   OperatorRegistry registry = OperatorRegistry::withBuiltins();
   registered(registry, "mixing", [] { return std::make_unique<Mixing>(); }, "mixes composition across faces");
   auto op = created(registry, "mixing");

@@ -1,6 +1,5 @@
 #!/usr/bin/env bash
-# Plugins as an outside project makes them: install this build into a
-# temporary prefix, build docs/examples/plugin against the INSTALLED package
+# Plugins as an outside project makes them: build docs/examples/plugin against the INSTALLED package
 # (find_package(rcfd), rcfd::plugin), and load it into the installed program
 # with -plugin (and $RCFD_PLUGINS).  Its operator "attrition", size law
 # "linear" and monitor "fines" then work in `rcfd run` on
@@ -10,24 +9,23 @@
 # writes the same files byte for byte.  `rcfd -help` and `rcfd run -help` list what the
 # plugin added; `rcfd calibrate` fits the plugin's law; a plugin built for another
 # rcfd version, a missing file and a name clash are refused with one sentence.
-# usage: test_plugin_example.sh RCFD BUILD_DIR SOURCE_DIR CMAKE CXX_COMPILER DATA_DIR
+# The package is installed once, into PREFIX, by the fixture installed_package.
+# usage: test_plugin_example.sh RCFD BUILD_DIR SOURCE_DIR CMAKE CXX_COMPILER DATA_DIR PREFIX
 set -eu
 export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 OMPI_MCA_rmaps_base_oversubscribe=1
-build=$2 src=$3 cmake=$4 cxx=$5 data=$6
+build=$2 src=$3 cmake=$4 cxx=$5 data=$6 prefix=$7
 work=$build/test-data/plugin
 rm -rf "$work"
 mkdir -p "$work"
 source "$src/tests/script_helpers.sh"
 
-"$cmake" --build "$build" --target rcfd_lib rcfd >"$work/build.log" 2>&1 || { cat "$work/build.log"; exit 1; }
-"$cmake" --install "$build" --prefix "$work/prefix" >"$work/install.log"
-rcfd=$work/prefix/bin/rcfd
-[ -e "$work/prefix/include/rcfd/plugin.hpp" ] && ok || fail "cmake --install did not install rcfd/plugin.hpp"
+rcfd=$prefix/bin/rcfd
+[ -e "$prefix/include/rcfd/plugin.hpp" ] && ok || fail "cmake --install did not install rcfd/plugin.hpp"
 
 # Built against the installed package only.
 "$cmake" -S "$src/docs/examples/plugin" -B "$work/example" -DCMAKE_BUILD_TYPE=Release -DCMAKE_CXX_COMPILER="$cxx" \
-  -DCMAKE_PREFIX_PATH="$work/prefix" >"$work/configure.log" 2>&1 || { cat "$work/configure.log"; exit 1; }
-grep -q "$work/prefix/lib/cmake/rcfd" "$work/example/CMakeCache.txt" || fail "the plugin did not find the installed rcfd"
+  -DCMAKE_PREFIX_PATH="$prefix" >"$work/configure.log" 2>&1 || { cat "$work/configure.log"; exit 1; }
+grep -q "$prefix/lib/cmake/rcfd" "$work/example/CMakeCache.txt" || fail "the plugin did not find the installed rcfd"
 "$cmake" --build "$work/example" >"$work/example.log" 2>&1 || { cat "$work/example.log"; exit 1; }
 plugin=$work/example/librcfd_attrition.so
 [ -f "$plugin" ] && ok || fail "no $plugin"

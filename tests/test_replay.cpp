@@ -6,6 +6,7 @@
 // place, whole-matrix MAIJ) give the same masses, and on 2 ranks the
 // partition shares the moving rows evenly.  Runs at 1 and 2 ranks.
 #include "check.hpp"
+#include "fraction_sets.hpp"
 #include "rcfd/database.hpp"
 #include "rcfd/mass_ledger.hpp"
 #include "rcfd/operator.hpp"
@@ -20,7 +21,7 @@ int main(int argc, char **argv) {
     PetscCheck(argc > 1, PETSC_COMM_WORLD, PETSC_ERR_USER_INPUT, "usage: test_replay DATABASE");
     std::unique_ptr<Database> db;
     PetscCall(Database::load(PETSC_COMM_WORLD, argv[1], DatabaseLoadOptions{}, &db));
-    const FractionSet set({1.783e-3, 1.998e-3, 2.284e-3, 2.855e-3, 3.426e-3},
+    const FractionSet set = rcfd::test::fractionSet({1.783e-3, 1.998e-3, 2.284e-3, 2.855e-3, 3.426e-3},
                           {0.100, 0.205, 0.445, 0.150, 0.100});
     const int nf = set.size();
     FractionState st;

@@ -20,6 +20,7 @@
 #include "rcfd/database_set.hpp"
 #include "rcfd/run.hpp"
 #include "rcfd/switching.hpp"
+#include "database/database_file_writer.hpp"
 
 #include <cmath>
 #include <cstdio>
@@ -44,7 +45,7 @@ void writeBed(const std::string &path, int nz, double rate, std::uint64_t seed, 
     o.seed = seed;
     DatabaseMetadata metadata;
     metadata.conditions = recorded;
-    DatabaseWriter w(path, Mesh::box(o.box), metadata);
+    DatabaseFileWriter w(path, Mesh::box(o.box), metadata);
     generateSyntheticBed(o, [&](const FrameRecord &f) { w.append(f); });
     w.finish();
   }

@@ -1,31 +1,25 @@
 #!/usr/bin/env bash
-# The library as an outside project sees it: install this build into a
-# temporary prefix, configure docs/examples/user-operator against the
+# The library as an outside project sees it: configure docs/examples/user-operator against the
 # INSTALLED package (find_package(rcfd), rcfd::rcfd), build it, run its user
 # operator "decay" (-pipeline shift,decay -decay_rate k) on a small synthetic
 # bed, and check that every fraction's mass in cog.csv is exactly exp(-k t)
 # of its initial value -- a number only the user's option determines.
-# usage: test_user_operator_example.sh RCFD BUILD_DIR SOURCE_DIR CMAKE CXX_COMPILER
+# The package is installed once, into PREFIX, by the fixture installed_package
+# (tests/install_package.sh).
+# usage: test_user_operator_example.sh RCFD BUILD_DIR SOURCE_DIR CMAKE CXX_COMPILER PREFIX
 set -eu
 export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 OMPI_MCA_rmaps_base_oversubscribe=1
-rcfd=$1 build=$2 src=$3 cmake=$4 cxx=$5
+rcfd=$1 build=$2 src=$3 cmake=$4 cxx=$5 prefix=$6
 work=$build/test-data/user-operator
 rm -rf "$work"
 mkdir -p "$work"
 source "$src/tests/script_helpers.sh"
 
-# The library and program must be built (no-op when they are) before they are installed.
-install_build "$build" "$work/prefix" "$cmake"
-for f in include/rcfd/operator.hpp include/rcfd/run.hpp bin/rcfd lib/cmake/rcfd/rcfdConfig.cmake \
-  lib/cmake/rcfd/rcfdConfigVersion.cmake lib/cmake/rcfd/rcfdTargets.cmake; do
-  [ -e "$work/prefix/$f" ] && ok || fail "cmake --install did not install $f"
-done
-
 # Configured against the installed package only: the source tree is not on
 # any path the example sees.
-build_example user-operator "$src" "$work/prefix" "$cmake" "$cxx"
+build_example user-operator "$src" "$prefix" "$cmake" "$cxx"
 
-"$work/prefix/bin/rcfd" synth -o "$work/bed.h5" -synth_cells 6,2,12 -synth_frames 20 -quiet
+"$prefix/bin/rcfd" synth -o "$work/bed.h5" -synth_cells 6,2,12 -synth_frames 20 -quiet
 rate=0.5
 run "decay at 2 ranks" mpiexec -n 2 "$work/user-operator/user_operator" -db "$work/bed.h5" -t_end 1 \
   -pipeline shift,decay -decay_rate $rate -monitor_digits 17 -fields 0 -plot 0 -quiet \

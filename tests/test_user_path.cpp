@@ -37,7 +37,7 @@ protected:
   }
   std::uint64_t fingerprint() const override { return 1000 + static_cast<std::uint64_t>(stride); }
   void saveExtra(std::vector<std::uint64_t> &) const override {}
-  void restoreExtra(const std::uint64_t *, std::size_t) override {}
+  PetscErrorCode restoreExtra(const std::uint64_t *, std::size_t) override { return PETSC_SUCCESS; }
 
 private:
   PetscInt stride = 1;

@@ -1,29 +1,25 @@
 #!/usr/bin/env bash
 # The path and switching rules of include/rcfd/path.hpp and switching.hpp as an outside project
-# writes them: install this build into a temporary prefix, configure docs/examples/user-path-rule
+# writes them: configure docs/examples/user-path-rule
 # and docs/examples/user-switch-rule against the INSTALLED package (find_package(rcfd),
 # rcfd::rcfd), build them, run each rule on small synthetic beds at 2 ranks, and check the frames
 # and switches it made -- numbers only the user's rule and option determine.
-# usage: test_user_rule_examples.sh RCFD BUILD_DIR SOURCE_DIR CMAKE CXX_COMPILER
+# The package is installed once, into PREFIX, by the fixture installed_package.
+# usage: test_user_rule_examples.sh RCFD BUILD_DIR SOURCE_DIR CMAKE CXX_COMPILER PREFIX
 set -eu
 export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 OMPI_MCA_rmaps_base_oversubscribe=1
-rcfd=$1 build=$2 src=$3 cmake=$4 cxx=$5
+rcfd=$1 build=$2 src=$3 cmake=$4 cxx=$5 prefix=$6
 work=$build/test-data/user-rules
 rm -rf "$work"
 mkdir -p "$work"
 source "$src/tests/script_helpers.sh"
 
-install_build "$build" "$work/prefix" "$cmake"
-for f in include/rcfd/path.hpp include/rcfd/switching.hpp include/rcfd/run.hpp \
-  lib/cmake/rcfd/rcfdConfig.cmake; do
-  [ -e "$work/prefix/$f" ] && ok || fail "cmake --install did not install $f"
-done
-build_example user-path-rule "$src" "$work/prefix" "$cmake" "$cxx"
-build_example user-switch-rule "$src" "$work/prefix" "$cmake" "$cxx"
+build_example user-path-rule "$src" "$prefix" "$cmake" "$cxx"
+build_example user-switch-rule "$src" "$prefix" "$cmake" "$cxx"
 
 bed=(-synth_cells 6,2,12 -synth_frames 20 -quiet) # dt_rec 0.005 s
-"$work/prefix/bin/rcfd" synth -o "$work/a.h5" "${bed[@]}"
-"$work/prefix/bin/rcfd" synth -o "$work/b.h5" "${bed[@]}" -synth_seed 2
+"$prefix/bin/rcfd" synth -o "$work/a.h5" "${bed[@]}"
+"$prefix/bin/rcfd" synth -o "$work/b.h5" "${bed[@]}" -synth_seed 2
 quiet=(-fields 0 -plot 0 -quiet)
 
 # ---- the path rule: 20 steps through the 20 frames, 3 at a time.

@@ -18,8 +18,9 @@ enum class AgitationMeasure {
   Dispersion,
 };
 
-/// "leaving" or "dispersion"; throws std::invalid_argument naming both otherwise.
-AgitationMeasure parseAgitationMeasure(const std::string &name);
+/// Not collective.  The measure named "leaving" or "dispersion"; any other name
+/// is refused (PETSC_ERR_ARG_OUTOFRANGE) with a sentence naming both.
+PetscErrorCode parseAgitationMeasure(const std::string &name, AgitationMeasure *measure);
 const char *agitationMeasureName(AgitationMeasure m);
 
 /// Per-frame agitation of this rank's cells (PETSc order), computed once from the

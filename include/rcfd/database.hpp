@@ -52,33 +52,38 @@ struct DatabaseMetadata {
 /// Finest quantisation a database may record: numerators - 1 fit 16 bits.
 inline constexpr int kMaxWeightBits = 16;
 
-/// Writes a database file from one process, frame by frame.  The file is
-/// written under a temporary name and renamed by finish(), so a file with the
-/// final name is always complete.  Throws std::runtime_error on bad input.
+class DatabaseFileWriter; // the implementation (src/database)
+
+/// Writes a database file from one process, frame by frame (not collective:
+/// one rank writes, the others wait before they load it).  The file is
+/// written under a temporary name and renamed by finish(), so a file with
+/// the final name is always complete; a writer destroyed unfinished leaves
+/// no file.  Bad input is refused with PETSC_ERR_ARG_WRONG, a file that
+/// cannot be written with PETSC_ERR_FILE_WRITE, each in one sentence.
 class DatabaseWriter {
 public:
-  /// `formatVersion` 2 writes the full CSR of older readers (tests keep the
-  /// version 2 reader covered with it); the current version is the default.
-  DatabaseWriter(const std::string &path, const Mesh &mesh, const DatabaseMetadata &meta,
-                 long long formatVersion = kDatabaseFormatVersion);
+  DatabaseWriter();
   ~DatabaseWriter();
   DatabaseWriter(const DatabaseWriter &) = delete;
   DatabaseWriter &operator=(const DatabaseWriter &) = delete;
 
-  void append(const FrameRecord &frame);
+  /// Starts the file `path` of this mesh and metadata.  `formatVersion` 2
+  /// writes the full CSR of older readers; the current version is the default.
+  PetscErrorCode create(const std::string &path, const Mesh &mesh, const DatabaseMetadata &meta,
+                        long long formatVersion = kDatabaseFormatVersion);
+  PetscErrorCode append(const FrameRecord &frame);
   /// Store an extra 2-D dataset (e.g. the recurrence matrix) before finish().
-  void writeMatrix(const std::string &name, const std::vector<double> &rowMajor, int cols,
-                   const std::string &note);
+  PetscErrorCode writeMatrix(const std::string &name, const std::vector<double> &rowMajor, int cols,
+                             const std::string &note);
   /// Store a text attribute `key` on /metadata before finish() (e.g. a
   /// builder's report as "build_report"); `key` must not be a format attribute.
-  void setNote(const std::string &key, const std::string &text);
-  void finish();
-  int numFrames() const { return frames; }
+  PetscErrorCode setNote(const std::string &key, const std::string &text);
+  /// Stores the frame count and the content hash and gives the file its name.
+  PetscErrorCode finish();
+  int numFrames() const;
 
 private:
-  struct Impl;
-  std::unique_ptr<Impl> impl;
-  int frames = 0;
+  std::unique_ptr<DatabaseFileWriter> file;
 };
 
 struct DatabaseLoadOptions {

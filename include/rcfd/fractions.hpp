@@ -16,11 +16,14 @@ inline constexpr int kMaxFractions = 64;
 /// The inventory's size classes: diameter [m] and share of the total mass.
 class FractionSet {
 public:
-  /// Validate and build; throws std::invalid_argument with a sentence naming
-  /// the option when diameters are not positive, shares are negative or do
-  /// not sum to 1 within 1e-6, the lists differ in length, or a diameter repeats.
-  FractionSet(std::vector<double> diameters, std::vector<double> massShares);
   FractionSet() = default;
+  /// Not collective.  Validates and builds `*set`; refuses
+  /// (PETSC_ERR_ARG_OUTOFRANGE, one sentence naming the option) diameters that
+  /// are not positive, shares that are negative or do not sum to 1 within
+  /// 1e-6, lists of different lengths, a repeated diameter, or more than
+  /// kMaxFractions fractions.  The shares are normalised to sum to 1.
+  static PetscErrorCode create(std::vector<double> diameters, std::vector<double> massShares,
+                               FractionSet *set);
 
   /// Reads -fractions_diameters d1,d2,... [m] and -fractions_mass_shares w1,w2,...
   /// (default: the paper's bi-narrow inventory).
@@ -40,6 +43,11 @@ public:
   PetscErrorCode view(PetscViewer viewer) const;
 
 private:
+  /// What is wrong with the lists, in one sentence; empty when nothing is.
+  static std::string problem(const std::vector<double> &diameters, const std::vector<double> &massShares);
+  /// Builds from lists problem() found nothing wrong with.
+  void assign(std::vector<double> diameters, std::vector<double> massShares);
+
   std::vector<double> d, w;
   int labelDigits = 3;
 };

@@ -99,24 +99,22 @@ public:
 protected:
   /// The number of frames is set by setUp().
   FramePath() = default;
-  explicit FramePath(int numFrames);
-  /// Throws std::invalid_argument for fewer than 2 frames.
-  void setNumFrames(int numFrames);
+  /// Not collective.  Sets the number of frames (setUp() sets the database's);
+  /// fewer than 2 are refused (PETSC_ERR_ARG_OUTOFRANGE).
+  PetscErrorCode setNumFrames(int numFrames);
 
   /// The next frame; sets `jump` when it starts a new sequence.  frame() is
   /// still the previous frame (-1 on the first call).
   virtual int advance(bool &jump) = 0;
   /// Hash of everything that determines the continuation of a saved state.
   virtual std::uint64_t fingerprint() const = 0;
-  /// Appends the kind's own state words; restoreExtra() reads them back and
-  /// throws std::invalid_argument on a wrong size or value (restoreState()
-  /// turns it into an error code).
+  /// Appends the kind's own state words; restoreExtra() reads them back
+  /// (not collective) and refuses a wrong size or value with
+  /// PETSC_ERR_ARG_WRONG and one sentence; restoreState() returns its error.
   virtual void saveExtra(std::vector<std::uint64_t> &out) const = 0;
-  virtual void restoreExtra(const std::uint64_t *data, std::size_t n) = 0;
+  virtual PetscErrorCode restoreExtra(const std::uint64_t *data, std::size_t n) = 0;
 
 private:
-  friend void restorePathState(FramePath &path, const std::vector<std::uint64_t> &state);
-  void restoreChecked(const std::vector<std::uint64_t> &state); // throws, see restoreState()
   std::string prefix_ = "path_";
   int K_ = 0;
   int frame_ = -1;

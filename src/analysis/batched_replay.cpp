@@ -110,7 +110,7 @@ PetscErrorCode BatchedReplay::shareAgitation(Run &run) {
     if (!field) {
       auto made = std::make_shared<AgitationField>();
       AgitationMeasure measure;
-      PetscCallCXX(measure = parseAgitationMeasure(drift->agitationOption()));
+      PetscCall(parseAgitationMeasure(drift->agitationOption(), &measure));
       PetscCall(made->setUp(*database, measure));
       field = made;
     }

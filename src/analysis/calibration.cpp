@@ -38,7 +38,8 @@ PetscErrorCode DriftCalibration::setFromOptions() {
   PetscBool setRef = PETSC_FALSE, setModels = PETSC_FALSE, setRange = PETSC_FALSE,
             setWindow = PETSC_FALSE, help = PETSC_FALSE;
   PetscFunctionBeginUser;
-  PetscOptionsBegin(comm, nullptr, "rcfd calibrate: fit the drift coefficient to a reference", "rcfd");
+  PetscOptionsBegin(comm, prefix.empty() ? nullptr : prefix.c_str(), "rcfd calibrate: fit the drift coefficient to a reference",
+                    "rcfd");
   PetscCall(PetscOptionsString("-reference", "Reference cog.csv (rcfd reference)", "", "", ref,
                                sizeof ref, &setRef));
   PetscCall(PetscOptionsString("-calibrate_from",

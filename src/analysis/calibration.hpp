@@ -58,6 +58,8 @@ public:
   DriftCalibration(MPI_Comm comm, const Registries &registries);
   ~DriftCalibration();
 
+  /// Its own options are read as -<prefix>calibrate_... (default: no prefix).
+  void setOptionsPrefix(const std::string &p) { prefix = p; }
   /// Reads -reference, -calibrate_from, -calibrate_models (any registered
   /// size laws, rcfd/size_law.hpp), -calibrate_objective,
   /// -calibrate_kd_range, -calibrate_tolerance, -calibrate_scan,
@@ -108,6 +110,7 @@ private:
   PetscErrorCode searchRange(const std::string &model, double *lo, double *hi) const;
 
   MPI_Comm comm;
+  std::string prefix; // of the calibration's own options
   const OperatorRegistry &registry;
   const Registries *registries = nullptr; // all of them, when given
   // A run with the calibration's registries.

@@ -5,6 +5,7 @@
 #include <petscsys.h>
 
 #include <exception>
+#include <stdexcept>
 #include <string>
 
 namespace rcfd {
@@ -34,6 +35,22 @@ PetscErrorCode collectively(MPI_Comm comm, Body &&body,
     why = e.what();
   }
   return agreeOnFailure(comm, failed, why, code);
+}
+
+/// Not collective.  Runs call(), a function that returns a PetscErrorCode,
+/// without PETSc printing a traceback, and throws std::invalid_argument with
+/// its sentence if it fails: for internal code that reports by exceptions
+/// calling the public, PETSc-style API.
+template <typename Call> void throwOnError(Call &&call) {
+  PetscErrorCode ierr = PetscPushErrorHandler(PetscReturnErrorHandler, nullptr);
+  if (!ierr) {
+    ierr = call();
+    (void)PetscPopErrorHandler();
+  }
+  if (!ierr) return;
+  char *specific = nullptr;
+  (void)PetscErrorMessage(ierr, nullptr, &specific);
+  throw std::invalid_argument(specific && *specific ? specific : "PETSc error " + std::to_string(static_cast<int>(ierr)));
 }
 
 } // namespace rcfd

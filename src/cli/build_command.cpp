@@ -14,6 +14,7 @@
 #include "base/collective.hpp"
 #include "base/constants.hpp"
 #include "base/h5.hpp"
+#include "database/database_file_writer.hpp"
 
 #include <chrono>
 #include <cstdio>
@@ -203,7 +204,7 @@ PetscErrorCode buildCommand(MPI_Comm comm) {
       };
     }
 
-    DatabaseWriter writer(out.database, Mesh::box(box), meta);
+    DatabaseFileWriter writer(out.database, Mesh::box(box), meta);
     ParticleFrameBuilder builder(opt, [&](const FrameRecord &f) { writer.append(f); });
     using Clock = std::chrono::steady_clock;
     const auto start = Clock::now();

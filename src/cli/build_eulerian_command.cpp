@@ -10,6 +10,7 @@
 #include "rcfd/database.hpp"
 #include "base/collective.hpp"
 #include "base/constants.hpp"
+#include "database/database_file_writer.hpp"
 
 #include <chrono>
 #include <cstdio>
@@ -192,7 +193,7 @@ PetscErrorCode buildEulerianCommand(MPI_Comm comm) {
                   box.origin[2] + box.length[2]),
           std::fflush(stdout);
 
-    DatabaseWriter writer(in.database, Mesh::box(box), meta);
+    DatabaseFileWriter writer(in.database, Mesh::box(box), meta);
     EulerianFrameBuilder builder(opt, [&](const FrameRecord &f) { writer.append(f); });
     using Clock = std::chrono::steady_clock;
     const auto start = Clock::now();

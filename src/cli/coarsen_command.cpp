@@ -10,6 +10,7 @@
 #include "database/quantise.hpp"
 #include "database/stored_frame.hpp"
 #include "rcfd/database.hpp"
+#include "database/database_file_writer.hpp"
 
 #include <cstdio>
 #include <cstdlib>
@@ -124,8 +125,8 @@ PetscErrorCode coarsenCommand(MPI_Comm comm, const char *positional) {
                 "," + std::to_string(factor[2]) + " -time_factor " + std::to_string(timeFactor) + precision + " (" +
                 db->metadata().source + ")";
   meta.weightBits = weightBits;
-  std::unique_ptr<DatabaseWriter> writer;
-  PetscCall(collectively(comm, [&] { writer = std::make_unique<DatabaseWriter>(out, Mesh::box(coarse.box), meta); }));
+  std::unique_ptr<DatabaseFileWriter> writer;
+  PetscCall(collectively(comm, [&] { writer = std::make_unique<DatabaseFileWriter>(out, Mesh::box(coarse.box), meta); }));
   const std::vector<double> &volume = db->mesh().cellVolume;
   int64_t nnz = 0;
   PetscCall(collectively(comm, [&] {

@@ -4,50 +4,26 @@
 #include "base/petsc_compat.hpp"
 #include "cli/figures.hpp"
 
-#include "analysis/ensemble.hpp"
+#include "rcfd/study.hpp"
 #include "base/collective.hpp"
 #include "rcfd/plugin.hpp"
 #include "rcfd/run.hpp"
 
+#include <memory>
 #include <string>
 #include <vector>
 
 namespace rcfd::cli {
 namespace {
 
-// An ensemble: the same case along stitched paths with seeds s, s+1, ...
-// (s: -path_seed), sharing one loaded database; each member writes
-// OUTPUT/member_k/cog.csv, and OUTPUT/ensemble.csv gives mean and spread.
-// Every member reads the options itself; the setters then give it its own
-// seed and directory and turn fields off.
-PetscErrorCode runEnsemble(MPI_Comm comm, const Registries &registry, PetscInt members,
-                           const std::string &outputDir, std::uint64_t seed, bool plot) {
-  PetscMPIInt rank;
+// An ensemble (rcfd::Ensemble, include/rcfd/study.hpp) set from the options, then solved, then its figure.
+PetscErrorCode runEnsemble(MPI_Comm comm, Ensemble &ensemble, bool plot) {
   PetscFunctionBeginUser;
-  PetscCallMPI(MPI_Comm_rank(comm, &rank));
-  std::vector<std::string> csvs;
-  std::shared_ptr<Database> db;
-  for (PetscInt k = 0; k < members; ++k) {
-    const std::string dir = outputDir + "/member_" + std::to_string(k);
-    Run member(comm, registry);
-    if (db) member.useDatabase(db);
-    PetscCall(member.setFromOptions());
-    PetscCall(member.setPathSeed(seed + static_cast<std::uint64_t>(k)));
-    member.setOutputDirectory(dir);
-    member.setWriteFields(false);
-    PetscCall(member.setUp());
-    db = member.sharedDatabase();
-    if (!member.quiet())
-      PetscCall(PetscPrintf(comm, "Ensemble member %d of %d (path seed %llu)\n", (int)k + 1, (int)members,
-                            (unsigned long long)(seed + k)));
-    PetscCall(member.solve());
-    csvs.push_back(dir + "/cog.csv");
-  }
-  PetscCall(collectively(comm, [&] {
-    if (rank == 0) writeEnsembleSummary(csvs, outputDir + "/ensemble.csv");
-  }));
-  if (plot) PetscCall(drawCogFigures(comm, outputDir + "/ensemble.csv", outputDir + "/ensemble.png", outputDir));
-  PetscCall(PetscPrintf(comm, "Ensemble of %d paths: %s/ensemble.csv%s\n", (int)members, outputDir.c_str(),
+  PetscCall(ensemble.setUp());
+  PetscCall(ensemble.solve());
+  const std::string dir = ensemble.outputDirectory();
+  if (plot) PetscCall(drawCogFigures(comm, ensemble.summaryFile(), dir + "/ensemble.png", dir));
+  PetscCall(PetscPrintf(comm, "Ensemble of %d paths: %s/ensemble.csv%s\n", ensemble.members(), dir.c_str(),
                         plot ? ", ensemble.png" : ""));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
@@ -90,17 +66,16 @@ PetscErrorCode runCommand(MPI_Comm comm) {
     PetscCall(viewExtensions(comm, registry));
     PetscFunctionReturn(PETSC_SUCCESS);
   }
-  PetscCall(rejectUnusedOptions(comm, "run"));
   PetscCheck(members >= 1, comm, PETSC_ERR_USER_INPUT, "-ensemble must be at least 1");
-  if (members > 1) { // `run` only read the options: its path's seed is the first member's
-    PetscCheck(!run.switchesDatabases(), comm, PETSC_ERR_USER_INPUT,
-               "-ensemble %d with several databases in -db: an ensemble's members share one loaded database, and "
-               "a run on several reads and drops them as it switches; run each member as its own rcfd run on the "
-               "set with -path_seed s, s+1, ... (or the ensemble on one database of the set)", (int)members);
-    PetscCheck(run.path().hasSeed(), comm, PETSC_ERR_USER_INPUT,
-               "-ensemble %d needs a stochastic -path_type (random, markov or quarter), not %s",
-               (int)members, run.path().type().c_str());
-    PetscCall(runEnsemble(comm, registry, members, run.outputDirectory(), run.path().seed(), plot));
+  std::unique_ptr<Ensemble> ensemble; // `run` only read the options; the ensemble's members read them again
+  if (members > 1) {
+    ensemble = std::make_unique<Ensemble>(comm, registry);
+    PetscCall(ensemble->setMembers(static_cast<int>(members)));
+    PetscCall(ensemble->setFromOptions()); // -ensemble_view
+  }
+  PetscCall(rejectUnusedOptions(comm, "run"));
+  if (ensemble) {
+    PetscCall(runEnsemble(comm, *ensemble, plot));
     PetscFunctionReturn(PETSC_SUCCESS);
   }
   PetscCall(run.setUp());

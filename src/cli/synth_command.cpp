@@ -9,6 +9,7 @@
 #include "rcfd/database.hpp"
 #include "base/collective.hpp"
 #include "base/atomic_file.hpp"
+#include "database/database_file_writer.hpp"
 
 #include <cmath>
 #include <cstdio>
@@ -239,7 +240,7 @@ PetscErrorCode synthCommand(MPI_Comm comm) {
       std::snprintf(at, sizeof at, ", at u_sup = %g m/s", conditions.superficialVelocity);
       meta.source += at;
     }
-    DatabaseWriter writer(path, Mesh::box(options.box), meta);
+    DatabaseFileWriter writer(path, Mesh::box(options.box), meta);
     if (!pointNote.empty()) writer.setNote("synth_operating_point", pointNote);
     report = generateSyntheticBed(options, [&](const FrameRecord &frame) {
       writer.append(frame);

@@ -2,14 +2,16 @@
 #include "base/petsc_compat.hpp"
 
 #include <algorithm>
-#include <stdexcept>
 
 namespace rcfd {
 
-AgitationMeasure parseAgitationMeasure(const std::string &name) {
-  if (name == "leaving") return AgitationMeasure::LeavingShare;
-  if (name == "dispersion") return AgitationMeasure::Dispersion;
-  throw std::invalid_argument("the agitation measure '" + name + "' is not known; use leaving or dispersion");
+PetscErrorCode parseAgitationMeasure(const std::string &name, AgitationMeasure *measure) {
+  PetscFunctionBeginUser;
+  const bool leaving = name == "leaving";
+  PetscCheck(leaving || name == "dispersion", PETSC_COMM_SELF, PETSC_ERR_ARG_OUTOFRANGE,
+             "the agitation measure '%s' is not known; use leaving or dispersion", name.c_str());
+  *measure = leaving ? AgitationMeasure::LeavingShare : AgitationMeasure::Dispersion;
+  PetscFunctionReturn(PETSC_SUCCESS);
 }
 
 const char *agitationMeasureName(AgitationMeasure m) {

@@ -1,6 +1,8 @@
-// DatabaseWriter (include/rcfd/database.hpp): a database file written frame
-// by frame through an atomic file, with its content hash.
-#include "rcfd/database.hpp"
+// DatabaseFileWriter (database_file_writer.hpp): a database file written
+// frame by frame through an atomic file, with its content hash; and
+// DatabaseWriter (include/rcfd/database.hpp), its PETSc-style face.
+#include "database/database_file_writer.hpp"
+#include "base/petsc_compat.hpp"
 
 #include "base/atomic_file.hpp"
 #include "base/h5.hpp"
@@ -43,7 +45,7 @@ void checkQuantised(const CsrMatrix &T, int bits, int k) {
 
 } // namespace
 
-struct DatabaseWriter::Impl {
+struct DatabaseFileWriter::Impl {
   explicit Impl(const std::string &path) : out(path) {}
   AtomicFile out; // declared first: the file is closed before an unfinished temporary is removed
   h5::File file;
@@ -53,8 +55,8 @@ struct DatabaseWriter::Impl {
   ContentHash hash; // of every frame's arrays, stored as content_hash by finish()
 };
 
-DatabaseWriter::DatabaseWriter(const std::string &path, const Mesh &mesh, const DatabaseMetadata &meta,
-                               long long formatVersion)
+DatabaseFileWriter::DatabaseFileWriter(const std::string &path, const Mesh &mesh, const DatabaseMetadata &meta,
+                                       long long formatVersion)
     : impl(std::make_unique<Impl>(path)) {
   if (formatVersion != 2 && formatVersion != kDatabaseFormatVersion)
     throw std::invalid_argument("a database is written in format version 2 or " +
@@ -88,9 +90,9 @@ DatabaseWriter::DatabaseWriter(const std::string &path, const Mesh &mesh, const 
   f.createGroup("/frames");
 }
 
-DatabaseWriter::~DatabaseWriter() = default; // an unfinished database leaves no file behind
+DatabaseFileWriter::~DatabaseFileWriter() = default; // an unfinished database leaves no file behind
 
-void DatabaseWriter::append(const FrameRecord &frame) {
+void DatabaseFileWriter::append(const FrameRecord &frame) {
   const int n = impl->cells;
   if (frame.alphaS.size() != static_cast<size_t>(n) || frame.shift.n != n ||
       frame.shift.rowPtr.size() != static_cast<size_t>(n) + 1)
@@ -107,14 +109,14 @@ void DatabaseWriter::append(const FrameRecord &frame) {
   ++frames;
 }
 
-void DatabaseWriter::writeMatrix(const std::string &name, const std::vector<double> &rowMajor,
-                                 int cols, const std::string &note) {
+void DatabaseFileWriter::writeMatrix(const std::string &name, const std::vector<double> &rowMajor,
+                                     int cols, const std::string &note) {
   impl->file.createGroup("/extra");
   impl->file.write("/extra/" + name, rowMajor, static_cast<hsize_t>(cols));
   impl->file.writeAttr("/extra/" + name, "note", note);
 }
 
-void DatabaseWriter::setNote(const std::string &key, const std::string &text) {
+void DatabaseFileWriter::setNote(const std::string &key, const std::string &text) {
   for (const char *reserved : {"dt_rec", "solid_density", "gravity", "source", "units", "superficial_velocity",
                                "gas_density", "gas_kinematic_viscosity", "weight_bits"})
     if (key == reserved)
@@ -123,12 +125,83 @@ void DatabaseWriter::setNote(const std::string &key, const std::string &text) {
   impl->file.writeAttr("/metadata", key, text);
 }
 
-void DatabaseWriter::finish() {
+void DatabaseFileWriter::finish() {
   if (frames < 1) throw std::invalid_argument("a database needs at least one frame");
   impl->file.writeAttr("/frames", "num_frames", static_cast<long long>(frames));
   impl->file.writeAttr("/", "content_hash", impl->hash.hex());
   impl->file.close();
   impl->out.commit();
 }
+
+// ---------------------------------------------------------------------------
+// DatabaseWriter: the same, with PETSc error codes
+
+namespace {
+// Runs body(); its exception becomes an error with its sentence: bad input
+// (std::invalid_argument) PETSC_ERR_ARG_WRONG, anything else PETSC_ERR_FILE_WRITE.
+template <typename Body> PetscErrorCode refusing(Body &&body) {
+  std::string why;
+  PetscErrorCode code = PETSC_SUCCESS;
+  try {
+    body();
+  } catch (const std::invalid_argument &e) {
+    why = e.what();
+    code = PETSC_ERR_ARG_WRONG;
+  } catch (const std::exception &e) {
+    why = e.what();
+    code = PETSC_ERR_FILE_WRITE;
+  }
+  PetscFunctionBeginUser;
+  PetscCheck(code == PETSC_SUCCESS, PETSC_COMM_SELF, code, "%s", why.c_str());
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+} // namespace
+
+DatabaseWriter::DatabaseWriter() = default;
+DatabaseWriter::~DatabaseWriter() = default;
+
+PetscErrorCode DatabaseWriter::create(const std::string &path, const Mesh &mesh, const DatabaseMetadata &meta,
+                                      long long formatVersion) {
+  PetscFunctionBeginUser;
+  file.reset(); // a database started before and not finished leaves no file
+  PetscCall(refusing([&] { file = std::make_unique<DatabaseFileWriter>(path, mesh, meta, formatVersion); }));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+#define RCFD_WRITER_STARTED()                                                                          \
+  PetscCheck(file, PETSC_COMM_SELF, PETSC_ERR_ORDER, "DatabaseWriter: create() the database first")
+
+PetscErrorCode DatabaseWriter::append(const FrameRecord &frame) {
+  PetscFunctionBeginUser;
+  RCFD_WRITER_STARTED();
+  PetscCall(refusing([&] { file->append(frame); }));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode DatabaseWriter::writeMatrix(const std::string &name, const std::vector<double> &rowMajor, int cols,
+                                           const std::string &note) {
+  PetscFunctionBeginUser;
+  RCFD_WRITER_STARTED();
+  PetscCall(refusing([&] { file->writeMatrix(name, rowMajor, cols, note); }));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode DatabaseWriter::setNote(const std::string &key, const std::string &text) {
+  PetscFunctionBeginUser;
+  RCFD_WRITER_STARTED();
+  PetscCall(refusing([&] { file->setNote(key, text); }));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode DatabaseWriter::finish() {
+  PetscFunctionBeginUser;
+  RCFD_WRITER_STARTED();
+  PetscCall(refusing([&] { file->finish(); }));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+#undef RCFD_WRITER_STARTED
+
+int DatabaseWriter::numFrames() const { return file ? file->numFrames() : 0; }
 
 } // namespace rcfd

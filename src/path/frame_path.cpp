@@ -26,23 +26,35 @@ constexpr std::uint64_t kStateVersion = 1;
 constexpr std::size_t kStateHeader = 7;
 } // namespace
 
-FramePath::FramePath(int numFrames) { setNumFrames(numFrames); }
-
 FramePath::~FramePath() = default;
 
-void FramePath::setNumFrames(int numFrames) {
-  if (numFrames < 2)
-    throw std::invalid_argument("a frame path needs at least 2 frames; the database has " +
-                                std::to_string(numFrames));
+namespace {
+// Why a path cannot have K frames; empty when it can.
+std::string framesProblem(int K) {
+  return K < 2 ? "a frame path needs at least 2 frames; the database has " + std::to_string(K) : std::string();
+}
+} // namespace
+
+PetscErrorCode FramePath::setNumFrames(int numFrames) {
+  PetscFunctionBeginUser;
+  const std::string why = framesProblem(numFrames);
+  PetscCheck(why.empty(), PETSC_COMM_SELF, PETSC_ERR_ARG_OUTOFRANGE, "%s", why.c_str());
   K_ = numFrames;
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+void requireFrames(int numFrames) {
+  const std::string why = framesProblem(numFrames);
+  if (!why.empty()) throw std::invalid_argument(why);
 }
 
 PetscErrorCode FramePath::setFromOptions(MPI_Comm) { return PETSC_SUCCESS; }
 
 PetscErrorCode FramePath::setUp(const PathContext &ctx) {
   PetscFunctionBeginUser;
-  PetscCall(collectively(
-      ctx.db.layout().comm(), [&] { setNumFrames(ctx.db.numFrames()); }, PETSC_ERR_USER_INPUT));
+  const std::string why = framesProblem(ctx.db.numFrames()); // the same on every rank
+  PetscCheck(why.empty(), ctx.db.layout().comm(), PETSC_ERR_USER_INPUT, "%s", why.c_str());
+  PetscCall(setNumFrames(ctx.db.numFrames()));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
@@ -77,29 +89,25 @@ std::vector<std::uint64_t> FramePath::saveState() const {
   return s;
 }
 
-PetscErrorCode FramePath::restoreState(const std::vector<std::uint64_t> &state) {
+PetscErrorCode FramePath::restoreState(const std::vector<std::uint64_t> &s) {
   PetscFunctionBeginUser;
-  PetscCallCXX(restorePathState(*this, state));
-  PetscFunctionReturn(PETSC_SUCCESS);
-}
-
-void restorePathState(FramePath &path, const std::vector<std::uint64_t> &s) {
-  path.restoreChecked(s);
-}
-
-void FramePath::restoreChecked(const std::vector<std::uint64_t> &s) {
-  if (s.size() < kStateHeader || s[0] != kStateMagic || s[1] != kStateVersion)
-    throw std::invalid_argument("restoreState: the data is not a saved frame path state");
-  if (s[2] != fingerprint() || s[3] != static_cast<std::uint64_t>(K_))
-    throw std::invalid_argument("restoreState: the state was saved by a " + type() +
-                                " path with other parameters, another seed or another "
-                                "recurrence matrix, or by another kind of path");
-  if (s[5] > static_cast<std::uint64_t>(K_) || s[6] > 1 || (s[5] == 0) != (s[4] == 0))
-    throw std::invalid_argument("restoreState: the saved position is inconsistent");
-  restoreExtra(s.data() + kStateHeader, s.size() - kStateHeader);
+  PetscCheck(s.size() >= kStateHeader && s[0] == kStateMagic && s[1] == kStateVersion, PETSC_COMM_SELF,
+             PETSC_ERR_ARG_WRONG, "restoreState: the data is not a saved frame path state");
+  PetscCheck(s[2] == fingerprint() && s[3] == static_cast<std::uint64_t>(K_), PETSC_COMM_SELF, PETSC_ERR_ARG_WRONG,
+             "restoreState: the state was saved by a %s path with other parameters, another seed or another "
+             "recurrence matrix, or by another kind of path",
+             type().c_str());
+  PetscCheck(s[5] <= static_cast<std::uint64_t>(K_) && s[6] <= 1 && (s[5] == 0) == (s[4] == 0), PETSC_COMM_SELF,
+             PETSC_ERR_ARG_WRONG, "restoreState: the saved position is inconsistent");
+  PetscCall(restoreExtra(s.data() + kStateHeader, s.size() - kStateHeader));
   steps_ = s[4];
   frame_ = static_cast<int>(s[5]) - 1;
   jump_ = s[6] != 0;
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+void restorePathState(FramePath &path, const std::vector<std::uint64_t> &state) {
+  throwOnError([&] { return path.restoreState(state); });
 }
 
 // ---------------------------------------------------------------------------

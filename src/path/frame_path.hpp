@@ -62,6 +62,11 @@ struct PathParams {
 /// returning an error (for code that already turns exceptions into errors).
 void restorePathState(FramePath &path, const std::vector<std::uint64_t> &state);
 
+/// Throws std::invalid_argument, with FramePath::setNumFrames()'s sentence,
+/// for fewer than 2 frames (for the built-in kinds, made where errors are
+/// exceptions, before they call setNumFrames()).
+void requireFrames(int numFrames);
+
 /// Adds replay, random, markov, quarter and recorded to a registry.
 void addBuiltinPaths(PathRegistry &registry);
 

@@ -15,7 +15,9 @@ namespace {
 class RecordedPath final : public FramePath {
 public:
   RecordedPath() = default;
-  RecordedPath(int K, std::vector<int> frames) : FramePath(K), frames_(std::move(frames)) {
+  RecordedPath(int K, std::vector<int> frames) : frames_(std::move(frames)) {
+    requireFrames(K);
+    PetscCallAbort(PETSC_COMM_SELF, setNumFrames(K));
     check();
   }
   std::string type() const override { return "recorded"; }
@@ -68,8 +70,10 @@ protected:
     return h.value();
   }
   void saveExtra(std::vector<std::uint64_t> &) const override {}
-  void restoreExtra(const std::uint64_t *, std::size_t n) override {
-    if (n != 0) throw std::invalid_argument("restoreState: wrong size for a recorded path state");
+  PetscErrorCode restoreExtra(const std::uint64_t *, std::size_t n) override {
+    PetscFunctionBeginUser;
+    PetscCheck(n == 0, PETSC_COMM_SELF, PETSC_ERR_ARG_WRONG, "restoreState: wrong size for a recorded path state");
+    PetscFunctionReturn(PETSC_SUCCESS);
   }
 
 private:

@@ -6,7 +6,6 @@
 #include "base/collective.hpp"
 #include "path/hasher.hpp"
 
-#include <stdexcept>
 
 namespace rcfd {
 namespace {
@@ -15,7 +14,10 @@ namespace {
 class ReplayPath final : public FramePath {
 public:
   ReplayPath() = default;
-  ReplayPath(int K, int start) : FramePath(K), start_(start) {}
+  ReplayPath(int K, int start) : start_(start) {
+    requireFrames(K);
+    PetscCallAbort(PETSC_COMM_SELF, setNumFrames(K));
+  }
   std::string type() const override { return "replay"; }
   std::string describe() const override {
     return "replay: K=" + std::to_string(numFrames()) + " start=" + std::to_string(start_);
@@ -54,8 +56,10 @@ protected:
     return h.value();
   }
   void saveExtra(std::vector<std::uint64_t> &) const override {}
-  void restoreExtra(const std::uint64_t *, std::size_t n) override {
-    if (n != 0) throw std::invalid_argument("restoreState: wrong size for a replay path state");
+  PetscErrorCode restoreExtra(const std::uint64_t *, std::size_t n) override {
+    PetscFunctionBeginUser;
+    PetscCheck(n == 0, PETSC_COMM_SELF, PETSC_ERR_ARG_WRONG, "restoreState: wrong size for a replay path state");
+    PetscFunctionReturn(PETSC_SUCCESS);
   }
 
 private:

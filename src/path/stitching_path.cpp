@@ -281,15 +281,16 @@ protected:
     for (std::uint64_t w : rng_.state()) out.push_back(w);
     out.insert(out.end(), use_.begin(), use_.end()); // empty unless leastUsed
   }
-  void restoreExtra(const std::uint64_t *d, std::size_t n) override {
+  PetscErrorCode restoreExtra(const std::uint64_t *d, std::size_t n) override {
+    PetscFunctionBeginUser;
     const auto K = static_cast<std::uint64_t>(numFrames());
-    if (n != 6 + use_.size() || d[0] > K || d[1] > K)
-      throw std::invalid_argument("restoreState: wrong size or values for a " + cfg_.kind +
-                                  " path state");
+    PetscCheck(n == 6 + use_.size() && d[0] <= K && d[1] <= K, PETSC_COMM_SELF, PETSC_ERR_ARG_WRONG,
+               "restoreState: wrong size or values for a %s path state", cfg_.kind.c_str());
     rng_.setState({d[2], d[3], d[4], d[5]});
     length_ = static_cast<int>(d[0]);
     used_ = static_cast<int>(d[1]);
     std::copy(d + 6, d + n, use_.begin());
+    PetscFunctionReturn(PETSC_SUCCESS);
   }
 
 private:
@@ -297,7 +298,8 @@ private:
   /// normalised recurrence matrix R (K x K); throws std::invalid_argument.
   void build(int K, const std::vector<double> &R) {
     checkPathStart(cfg_.kind, K, params_);
-    setNumFrames(K);
+    requireFrames(K);
+    PetscCallAbort(PETSC_COMM_SELF, setNumFrames(K));
     std::string kind = cfg_.kind;
     configureStitching(kind, K, R, params_, cfg_, table_, count_);
     if (cfg_.clockWindow > 0) keepNearbyRecurrence(K, R);

@@ -9,39 +9,41 @@
 #include <cmath>
 #include <cstdio>
 #include <numeric>
-#include <stdexcept>
 
 namespace rcfd {
 
-FractionSet::FractionSet(std::vector<double> diameters, std::vector<double> massShares)
-    : d(std::move(diameters)), w(std::move(massShares)) {
-  if (d.empty()) throw std::invalid_argument("-fractions_diameters: at least one diameter is needed");
+std::string FractionSet::problem(const std::vector<double> &d, const std::vector<double> &w) {
+  if (d.empty()) return "-fractions_diameters: at least one diameter is needed";
   if (d.size() > static_cast<size_t>(kMaxFractions))
-    throw std::invalid_argument("-fractions_diameters has " + std::to_string(d.size()) +
-                                " diameters; rcfd handles at most " + std::to_string(kMaxFractions) +
-                                " fractions");
+    return "-fractions_diameters has " + std::to_string(d.size()) + " diameters; rcfd handles at most " +
+           std::to_string(kMaxFractions) + " fractions";
   if (d.size() != w.size())
-    throw std::invalid_argument("-fractions_mass_shares has " + std::to_string(w.size()) +
-                                " values but -fractions_diameters has " + std::to_string(d.size()) +
-                                "; give one mass share per diameter");
+    return "-fractions_mass_shares has " + std::to_string(w.size()) + " values but -fractions_diameters has " +
+           std::to_string(d.size()) + "; give one mass share per diameter";
   for (size_t i = 0; i < d.size(); ++i)
     if (!(d[i] > 0.0) || !std::isfinite(d[i]))
-      throw std::invalid_argument("-fractions_diameters: diameter " + std::to_string(i + 1) +
-                                  " is " + std::to_string(d[i]) + ", expected a positive length in m");
+      return "-fractions_diameters: diameter " + std::to_string(i + 1) + " is " + std::to_string(d[i]) +
+             ", expected a positive length in m";
   for (size_t i = 0; i < w.size(); ++i)
     if (!(w[i] >= 0.0) || !std::isfinite(w[i]))
-      throw std::invalid_argument("-fractions_mass_shares: share " + std::to_string(i + 1) + " is " +
-                                  std::to_string(w[i]) + ", expected a number in [0, 1]");
+      return "-fractions_mass_shares: share " + std::to_string(i + 1) + " is " + std::to_string(w[i]) +
+             ", expected a number in [0, 1]";
   const double sum = std::accumulate(w.begin(), w.end(), 0.0);
   if (std::fabs(sum - 1.0) > 1e-6)
-    throw std::invalid_argument("-fractions_mass_shares sum to " + std::to_string(sum) +
-                                ", expected 1 (within 1e-6)");
-  for (double &x : w) x /= sum; // exact normalisation of what is within tolerance
+    return "-fractions_mass_shares sum to " + std::to_string(sum) + ", expected 1 (within 1e-6)";
   for (size_t i = 0; i < d.size(); ++i)
     for (size_t j = i + 1; j < d.size(); ++j)
       if (d[i] == d[j])
-        throw std::invalid_argument("-fractions_diameters: diameters " + std::to_string(i + 1) + " and " +
-                                    std::to_string(j + 1) + " are equal; give each size once");
+        return "-fractions_diameters: diameters " + std::to_string(i + 1) + " and " + std::to_string(j + 1) +
+               " are equal; give each size once";
+  return {};
+}
+
+void FractionSet::assign(std::vector<double> diameters, std::vector<double> massShares) {
+  d = std::move(diameters);
+  w = std::move(massShares);
+  const double sum = std::accumulate(w.begin(), w.end(), 0.0);
+  for (double &x : w) x /= sum; // exact normalisation of what is within tolerance
   // Labels name CSV columns and datasets: three decimals of a millimetre unless
   // two diameters would print alike, then as many as tell them apart.
   for (labelDigits = 3; labelDigits < 17; ++labelDigits) {
@@ -50,6 +52,15 @@ FractionSet::FractionSet(std::vector<double> diameters, std::vector<double> mass
     std::sort(names.begin(), names.end());
     if (std::adjacent_find(names.begin(), names.end()) == names.end()) break;
   }
+}
+
+PetscErrorCode FractionSet::create(std::vector<double> diameters, std::vector<double> massShares,
+                                   FractionSet *set) {
+  PetscFunctionBeginUser;
+  const std::string why = problem(diameters, massShares);
+  PetscCheck(why.empty(), PETSC_COMM_SELF, PETSC_ERR_ARG_OUTOFRANGE, "%s", why.c_str());
+  set->assign(std::move(diameters), std::move(massShares));
+  PetscFunctionReturn(PETSC_SUCCESS);
 }
 
 PetscErrorCode FractionSet::fromOptions(MPI_Comm comm, FractionSet *set) {
@@ -78,8 +89,12 @@ PetscErrorCode FractionSet::fromOptions(MPI_Comm comm, FractionSet *set) {
   PetscCheck(setW || !setD || nd == 0, comm, PETSC_ERR_USER_INPUT,
              "-fractions_diameters was given without -fractions_mass_shares; give one mass share "
              "per diameter");
-  PetscCall(collectively(
-      comm, [&] { *set = FractionSet({dd, dd + nd}, {ww, ww + nw}); }, PETSC_ERR_USER_INPUT));
+  // Every rank read the same options: each finds the same problem, and all
+  // return it (the lowest failing rank's sentence, as for any input).
+  const std::vector<double> diameters(dd, dd + nd), shares(ww, ww + nw);
+  const std::string why = problem(diameters, shares);
+  PetscCall(agreeOnFailure(comm, !why.empty(), why, PETSC_ERR_USER_INPUT));
+  set->assign(diameters, shares);
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 

@@ -177,7 +177,7 @@ protected:
   }
   std::uint64_t fingerprint() const override { return 0x5717de00u + static_cast<std::uint64_t>(stride); }
   void saveExtra(std::vector<std::uint64_t> &) const override {}
-  void restoreExtra(const std::uint64_t *, std::size_t) override {}
+  PetscErrorCode restoreExtra(const std::uint64_t *, std::size_t) override { return 0; }
 
 private:
   PetscInt stride = 1;

@@ -13,7 +13,6 @@
 #include <cstddef>
 #include <cstdint>
 #include <memory>
-#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -47,8 +46,10 @@ protected:
   // saves the position; this rule keeps no state of its own.
   std::uint64_t fingerprint() const override { return static_cast<std::uint64_t>(stride); }
   void saveExtra(std::vector<std::uint64_t> &) const override {}
-  void restoreExtra(const std::uint64_t *, std::size_t n) override {
-    if (n != 0) throw std::invalid_argument("path stride: a saved state with words of its own");
+  PetscErrorCode restoreExtra(const std::uint64_t *, std::size_t n) override {
+    PetscFunctionBeginUser;
+    PetscCheck(n == 0, PETSC_COMM_SELF, PETSC_ERR_ARG_WRONG, "path stride: a saved state with words of its own");
+    PetscFunctionReturn(0);
   }
 
 private:

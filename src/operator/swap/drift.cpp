@@ -284,7 +284,9 @@ PetscErrorCode DriftOperator::setUpScaling(const RunContext &ctx) {
   // A field made for another database (the run switched databases) is made
   // again, of the same measure, for this one.
   if (!agitation || agitation->databaseIdentity() != ctx.db.identity()) {
-    const AgitationMeasure measure = agitation ? agitation->measure() : parseAgitationMeasure(agitationName);
+    AgitationMeasure measure = AgitationMeasure::LeavingShare;
+    if (agitation) measure = agitation->measure();
+    else PetscCall(parseAgitationMeasure(agitationName, &measure));
     auto field = std::make_shared<AgitationField>();
     PetscCall(field->setUp(ctx.db, measure));
     agitation = field;
