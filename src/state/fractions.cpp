@@ -114,6 +114,10 @@ PetscErrorCode FractionSet::view(PetscViewer viewer) const {
 PetscErrorCode FractionState::create(const Layout &layout, int numFractions) {
   PetscFunctionBeginUser;
   nf = numFractions;
+  ns = 0;
+  amountA.reset();
+  amountB.reset();
+  amountNow = amountSpare = nullptr;
   nlocal = layout.numLocal();
   occupied = Occupied{};
   known = KnownSums{};
@@ -186,6 +190,44 @@ PetscErrorCode FractionState::setOccupiedEnd(PetscInt end) {
   occupied.of = current;
   occupied.end = std::clamp<PetscInt>(end, 0, nlocal);
   PetscCall(PetscObjectStateGet((PetscObject)current, &occupied.state));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode FractionState::createScalars(int numScalars) {
+  PetscFunctionBeginUser;
+  PetscCheck(current, PETSC_COMM_SELF, PETSC_ERR_ORDER, "FractionState::createScalars() needs create() first");
+  ns = numScalars;
+  amountA.reset();
+  amountB.reset();
+  amountNow = amountSpare = nullptr;
+  if (ns == 0) PetscFunctionReturn(PETSC_SUCCESS);
+  PetscInt global;
+  PetscCall(VecGetSize(current, &global));
+  PetscCall(VecCreate(PetscObjectComm((PetscObject)current), amountA.put()));
+  PetscCall(VecSetSizes(amountA, nlocal * nf * ns, global * ns));
+  PetscCall(VecSetBlockSize(amountA, nf * ns));
+  PetscCall(VecSetType(amountA, VECMPI));
+  PetscCall(VecDuplicate(amountA, amountB.put()));
+  PetscCall(VecZeroEntries(amountA));
+  PetscCall(VecZeroEntries(amountB));
+  amountNow = amountA;
+  amountSpare = amountB;
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+// Cell by cell from the first, as localTotals() adds the masses.
+PetscErrorCode FractionState::amountTotals(std::vector<double> *perScalarFraction) const {
+  const PetscScalar *x;
+  PetscFunctionBeginUser;
+  const int w = nf * ns;
+  perScalarFraction->assign(w, 0.0);
+  if (ns == 0) PetscFunctionReturn(PETSC_SUCCESS);
+  double *sum = perScalarFraction->data();
+  PetscCall(VecGetArrayRead(amountNow, &x));
+  for (PetscInt c = 0; c < nlocal; ++c, x += w)
+    for (int k = 0; k < w; ++k) sum[k] += x[k];
+  PetscCall(VecRestoreArrayRead(amountNow, &x));
+  PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, sum, w, MPI_DOUBLE, MPI_SUM, PetscObjectComm((PetscObject)amountNow)));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 

@@ -78,13 +78,14 @@ public:
   }
   PetscErrorCode apply(const CarryContext &ctx, const StepInfo &step, FractionState &state) override;
   PetscErrorCode view(PetscViewer viewer) const override;
+  bool carriesScalars() const override { return true; }
 
 private:
   PetscErrorCode carry(const CarryContext &ctx, Vec targetAlpha, FractionState &state);
   PetscBool wholeBed = PETSC_FALSE;
   const Database *columnsOf = nullptr;
   Columns columns;
-  AllGather gatherMasses, gatherAlpha;
+  AllGather gatherMasses, gatherAlpha, gatherAmounts;
   long jumps = 0;
   double movedAcross = 0.0, movedAcrossMax = 0.0; // share of the bed's mass moved between columns
   double seconds = 0.0;                            // wall time in the carry, this rank
@@ -102,7 +103,8 @@ PetscErrorCode ColumnCarry::apply(const CarryContext &ctx, const StepInfo &step,
 }
 
 // A column's mass, bottom to top, as pieces of composition: a piece of bulk
-// mass M holds the fraction masses m_i (sum M).
+// mass M holds the fraction masses m_i (sum M), then the scalars' amounts
+// (docs/scalars.md), which every overlap takes in the same share.
 struct Piece {
   double mass;
   const double *fractions;
@@ -155,6 +157,9 @@ void transport(const std::vector<Piece> &pieces, const PetscInt *cells, const do
 //     bubbling bed throws it, and only as much as the two frames' columns differ.
 //  4. Each column's pieces go to its cells by cumulative mass (transport()).
 //  5. One factor per fraction restores its total to round-off.
+// With scalars each cell's content is its nf masses followed by its ns x nf
+// amounts (w numbers), and every share of a cell's content takes its amounts
+// in the same share as its masses; the bulk is the masses' sum alone.
 PetscErrorCode ColumnCarry::carry(const CarryContext &ctx, Vec targetAlpha, FractionState &state) {
   PetscFunctionBeginUser;
   const Database &db = ctx.db;
@@ -172,10 +177,22 @@ PetscErrorCode ColumnCarry::carry(const CarryContext &ctx, Vec targetAlpha, Frac
   PetscCall(gatherAlpha.gather(db.layout(), 1, targetAlpha, &alpha));
   const std::vector<double> &volume = db.mesh().cellVolume;
   const size_t n = volume.size();
-  std::vector<double> target(n), bulk(n, 0.0), before(nf, 0.0);
+  const int na = nf * state.numScalars(), w = nf + na; // the numbers of a cell's content
+  if (na > 0) { // masses and amounts side by side, cell by cell
+    std::vector<double> a;
+    PetscCall(gatherAmounts.gather(db.layout(), na, state.amounts(), &a));
+    std::vector<double> both(n * w);
+    for (size_t c = 0; c < n; ++c) {
+      std::copy_n(&m[c * nf], nf, &both[c * w]);
+      std::copy_n(&a[c * na], na, &both[c * w + nf]);
+    }
+    m.swap(both);
+  }
+  std::vector<double> target(n), bulk(n, 0.0), before(w, 0.0);
   double inventory = 0.0, targetTotal = 0.0;
   for (size_t c = 0; c < n; ++c) {
-    for (int i = 0; i < nf; ++i) bulk[c] += m[c * nf + i], before[i] += m[c * nf + i];
+    for (int i = 0; i < nf; ++i) bulk[c] += m[c * w + i];
+    for (int i = 0; i < w; ++i) before[i] += m[c * w + i];
     target[c] = ctx.solidDensity * alpha[c] * volume[c];
     inventory += bulk[c];
     targetTotal += target[c];
@@ -186,7 +203,7 @@ PetscErrorCode ColumnCarry::carry(const CarryContext &ctx, Vec targetAlpha, Frac
     for (double &t : target) t *= inventory / targetTotal;
 
   const int L = columns.levels;
-  std::vector<double> out(m), colTarget(L), pool(nf, 0.0), pieceStore(static_cast<size_t>(L + 1) * nf);
+  std::vector<double> out(m), colTarget(L), pool(w, 0.0), pieceStore(static_cast<size_t>(L + 1) * w);
   std::vector<double> oldTotal(columns.count, 0.0), newTotal(columns.count, 0.0);
   std::vector<char> moves(columns.count, 0);
   double deficit = 0.0;
@@ -207,13 +224,13 @@ PetscErrorCode ColumnCarry::carry(const CarryContext &ctx, Vec targetAlpha, Frac
         const double M = bulk[cells[l]];
         const double above = std::min(M, std::max(0.0, below + M - newTotal[col]));
         if (above > 0.0)
-          for (int i = 0; i < nf; ++i) pool[i] += above * (m[cells[l] * nf + i] / M);
+          for (int i = 0; i < w; ++i) pool[i] += above * (m[cells[l] * w + i] / M);
         below += M;
       }
     }
   }
   double poolMass = 0.0;
-  for (double p : pool) poolMass += p;
+  for (int i = 0; i < nf; ++i) poolMass += pool[i];
 
   std::vector<Piece> pieces;
   for (int col = 0; col < columns.count; ++col) {
@@ -226,33 +243,40 @@ PetscErrorCode ColumnCarry::carry(const CarryContext &ctx, Vec targetAlpha, Frac
       const double M = bulk[cells[l]];
       if (!(M > 0.0)) continue;
       const double part = std::min(M, keep - below);
-      double *f = &pieceStore[static_cast<size_t>(l) * nf];
-      for (int i = 0; i < nf; ++i) f[i] = part == M ? m[cells[l] * nf + i] : part * (m[cells[l] * nf + i] / M);
+      double *f = &pieceStore[static_cast<size_t>(l) * w];
+      for (int i = 0; i < w; ++i) f[i] = part == M ? m[cells[l] * w + i] : part * (m[cells[l] * w + i] / M);
       pieces.push_back({part, f});
       below += M;
     }
     if (newTotal[col] > oldTotal[col] && deficit > 0.0) { // its share of the pool, on top
       const double share = (newTotal[col] - oldTotal[col]) / deficit;
-      double *f = &pieceStore[static_cast<size_t>(L) * nf];
+      double *f = &pieceStore[static_cast<size_t>(L) * w];
       double M = 0.0;
       for (int i = 0; i < nf; ++i) f[i] = share * pool[i], M += f[i];
+      for (int i = nf; i < w; ++i) f[i] = share * pool[i];
       if (M > 0.0) pieces.push_back({M, f});
     }
     for (int l = 0; l < L; ++l) colTarget[l] = target[cells[l]];
-    transport(pieces, cells, colTarget.data(), L, nf, out);
+    transport(pieces, cells, colTarget.data(), L, w, out);
   }
 
-  std::vector<double> after(nf, 0.0);
+  std::vector<double> after(w, 0.0);
   for (size_t c = 0; c < n; ++c)
-    for (int i = 0; i < nf; ++i) after[i] += out[c * nf + i];
-  std::vector<double> factor(nf, 1.0);
-  for (int i = 0; i < nf; ++i) factor[i] = after[i] > 0.0 ? before[i] / after[i] : 1.0;
+    for (int i = 0; i < w; ++i) after[i] += out[c * w + i];
+  std::vector<double> factor(w, 1.0);
+  for (int i = 0; i < w; ++i) factor[i] = after[i] > 0.0 ? before[i] / after[i] : 1.0;
   PetscScalar *own;
   PetscCall(VecGetArray(state.masses(), &own));
   const std::vector<PetscInt> &owned = db.layout().ownedNatural();
   for (size_t r = 0; r < owned.size(); ++r)
-    for (int i = 0; i < nf; ++i) own[r * nf + i] = out[owned[r] * nf + i] * factor[i];
+    for (int i = 0; i < nf; ++i) own[r * nf + i] = out[owned[r] * w + i] * factor[i];
   PetscCall(VecRestoreArray(state.masses(), &own));
+  if (na > 0) {
+    PetscCall(VecGetArray(state.amounts(), &own));
+    for (size_t r = 0; r < owned.size(); ++r)
+      for (int k = 0; k < na; ++k) own[r * na + k] = out[owned[r] * w + nf + k] * factor[nf + k];
+    PetscCall(VecRestoreArray(state.amounts(), &own));
+  }
   const double across = inventory > 0.0 ? poolMass / inventory : 0.0;
   movedAcross += across;
   movedAcrossMax = std::max(movedAcrossMax, across);
