@@ -6,6 +6,7 @@
 //  - a scalar hot in the bottom layers only stays within its initial bounds
 //    (a swapped mass carries its sender's value) and its total is kept to
 //    1e-12 (the ledger closes);
+//  - the field files hold each scalar's value per fraction and cell;
 //  - a first-order decay's total is exp(-k t) times its start, to 1e-12;
 //  - the run on the ranks of the test equals the same run on one rank
 //    (PETSC_COMM_SELF) to 1e-12, masses and amounts (as rcfd's masses do);
@@ -18,6 +19,7 @@
 #include "scoped_options.hpp"
 #include "state_access.hpp"
 #include "base/petsc_compat.hpp"
+#include "base/h5.hpp"
 #include "rcfd/run.hpp"
 
 #include <cmath>
@@ -41,9 +43,11 @@ struct Outcome {
   std::vector<double> masses, amounts; // natural order
   std::vector<double> initialMass;     // per fraction
   int jumps = 0;
+  std::vector<std::string> labels; // of the fractions
 };
 
-PetscErrorCode runCase(MPI_Comm comm, const std::string &options, const std::string &dir, Outcome *out) {
+PetscErrorCode runCase(MPI_Comm comm, const std::string &options, const std::string &dir, Outcome *out,
+                       bool fields = false) {
   PetscFunctionBeginUser;
   ScopedOptions scoped(options + " -output_dir " + dir);
   const OperatorRegistry registry = OperatorRegistry::withBuiltins();
@@ -51,7 +55,7 @@ PetscErrorCode runCase(MPI_Comm comm, const std::string &options, const std::str
   PetscCall(run.setFromOptions());
   run.setQuiet(true);
   run.keepHistory(true);
-  run.setWriteFields(false);
+  run.setWriteFields(fields);
   PetscCall(run.setUp());
   PetscCall(run.state().totals(&out->initialMass));
   PetscCall(run.solve());
@@ -60,6 +64,7 @@ PetscErrorCode runCase(MPI_Comm comm, const std::string &options, const std::str
   out->amounts = test::gatherNatural(run.database(), run.state().amounts(), na);
   const std::vector<int> &frames = run.framesUsed();
   for (std::size_t k = 1; k < frames.size(); ++k) out->jumps += frames[k] != frames[k - 1] + 1;
+  for (int i = 0; i < nf; ++i) out->labels.push_back(run.fractions().label(i));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
@@ -78,7 +83,7 @@ int main(int argc, char **argv) {
     PetscCallMPI(MPI_Comm_rank(PETSC_COMM_WORLD, &rank));
     const std::string opts = kScalars + " -t_end " + std::to_string(kT);
     Outcome all;
-    PetscCall(runCase(PETSC_COMM_WORLD, opts, dir + "/all", &all));
+    PetscCall(runCase(PETSC_COMM_WORLD, opts, dir + "/all", &all, true));
     const int nf = static_cast<int>(all.initialMass.size()), ns = 3, w = ns * nf;
     const std::size_t cells = all.masses.size() / nf;
     RCFD_CHECK(all.jumps >= 5);
@@ -111,6 +116,21 @@ int main(int argc, char **argv) {
       // The tracer: 2 x mass at the start, times exp(-k t).
       RCFD_CHECK_CLOSE(total[2 * nf + i] / (2.0 * all.initialMass[i]), std::exp(-kDecay * kT), 1e-12);
       RCFD_CHECK_CLOSE(total[2 * nf + i] / (2.0 * all.initialMass[i] * std::exp(-kDecay * kT)), 1.0, 1e-12);
+    }
+
+    // The last field file: the uniform scalar's value per fraction and cell is
+    // 300 where the fraction has mass (NaN elsewhere), the zone's within its bounds.
+    if (rank == 0) {
+      h5::File f = h5::File::openRead(dir + "/all/fields_000001.h5", MPI_COMM_NULL);
+      int valued = 0, wrong = 0;
+      for (const std::string &label : all.labels) {
+        for (double v : f.read<double>("/temperature_" + label))
+          if (!std::isnan(v)) ++valued, wrong += std::fabs(v / 300.0 - 1.0) > 1e-12;
+        for (double v : f.read<double>("/moisture_" + label))
+          if (!std::isnan(v)) wrong += v < 0.1 * (1.0 - 1e-12) || v > 0.4 * (1.0 + 1e-12);
+      }
+      RCFD_CHECK(valued > 100 && wrong == 0);
+      RCFD_CHECK(f.read<double>("/tracer").size() == cells);
     }
 
     // The ranks of the test equal one rank to 1e-12, as the masses do in

@@ -75,8 +75,10 @@ public:
   /// ([cell][scalar][fraction]), in a Vec of their own with the cells of
   /// masses() (and a scratch Vec for out-of-place operators).  None unless
   /// createScalars() was called: a run without scalars allocates nothing.
-  PetscErrorCode createScalars(int numScalars);
+  PetscErrorCode createScalars(const std::vector<std::string> &names);
   int numScalars() const { return ns; }
+  /// The scalars' names (-scalars), in the order of their columns.
+  const std::vector<std::string> &scalarNames() const { return names; }
   Vec amounts() const { return amountNow; }
   Vec amountsScratch() const { return amountSpare; }
   void swapAmounts() { std::swap(amountNow, amountSpare); }
@@ -95,6 +97,7 @@ public:
 
 private:
   int nf = 0, ns = 0;
+  std::vector<std::string> names; // of the scalars
   PetscInt nlocal = 0;
   OwnedVec a, b, amountA, amountB;
   Vec current = nullptr, spare = nullptr, amountNow = nullptr, amountSpare = nullptr;

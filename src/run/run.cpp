@@ -280,7 +280,7 @@ PetscErrorCode Run::setUp() {
              r.tEnd, r.tEnd / dt, dt);
   r.steps = std::lround(r.tEnd / dt);
   PetscCall(r.fstate.create(r.db->layout(), r.set.size()));
-  if (r.scalars.size() > 0) PetscCall(r.fstate.createScalars(r.scalars.size()));
+  if (r.scalars.size() > 0) PetscCall(r.fstate.createScalars(r.scalars.names()));
   const RunContext ctx = r.context();
   PetscCall(r.ops.setUp(ctx));
   for (const auto &op : r.ops.operators())
@@ -306,11 +306,8 @@ PetscErrorCode Run::setUp() {
   for (auto &a : asked) r.monitors.push_back({std::move(a.monitor), a.every, a.name});
   for (auto &m : r.registered) r.monitors.push_back(std::move(m)); // -monitors
   r.registered.clear();
-  if (r.scalars.size() > 0) { // scalars.csv, with the centres of gravity
-    std::vector<std::string> names;
-    for (int s = 0; s < r.scalars.size(); ++s) names.push_back(r.scalars.name(s));
-    r.monitors.push_back({std::make_unique<ScalarMonitor>(std::move(names)), r.cog->every(), "scalars"});
-  }
+  if (r.scalars.size() > 0) // scalars.csv, with the centres of gravity
+    r.monitors.push_back({std::make_unique<ScalarMonitor>(r.scalars.names()), r.cog->every(), "scalars"});
   if (!r.ops.conservesMass() && r.ops.accountsMass()) // the balance per fraction of what operators add
     r.monitors.push_back({std::make_unique<MassAccountMonitor>(r.ops), r.cog->every(), "mass_account.csv"});
   std::vector<OperatorMonitor> brought; // e.g. the discharge's product size distribution

@@ -115,6 +115,7 @@ PetscErrorCode FractionState::create(const Layout &layout, int numFractions) {
   PetscFunctionBeginUser;
   nf = numFractions;
   ns = 0;
+  names.clear();
   amountA.reset();
   amountB.reset();
   amountNow = amountSpare = nullptr;
@@ -193,10 +194,11 @@ PetscErrorCode FractionState::setOccupiedEnd(PetscInt end) {
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
-PetscErrorCode FractionState::createScalars(int numScalars) {
+PetscErrorCode FractionState::createScalars(const std::vector<std::string> &scalarNames) {
   PetscFunctionBeginUser;
   PetscCheck(current, PETSC_COMM_SELF, PETSC_ERR_ORDER, "FractionState::createScalars() needs create() first");
-  ns = numScalars;
+  names = scalarNames;
+  ns = static_cast<int>(names.size());
   amountA.reset();
   amountB.reset();
   amountNow = amountSpare = nullptr;

@@ -33,6 +33,9 @@ PetscErrorCode ScalarSet::setFromOptions(MPI_Comm comm) {
                        std::string::npos,
                comm, PETSC_ERR_USER_INPUT,
                "-scalars: '%s' is not a scalar name (a letter, then letters, digits or _)", n.c_str());
+    PetscCheck(n != "d32" && n.rfind("alpha_", 0) != 0, comm, PETSC_ERR_USER_INPUT,
+               "-scalars: '%s' is the name of a field the run writes (d32, alpha_...); name the scalar otherwise",
+               n.c_str());
     for (std::size_t t = 0; t < s; ++t)
       PetscCheck(names[t] != n, comm, PETSC_ERR_USER_INPUT, "-scalars names '%s' twice", n.c_str());
     Scalar x;
@@ -62,6 +65,12 @@ PetscErrorCode ScalarSet::setFromOptions(MPI_Comm comm) {
     scalars.push_back(std::move(x));
   }
   PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+std::vector<std::string> ScalarSet::names() const {
+  std::vector<std::string> all;
+  for (const Scalar &x : scalars) all.push_back(x.name);
+  return all;
 }
 
 PetscErrorCode ScalarSet::setInitial(const Database &db, FractionState &state) const {

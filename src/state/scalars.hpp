@@ -23,6 +23,7 @@ public:
   PetscErrorCode setFromOptions(MPI_Comm comm);
   int size() const { return static_cast<int>(scalars.size()); }
   const std::string &name(int s) const { return scalars[s].name; }
+  std::vector<std::string> names() const;
   double decayRate(int s) const { return scalars[s].decay; }
   /// Collective.  Each amount = the cell's mass of the fraction x the scalar's
   /// initial value there (the masses set first).
