@@ -16,23 +16,33 @@ PetscErrorCode ScalarMonitor::setUp(const RunContext &run, const FractionState &
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
+// One pass over the cells that may hold mass (a cell without mass holds no
+// amount) for the masses and the amounts, one reduction.
 PetscErrorCode ScalarMonitor::sample(const MonitorContext &ctx) {
   PetscFunctionBeginUser;
-  const int ns = static_cast<int>(names.size());
-  std::vector<double> sums(nf); // the masses, then the amounts [scalar][fraction]
-  PetscCall(ctx.state.localTotals(&sums));
-  std::vector<double> amounts;
-  PetscCall(ctx.state.amountTotals(&amounts)); // reduced over the ranks
-  PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, sums.data(), nf, MPI_DOUBLE, MPI_SUM, comm));
+  const int ns = static_cast<int>(names.size()), w = ns * nf;
+  std::vector<double> sums(nf + w, 0.0); // the masses, then the amounts [scalar][fraction]
+  PetscInt end;
+  const PetscScalar *m, *a;
+  PetscCall(ctx.state.occupiedEnd(&end));
+  PetscCall(VecGetArrayRead(ctx.state.masses(), &m));
+  PetscCall(VecGetArrayRead(ctx.state.amounts(), &a));
+  for (PetscInt c = 0; c < end; ++c) {
+    for (int i = 0; i < nf; ++i) sums[i] += m[c * nf + i];
+    for (int k = 0; k < w; ++k) sums[nf + k] += a[c * w + k];
+  }
+  PetscCall(VecRestoreArrayRead(ctx.state.amounts(), &a));
+  PetscCall(VecRestoreArrayRead(ctx.state.masses(), &m));
+  PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, sums.data(), nf + w, MPI_DOUBLE, MPI_SUM, comm));
   std::vector<double> row{ctx.time};
   double bed = 0.0;
   for (int i = 0; i < nf; ++i) bed += sums[i];
   for (int s = 0; s < ns; ++s) {
     double all = 0.0;
     for (int i = 0; i < nf; ++i) {
-      const double a = amounts[s * nf + i];
-      all += a;
-      row.push_back(sums[i] > 0.0 ? a / sums[i] : 0.0);
+      const double amount = sums[nf + s * nf + i];
+      all += amount;
+      row.push_back(sums[i] > 0.0 ? amount / sums[i] : 0.0);
     }
     row.push_back(bed > 0.0 ? all / bed : 0.0);
   }

@@ -217,16 +217,21 @@ PetscErrorCode FractionState::createScalars(const std::vector<std::string> &scal
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
-// Cell by cell from the first, as localTotals() adds the masses.
+// Cell by cell from the first, as localTotals() adds the masses, over the
+// cells that may hold mass: a cell without mass holds no amount (every
+// operator moves amounts with the masses, and a cell whose masses are all
+// zero received none).
 PetscErrorCode FractionState::amountTotals(std::vector<double> *perScalarFraction) const {
   const PetscScalar *x;
+  PetscInt end;
   PetscFunctionBeginUser;
   const int w = nf * ns;
   perScalarFraction->assign(w, 0.0);
   if (ns == 0) PetscFunctionReturn(PETSC_SUCCESS);
+  PetscCall(occupiedEnd(&end));
   double *sum = perScalarFraction->data();
   PetscCall(VecGetArrayRead(amountNow, &x));
-  for (PetscInt c = 0; c < nlocal; ++c, x += w)
+  for (PetscInt c = 0; c < end; ++c, x += w)
     for (int k = 0; k < w; ++k) sum[k] += x[k];
   PetscCall(VecRestoreArrayRead(amountNow, &x));
   PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, sum, w, MPI_DOUBLE, MPI_SUM, PetscObjectComm((PetscObject)amountNow)));

@@ -533,12 +533,14 @@ template <int NF> PetscErrorCode DriftOperator::sweep(double dt, const double *s
         const PetscScalar *aU = U < own ? ownAmounts + U * w : ghostAmounts + (U - own) * w;
         PetscScalar *eL = L < own ? ownAmountChanges + L * w : ghostAmountChanges + (L - own) * w;
         PetscScalar *eU = U < own ? ownAmountChanges + U * w : ghostAmountChanges + (U - own) * w;
-        for (int k = 0; k < w; ++k) {
-          const int i = k % n;
-          const double moved = aL[k] * (kL * uL[i] + topLower) - aU[k] * (kU * uU[i] + topUpper);
-          eL[k] -= moved;
-          eU[k] += moved;
-        }
+        double sendL[cap], sendU[cap]; // each side's share sent, per fraction
+        for (int i = 0; i < n; ++i) sendL[i] = kL * uL[i] + topLower, sendU[i] = kU * uU[i] + topUpper;
+        for (int k = 0; k < w; k += n)
+          for (int i = 0; i < n; ++i) {
+            const double moved = aL[k + i] * sendL[i] - aU[k + i] * sendU[i];
+            eL[k + i] -= moved;
+            eU[k + i] += moved;
+          }
       }
     }
   };
