@@ -12,8 +12,10 @@
 //    (PETSC_COMM_SELF) to 1e-12, masses and amounts (as rcfd's masses do);
 //  - a run restarted from its mid-run checkpoint ends with the same bits, and
 //    writes the same scalars.csv, byte for byte;
+//  - initial values from a file (a value per cell and fraction) give amount =
+//    mass x value exactly;
 //  - an operator that does not carry scalars, a negative or NaN initial value
-//    are refused with one sentence.
+//    (given or in a file), a file of another shape are refused with one sentence.
 // Runs at 1 and 2 ranks.  usage: test_scalars DIR -db SMALL.h5 [run options]
 #include "check.hpp"
 #include "scoped_options.hpp"
@@ -159,7 +161,6 @@ int main(int argc, char **argv) {
       RCFD_CHECK(!a.empty() && a == b);
     }
 
-    // Refusals, each with its sentence.
     auto refused = [&](const std::string &more, const std::string &sentence) {
       ErrorCapture capture;
       Outcome none;
@@ -168,6 +169,49 @@ int main(int argc, char **argv) {
       if (capture.message().find(sentence) == std::string::npos)
         test::fail(__FILE__, __LINE__, "expected '" + sentence + "', got '" + capture.message() + "'");
     };
+
+    // Initial values from a file: a value per cell and fraction, amount = mass x value.
+    auto valuesFile = [&](const std::string &name, std::vector<double> values, hsize_t cols) {
+      const std::string path = dir + "/" + name + ".h5";
+      if (rank == 0) {
+        h5::File f = h5::File::create(path);
+        f.write("/values", values, cols);
+        f.close();
+      }
+      MPI_Barrier(PETSC_COMM_WORLD);
+      return path;
+    };
+    std::vector<double> given(cells * nf);
+    for (std::size_t c = 0; c < cells; ++c)
+      for (int i = 0; i < nf; ++i) given[c * nf + i] = 10.0 + static_cast<double>(c % 7) + 0.5 * i;
+    {
+      ScopedOptions scoped(opts + " -scalar_moisture_initial_file " + valuesFile("values", given, nf) +
+                           " -output_dir " + dir + "/file");
+      const OperatorRegistry registry = OperatorRegistry::withBuiltins();
+      Run run(PETSC_COMM_WORLD, registry);
+      PetscCall(run.setFromOptions());
+      run.setQuiet(true);
+      run.setWriteFields(false);
+      PetscCall(run.setUp());
+      const std::vector<double> m = test::gatherNatural(run.database(), run.state().masses(), nf);
+      const std::vector<double> a = test::gatherNatural(run.database(), run.state().amounts(), w);
+      int wrong = 0, held = 0;
+      for (std::size_t c = 0; c < cells; ++c)
+        for (int i = 0; i < nf; ++i) {
+          held += m[c * nf + i] > 0.0;
+          wrong += a[c * w + nf + i] != m[c * nf + i] * given[c * nf + i]; // moisture: the file's
+          wrong += a[c * w + i] != m[c * nf + i] * 300.0;                   // temperature: uniform
+        }
+      RCFD_CHECK(held > 100 && wrong == 0);
+    }
+    std::vector<double> negative = given;
+    negative[3] = -1.0;
+    refused(" -scalar_moisture_initial_file " + valuesFile("negative", negative, nf),
+            "/values holds 1 negative or non-finite (NaN, inf) values; expected values >= 0");
+    refused(" -scalar_moisture_initial_file " + valuesFile("short", std::vector<double>(given.begin(), given.end() - nf), nf),
+            "/values should be " + std::to_string(cells) + " cells x " + std::to_string(nf) + " fractions");
+
+    // Refusals, each with its sentence.
     refused(" -pipeline shift,drift,carry,growth -growth_rate 1 -growth_zone hot",
             "-scalars: the operator 'growth' of -pipeline does not carry scalars yet");
     refused(" -carry_type remap", "-scalars: the operator 'carry' of -pipeline does not carry scalars yet");

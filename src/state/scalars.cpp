@@ -2,10 +2,14 @@
 #include "base/petsc_compat.hpp"
 
 #include "base/checked_options.hpp"
+#include "base/collective.hpp"
+#include "base/h5.hpp"
 #include "rcfd/zone.hpp"
 
 #include <algorithm>
 #include <cmath>
+#include <stdexcept>
+#include <string>
 
 namespace rcfd {
 
@@ -43,7 +47,8 @@ PetscErrorCode ScalarSet::setFromOptions(MPI_Comm comm) {
     const std::string prefix = "scalar_" + n + "_";
     PetscReal values[64];
     PetscInt count = 64;
-    PetscBool zonesGiven = PETSC_FALSE, valuesGiven = PETSC_FALSE;
+    PetscBool zonesGiven = PETSC_FALSE, valuesGiven = PETSC_FALSE, fileGiven = PETSC_FALSE;
+    char file[PETSC_MAX_PATH_LEN] = "";
     PetscOptionsBegin(comm, prefix.c_str(), ("Scalar " + n).c_str(), "rcfd");
     PetscCall(checkedReal(PetscOptionsObject, "-initial", "Initial value in every cell and fraction", &x.initial,
                           {0.0, PETSC_MAX_REAL, true, true, "a value >= 0 (no negative or NaN values)"}));
@@ -53,7 +58,12 @@ PetscErrorCode ScalarSet::setFromOptions(MPI_Comm comm) {
                                  64, &x.zones, &zonesGiven));
     PetscCall(checkedRealArray(PetscOptionsObject, "-zone_values", "Initial value in each zone of -scalar_NAME_zones",
                                values, &count, &valuesGiven));
+    PetscCall(PetscOptionsString("-initial_file", "HDF5 file with /values [cells x fractions]: the initial value "
+                                 "per cell and fraction", "", file, file, sizeof file, &fileGiven));
     PetscOptionsEnd();
+    if (fileGiven) x.file = file;
+    PetscCheck(!fileGiven || !x.file.empty(), comm, PETSC_ERR_USER_INPUT,
+               "-%sinitial_file is empty; give the HDF5 file with /values [cells x fractions]", prefix.c_str());
     if (valuesGiven) x.zoneValues.assign(values, values + count);
     PetscCheck(x.zones.size() == x.zoneValues.size(), comm, PETSC_ERR_USER_INPUT,
                "-%szone_values has %zu values but -%szones names %zu zones; give one value per zone",
@@ -77,8 +87,10 @@ PetscErrorCode ScalarSet::setInitial(const Database &db, FractionState &state) c
   PetscFunctionBeginUser;
   const int ns = size(), nf = state.numFractions(), w = ns * nf;
   const PetscInt nlocal = db.layout().numLocal();
-  // The value of each scalar in each own cell: uniform, then the zones in order.
-  std::vector<double> value(static_cast<std::size_t>(nlocal) * ns);
+  const MPI_Comm comm = db.layout().comm();
+  // The value of each scalar in each own cell and fraction: uniform, then the
+  // zones in order, or the file's.
+  std::vector<double> value(static_cast<std::size_t>(nlocal) * w);
   ZoneSet zones;
   bool anyZone = false;
   for (const Scalar &x : scalars) anyZone = anyZone || !x.zones.empty();
@@ -88,13 +100,34 @@ PetscErrorCode ScalarSet::setInitial(const Database &db, FractionState &state) c
   }
   for (int s = 0; s < ns; ++s) {
     const Scalar &x = scalars[s];
-    for (PetscInt c = 0; c < nlocal; ++c) value[c * ns + s] = x.initial;
+    auto set = [&](PetscInt c, double v) { std::fill_n(&value[c * w + s * nf], nf, v); };
+    for (PetscInt c = 0; c < nlocal; ++c) set(c, x.initial);
     for (std::size_t k = 0; k < x.zones.size(); ++k) {
       const Zone *z = zones.find(x.zones[k]);
-      PetscCheck(z, db.layout().comm(), PETSC_ERR_USER_INPUT,
+      PetscCheck(z, comm, PETSC_ERR_USER_INPUT,
                  "-scalar_%s_zones names '%s', which is no zone of -zones", x.name.c_str(), x.zones[k].c_str());
-      for (PetscInt c : z->localCells()) value[c * ns + s] = x.zoneValues[k];
+      for (PetscInt c : z->localCells()) set(c, x.zoneValues[k]);
     }
+    if (x.file.empty()) continue;
+    // Every rank reads the file's values (a number per cell and fraction) and keeps its own cells'.
+    const std::string option = "-scalar_" + x.name + "_initial_file '" + x.file + "'";
+    std::vector<double> all;
+    PetscCall(collectively(comm, [&] {
+      h5::File f = h5::File::openRead(x.file, MPI_COMM_NULL);
+      const auto dims = f.extents("/values");
+      if (dims.size() != 2 || dims[0] != (hsize_t)db.layout().numCells() || dims[1] != (hsize_t)nf)
+        throw std::runtime_error(option + ": /values should be " + std::to_string(db.layout().numCells()) +
+                                 " cells x " + std::to_string(nf) + " fractions, as -init_file's /masses");
+      all = f.read<double>("/values");
+      std::size_t bad = 0;
+      for (double v : all) bad += !(v >= 0.0) || !std::isfinite(v);
+      if (bad > 0)
+        throw std::runtime_error(option + ": /values holds " + std::to_string(bad) +
+                                 " negative or non-finite (NaN, inf) values; expected values >= 0");
+    }, PETSC_ERR_USER_INPUT));
+    const std::vector<PetscInt> &owned = db.layout().ownedNatural();
+    for (PetscInt c = 0; c < nlocal; ++c)
+      for (int i = 0; i < nf; ++i) value[c * w + s * nf + i] = all[owned[c] * nf + i];
   }
   const PetscScalar *m;
   PetscScalar *a;
@@ -102,7 +135,7 @@ PetscErrorCode ScalarSet::setInitial(const Database &db, FractionState &state) c
   PetscCall(VecGetArrayWrite(state.amounts(), &a));
   for (PetscInt c = 0; c < nlocal; ++c)
     for (int s = 0; s < ns; ++s)
-      for (int i = 0; i < nf; ++i) a[c * w + s * nf + i] = m[c * nf + i] * value[c * ns + s];
+      for (int i = 0; i < nf; ++i) a[c * w + s * nf + i] = m[c * nf + i] * value[c * w + s * nf + i];
   PetscCall(VecRestoreArrayWrite(state.amounts(), &a));
   PetscCall(VecRestoreArrayRead(state.masses(), &m));
   PetscFunctionReturn(PETSC_SUCCESS);

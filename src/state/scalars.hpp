@@ -18,7 +18,9 @@ public:
   /// Collective.  Reads -scalars NAME,... and for each NAME (prefix scalar_NAME_):
   /// -scalar_NAME_initial v (default 0), -scalar_NAME_zones z1,z2 with
   /// -scalar_NAME_zone_values v1,v2 (cells of zone z_k take v_k; later zones
-  /// win), -scalar_NAME_decay k [1/s] (default 0); and -scalar_leak_tolerance
+  /// win), -scalar_NAME_initial_file FILE (HDF5, /values [cells x fractions] in
+  /// natural cell order, as -init_file's /masses: a value per cell and
+  /// fraction, over the zones), -scalar_NAME_decay k [1/s] (default 0); and -scalar_leak_tolerance
   /// (relative, default 1e-12).  A negative or NaN value is refused.
   PetscErrorCode setFromOptions(MPI_Comm comm);
   int size() const { return static_cast<int>(scalars.size()); }
@@ -50,6 +52,7 @@ private:
     double initial = 0.0, decay = 0.0;
     std::vector<std::string> zones;
     std::vector<double> zoneValues;
+    std::string file; // values per cell and fraction
   };
   std::vector<Scalar> scalars;
   std::vector<double> reference; // [scalar][fraction] at step 0
