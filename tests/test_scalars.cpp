@@ -1,6 +1,6 @@
 // Scalars carried with the fractions (-scalars, docs/scalars.md), on the small
 // database along a stitched path (random sequences joined by jumps) through
-// shift, drift and the column carry:
+// shift, drift, dispersion and the column carry:
 //  - a uniform scalar stays uniform to round-off (1e-12 relative) in every
 //    cell and fraction holding mass, and its total is value x mass;
 //  - a scalar hot in the bottom layers only stays within its initial bounds
@@ -38,7 +38,8 @@ constexpr double kT = 0.6, kDecay = 1.7;
 const std::string kScalars =
     " -scalars temperature,moisture,tracer -scalar_temperature_initial 300 -scalar_moisture_initial 0.1"
     " -zones hot -zone_hot_layers 0,3 -scalar_moisture_zones hot -scalar_moisture_zone_values 0.4"
-    " -scalar_tracer_initial 2 -scalar_tracer_decay 1.7 -pipeline shift,drift,carry -path_type random"
+    " -scalar_tracer_initial 2 -scalar_tracer_decay 1.7 -pipeline shift,drift,dispersion,carry"
+    " -dispersion_coefficient 2e-4 -path_type random"
     " -path_seed 5 -monitor_digits 17";
 
 struct Outcome {
@@ -212,7 +213,7 @@ int main(int argc, char **argv) {
             "/values should be " + std::to_string(cells) + " cells x " + std::to_string(nf) + " fractions");
 
     // Refusals, each with its sentence.
-    refused(" -pipeline shift,drift,carry,growth -growth_rate 1 -growth_zone hot",
+    refused(" -pipeline shift,drift,dispersion,carry,growth -growth_rate 1 -growth_zone hot",
             "-scalars: the operator 'growth' of -pipeline does not carry scalars yet");
     refused(" -carry_type remap", "-scalars: the operator 'carry' of -pipeline does not carry scalars yet");
     refused(" -scalar_temperature_initial -1", "-scalar_temperature_initial");

@@ -285,7 +285,7 @@ PetscErrorCode Run::setUp() {
   PetscCall(r.ops.setUp(ctx));
   for (const auto &op : r.ops.operators())
     PetscCheck(r.scalars.size() == 0 || op->carriesScalars(), r.comm, PETSC_ERR_USER_INPUT,
-               "-scalars: the operator '%s' of -pipeline does not carry scalars yet (shift, drift and the column "
+               "-scalars: the operator '%s' of -pipeline does not carry scalars yet (shift, drift, dispersion and the column "
                "carry do); run without -scalars or without '%s'", op->type().c_str(), op->type().c_str());
   PetscCall(r.path->setUp(PathContext{*r.db, r.quiet == PETSC_TRUE}));
   r.pathFrames = r.db->numFrames();
