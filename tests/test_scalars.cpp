@@ -215,6 +215,8 @@ int main(int argc, char **argv) {
     // Refusals, each with its sentence.
     refused(" -pipeline shift,drift,dispersion,carry,growth -growth_rate 1 -growth_zone hot",
             "-scalars: the operator 'growth' of -pipeline does not carry scalars yet");
+    refused(" -restart " + dir + "/first/checkpoint.h5 -scalar_tracer_decay 1",
+            "continues a run made with other scalars or scalar options");
     refused(" -carry_type remap", "-scalars: the operator 'carry' of -pipeline does not carry scalars yet");
     refused(" -scalar_temperature_initial -1", "-scalar_temperature_initial");
     refused(" -scalar_temperature_initial nan", "-scalar_temperature_initial");

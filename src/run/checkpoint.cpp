@@ -90,6 +90,7 @@ std::string differenceIn(const std::string &entry) {
   if (entry == "diameters") return "another set of diameters";
   if (entry == "mass_shares") return "another set of mass shares";
   if (entry == "solid_density") return "another solid density";
+  if (entry == "scalars") return "other scalars or scalar options";
   return "another " + entry;
 }
 
@@ -260,6 +261,10 @@ PetscErrorCode Run::Impl::readCheckpoint() {
           throw h5::Error("-restart '" + restartFile + "' has checkpoint version " +
                           std::to_string(f.readAttrInt("/", "version")) + ", this rcfd reads version " +
                           std::to_string(kCheckpointVersion));
+        if (f.exists("/scalar_amounts") != (na > 0)) // before the physics: its entry is there only with scalars
+          throw h5::Error("-restart '" + restartFile + "' continues a run " +
+                          (na > 0 ? std::string("without scalars; a restart cannot add -scalars")
+                                  : std::string("that carried scalars; give the same -scalars")));
         for (const auto &[name, text] : physicsRecord()) {
           if (!f.hasAttribute("/physics", name)) // every rcfd writing version 2 recorded these for its run
             throw h5::Error("-restart '" + restartFile + "' holds no record of the physics entry '" + name +
