@@ -5,6 +5,7 @@
 // left is 1; frames that do not conserve mass are refused.  Runs at 1 and 2
 // ranks with the same numbers.
 #include "check.hpp"
+#include "database/database_file_writer.hpp"
 #include "database_copies.hpp"
 #include "markov/frame_chain.hpp"
 #include "markov/spectrum.hpp"
@@ -41,7 +42,7 @@ void writeChain(const std::string &path, int n, const std::vector<double> &alpha
   if (rank == 0) {
     DatabaseMetadata meta;
     meta.dtRec = dt;
-    DatabaseWriter w(path, row(n), meta);
+    DatabaseFileWriter w(path, row(n), meta);
     for (const CsrMatrix &shift : shifts) {
       FrameRecord f;
       f.alphaS = alpha;

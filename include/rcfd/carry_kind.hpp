@@ -43,6 +43,9 @@ public:
   /// ctx.db.alphaS(step.nextFrame) is the bulk to carry the state towards.
   /// A kind must keep every fraction's total mass and never make a mass negative.
   virtual PetscErrorCode apply(const CarryContext &ctx, const StepInfo &step, FractionState &state) = 0;
+  /// Whether apply() moves the state's scalar amounts with the masses
+  /// (docs/scalars.md); a run with -scalars refuses a kind that does not.
+  virtual bool carriesScalars() const { return false; }
   /// What the kind did, one line starting with "carry: ".
   virtual PetscErrorCode view(PetscViewer viewer) const = 0;
 

@@ -19,6 +19,8 @@ public:
   bool needed(const RunContext &ctx) const override;
   PetscErrorCode apply(const StepInfo &step, FractionState &state) override;
   PetscErrorCode view(PetscViewer viewer) const override;
+  /// Each side sends its mixture with its values (docs/scalars.md).
+  bool carriesScalars() const override { return true; }
 
 private:
   double coefficient = 0.0, alphaMin = 1e-3;

@@ -46,6 +46,8 @@ public:
   bool needed(const RunContext &ctx) const override;
   PetscErrorCode apply(const StepInfo &step, FractionState &state) override;
   PetscErrorCode view(PetscViewer viewer) const override;
+  /// A swapped mass carries its sending cell's scalar values (docs/scalars.md).
+  bool carriesScalars() const override { return true; }
   /// Before setUp (setFromOptions reads -drift_model and -drift_kd over these).
   void setModel(Model m) { model = m; }
   void setKd(double value) { kd = value, kdGiven = true; }

@@ -5,6 +5,7 @@
 #include "rcfd/layout.hpp"
 
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace rcfd {
@@ -77,6 +78,21 @@ public:
   /// Smallest mass in any cell and fraction (collective).
   PetscErrorCode minimum(double *value) const;
 
+  /// Scalars carried with the fractions (docs/scalars.md): per cell, ns x nf
+  /// extensive amounts (mass x value), scalar-major within the cell
+  /// ([cell][scalar][fraction]), in a Vec of their own with the cells of
+  /// masses() (and a scratch Vec for out-of-place operators).  None unless
+  /// createScalars() was called: a run without scalars allocates nothing.
+  PetscErrorCode createScalars(const std::vector<std::string> &names);
+  int numScalars() const { return ns; }
+  /// The scalars' names (-scalars), in the order of their columns.
+  const std::vector<std::string> &scalarNames() const { return names; }
+  Vec amounts() const { return amountNow; }
+  Vec amountsScratch() const { return amountSpare; }
+  void swapAmounts() { std::swap(amountNow, amountSpare); }
+  /// Total amount of each scalar and fraction, [scalar][fraction] (collective).
+  PetscErrorCode amountTotals(std::vector<double> *perScalarFraction) const;
+
   /// Not collective.  One past the last own cell (local index) that may hold
   /// mass: every cell at or above it is empty.  The number of own cells when
   /// nobody said, or when the masses were written since (any write raises the
@@ -88,10 +104,11 @@ public:
   PetscErrorCode setOccupiedEnd(PetscInt end);
 
 private:
-  int nf = 0;
+  int nf = 0, ns = 0;
+  std::vector<std::string> names; // of the scalars
   PetscInt nlocal = 0;
-  OwnedVec a, b;
-  Vec current = nullptr, spare = nullptr;
+  OwnedVec a, b, amountA, amountB;
+  Vec current = nullptr, spare = nullptr, amountNow = nullptr, amountSpare = nullptr;
   struct Occupied { // the bound, valid for one Vec in one state
     Vec of = nullptr;
     PetscObjectState state = 0;

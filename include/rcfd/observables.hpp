@@ -212,7 +212,13 @@ public:
                        const std::string &directory, Vec stateTemplate);
   /// Collective.  `databaseAlpha`: alpha_s of the frame the state should match,
   /// on the layout of setUp's database.
-  PetscErrorCode write(double time, Vec databaseAlpha, Vec masses);
+  PetscErrorCode write(double time, Vec databaseAlpha, Vec masses, Vec amounts = nullptr);
+  /// Collective, after setUp: write() also writes, given the state's scalar
+  /// amounts (FractionState::amounts(), docs/scalars.md), each scalar's value
+  /// per fraction and cell, NAME_<fraction label> = amount / mass, and per
+  /// cell over the fractions, NAME = sum of amounts / sum of masses (NaN
+  /// where there is no mass).
+  PetscErrorCode setUpScalars(const Database &db, const std::vector<std::string> &names, Vec amountsTemplate);
   int count() const { return static_cast<int>(times.size()); }
   /// The times written so far, oldest first (kept by checkpoints).
   const std::vector<double> &outputTimes() const { return times; }
@@ -231,6 +237,9 @@ private:
   std::string dir;
   OwnedVec natural, naturalAlpha, zeroMasses, zeroAlpha; // zero*: everything on rank 0
   OwnedScatter toNatural, alphaToNatural, toZero, alphaToZero;
+  std::vector<std::string> scalarNames;
+  OwnedVec naturalAmounts, zeroAmounts;
+  OwnedScatter amountsToNatural, amountsToZero;
   std::vector<double> times;
 };
 

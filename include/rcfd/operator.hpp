@@ -65,6 +65,10 @@ public:
   /// balance per fraction to mass_account.csv.  nullptr (the default): the
   /// change is not accounted, and the run's mass ledger is off.
   virtual const std::vector<double> *addedMass() const { return nullptr; }
+  /// Whether apply() moves the state's scalar amounts (FractionState::amounts(),
+  /// docs/scalars.md) with the masses it moves: a run with -scalars refuses a
+  /// pipeline with an operator that does not.  False by default.
+  virtual bool carriesScalars() const { return false; }
   /// Checkpoint contract, as Monitor's: what the operator needs to continue a
   /// run exactly (its ledger, mass held back), the same on every rank; the
   /// run stores it under /operators/<type> and hands it back to
@@ -214,12 +218,14 @@ public:
   /// several replays at once (src/analysis/batched_replay.hpp).  Each column
   /// is summed in the same order whatever their number.
   void setColumns(int n) { columns = n; }
+  /// The scalar amounts move with the frame's matrix, as the masses.
+  bool carriesScalars() const override { return true; }
 
 private:
   Kernel kernel = Kernel::Moving;
   int columns = 0;
-  std::unique_ptr<MovingRows> moving;
-  std::vector<OwnedMat> perFrame; // MAIJ wrappers, one per frame
+  std::unique_ptr<MovingRows> moving, movingAmounts; // the second: the ns x nf scalar amounts
+  std::vector<OwnedMat> perFrame, perFrameAmounts;   // MAIJ wrappers, one per frame
   int nf = 0;
 };
 

@@ -18,6 +18,10 @@ struct RunContext {
   /// a schedule's u_sup at the current time; docs/databases.md); null:
   /// db.metadata().conditions.
   const OperatingConditions *conditions = nullptr;
+  /// Scalars the run carries per fraction (-scalars, docs/scalars.md): an
+  /// operator that carries them (Operator::carriesScalars) prepares for
+  /// FractionState::amounts() with numScalars x nf columns per cell.
+  int numScalars = 0;
   /// The run's conditions now: `conditions`, else the database file's.
   const OperatingConditions &operatingConditions() const { return conditions ? *conditions : db.metadata().conditions; }
 };

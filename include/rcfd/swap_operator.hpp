@@ -42,6 +42,10 @@ protected:
   /// Count a step that took `n` sub-steps.
   void countStep(int n);
 
+  /// With scalars (RunContext::numScalars > 0): a second exchange over the
+  /// same faces, for the ns x nf amounts per cell (FractionState::amounts());
+  /// its gathered cells are numbered as exchange()'s.  Null without scalars.
+  FaceExchange *amountExchange() { return amountFaces.get(); }
   FaceExchange &exchange() { return *faces; }
   const FaceExchange &exchange() const { return *faces; }
   bool isSetUp() const { return faces != nullptr; }
@@ -49,12 +53,13 @@ protected:
   const Database &database() const { return *db; }
 
   int nf = 0;              // number of fractions
+  int ns = 0;              // number of scalars carried (docs/scalars.md)
   double rho = 0.0;        // solid density [kg/m^3]
   MPI_Comm comm = MPI_COMM_NULL; // the database's communicator, once set up
 
 private:
   const Database *db = nullptr;
-  std::unique_ptr<FaceExchange> faces;
+  std::unique_ptr<FaceExchange> faces, amountFaces;
   long steps = 0, substeps = 0;
   int mostSubsteps = 0;
 };

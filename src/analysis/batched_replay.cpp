@@ -31,6 +31,7 @@ bool BatchedReplay::batchable(Run &run, std::string *why) {
   if (run.switchesDatabases()) *why = "the runs switch between several databases";
   else if (ops.empty() || ops.front()->type() != "shift") *why = "the shift is not the pipeline's first operator";
   else if (!run.pipeline().conservesMass()) *why = "an operator of the pipeline adds or removes mass";
+  else if (run.state().numScalars() > 0) *why = "the runs carry scalars (-scalars)";
   else if (restart) *why = "the runs restart from a checkpoint";
   else if (steady) *why = "the runs stop at a steady state of their own";
   else return true;

@@ -87,4 +87,12 @@ double CogMonitor::signal(const std::string &name) const {
   return Monitor::signal(name);
 }
 
+PetscErrorCode FieldMonitor::setUp(const RunContext &run, const FractionState &state,
+                                  const std::string &outputDirectory) {
+  PetscFunctionBeginUser;
+  PetscCall(writer.setUp(run.db, run.fractions, run.solidDensity, outputDirectory, state.masses()));
+  if (state.numScalars() > 0) PetscCall(writer.setUpScalars(run.db, state.scalarNames(), state.amounts()));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
 } // namespace rcfd

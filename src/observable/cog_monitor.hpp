@@ -47,12 +47,12 @@ private:
 /// Fields for ParaView (FieldWriter) as a monitor.
 class FieldMonitor : public Monitor {
 public:
+  /// With the state's scalars' values too (docs/scalars.md).
   PetscErrorCode setUp(const RunContext &run, const FractionState &state,
-                       const std::string &outputDirectory) override {
-    return writer.setUp(run.db, run.fractions, run.solidDensity, outputDirectory, state.masses());
-  }
+                       const std::string &outputDirectory) override;
   PetscErrorCode sample(const MonitorContext &ctx) override {
-    return writer.write(ctx.time, ctx.run.db.alphaS(ctx.frame), ctx.state.masses()); // the database in use
+    return writer.write(ctx.time, ctx.run.db.alphaS(ctx.frame), ctx.state.masses(), // the database in use
+                        ctx.state.numScalars() > 0 ? ctx.state.amounts() : nullptr);
   }
   /// The times written so far: a restart continues the series.
   std::vector<double> saveState() const override { return writer.outputTimes(); }

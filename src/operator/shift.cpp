@@ -27,11 +27,23 @@ PetscErrorCode ShiftOperator::setUp(const RunContext &ctx) {
   PetscCheck(ctx.db.hasShifts(), ctx.db.layout().comm(), PETSC_ERR_ARG_WRONGSTATE,
              "The shift operator needs a database loaded with its shift matrices");
   nf = columns > 0 ? columns : ctx.fractions.size();
+  // The scalar amounts (docs/scalars.md): the same matrix on their ns x nf
+  // columns, a second pass over the frame (the masses' kernel is unchanged).
+  const int amountColumns = columns > 0 ? 0 : ctx.numScalars * nf;
+  PetscCheck(amountColumns <= kMaxFractions, ctx.db.layout().comm(), PETSC_ERR_USER_INPUT,
+             "-scalars: %d scalars of %d fractions are %d columns per cell; rcfd carries at most %d",
+             ctx.numScalars, nf, amountColumns, kMaxFractions);
   perFrame.clear();
+  perFrameAmounts.clear();
   moving.reset();
+  movingAmounts.reset();
   if (kernel == Kernel::Moving) {
     moving = std::make_unique<MovingRows>();
     PetscCall(moving->setUp(ctx.db, nf));
+    if (amountColumns > 0) {
+      movingAmounts = std::make_unique<MovingRows>();
+      PetscCall(movingAmounts->setUp(ctx.db, amountColumns));
+    }
     PetscFunctionReturn(PETSC_SUCCESS);
   }
   for (int k = 0; k < ctx.db.numFrames(); ++k) {
@@ -42,6 +54,11 @@ PetscErrorCode ShiftOperator::setUp(const RunContext &ctx) {
     PetscCall(ctx.db.shiftMatrix(k, &T));
     PetscCall(MatCreateMAIJ(T, nf, m.put()));
     perFrame.push_back(std::move(m));
+    if (amountColumns > 0) {
+      OwnedMat a;
+      PetscCall(MatCreateMAIJ(T, amountColumns, a.put()));
+      perFrameAmounts.push_back(std::move(a));
+    }
   }
   PetscFunctionReturn(PETSC_SUCCESS);
 }
@@ -55,10 +72,15 @@ PetscErrorCode ShiftOperator::apply(const StepInfo &step, FractionState &state) 
     // Only the frame's moving rows were written: a cell that was empty and
     // is none of them is empty still.
     PetscCall(state.setOccupiedEnd(std::max(occupied, moving->writtenEnd(step.frame))));
+    if (movingAmounts && state.numScalars() > 0) PetscCall(movingAmounts->apply(step.frame, state.amounts()));
     PetscFunctionReturn(PETSC_SUCCESS);
   }
   PetscCall(MatMult(perFrame[step.frame], state.masses(), state.scratch()));
   state.swap();
+  if (!perFrameAmounts.empty() && state.numScalars() > 0) {
+    PetscCall(MatMult(perFrameAmounts[step.frame], state.amounts(), state.amountsScratch()));
+    state.swapAmounts();
+  }
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 

@@ -8,6 +8,8 @@
 //   /masses            [cells, fractions]  natural cell order, kg
 //   /path_state        uint64 words of the frame path (position, sequence, PRNG)
 //   /ledger_reference  the mass ledger's reference totals
+//   /scalar_amounts    [cells, scalars x fractions] with -scalars (docs/scalars.md): the amounts
+//   /scalar_ledger_reference  the scalars' ledger's totals at step 0 (with -scalars)
 //   /monitors/<name>   each monitor's saved state (Monitor::saveState), when not empty
 //   /operators/<type>  each operator's saved state (Operator::saveState), when not empty (the
 //                      group is absent from an rcfd before the granulation operators)
@@ -88,7 +90,43 @@ std::string differenceIn(const std::string &entry) {
   if (entry == "diameters") return "another set of diameters";
   if (entry == "mass_shares") return "another set of mass shares";
   if (entry == "solid_density") return "another solid density";
+  if (entry == "scalars") return "other scalars or scalar options";
   return "another " + entry;
+}
+
+// Collective.  A cell Vec of block size bs in natural order on rank 0 (empty elsewhere).
+PetscErrorCode gatherOnZero(const Layout &layout, int bs, Vec v, std::vector<double> *out) {
+  OwnedVec natural, onZero;
+  OwnedScatter scatter, toZero;
+  PetscFunctionBeginUser;
+  PetscCall(layout.naturalScatter(bs, v, natural.put(), scatter.put()));
+  PetscCall(VecScatterBegin(scatter, v, natural, INSERT_VALUES, SCATTER_FORWARD));
+  PetscCall(VecScatterEnd(scatter, v, natural, INSERT_VALUES, SCATTER_FORWARD));
+  PetscCall(VecScatterCreateToZero(natural, toZero.put(), onZero.put()));
+  PetscCall(VecScatterBegin(toZero, natural, onZero, INSERT_VALUES, SCATTER_FORWARD));
+  PetscCall(VecScatterEnd(toZero, natural, onZero, INSERT_VALUES, SCATTER_FORWARD));
+  PetscInt gathered;
+  const PetscScalar *x;
+  PetscCall(VecGetLocalSize(onZero, &gathered));
+  PetscCall(VecGetArrayRead(onZero, &x));
+  out->assign(x, x + gathered);
+  PetscCall(VecRestoreArrayRead(onZero, &x));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+// Collective.  Dataset `name` of the checkpoint (natural order, block size bs) into v.
+PetscErrorCode loadFromCheckpoint(const Layout &layout, int bs, const std::string &file, const char *name, Vec v) {
+  OwnedVec natural;
+  OwnedScatter scatter;
+  OwnedViewer viewer;
+  PetscFunctionBeginUser;
+  PetscCall(layout.naturalScatter(bs, v, natural.put(), scatter.put()));
+  PetscCall(PetscObjectSetName((PetscObject)natural.get(), name));
+  PetscCall(PetscViewerHDF5Open(layout.comm(), file.c_str(), FILE_MODE_READ, viewer.put()));
+  PetscCall(VecLoad(natural, viewer));
+  PetscCall(VecScatterBegin(scatter, natural, v, INSERT_VALUES, SCATTER_REVERSE));
+  PetscCall(VecScatterEnd(scatter, natural, v, INSERT_VALUES, SCATTER_REVERSE));
+  PetscFunctionReturn(PETSC_SUCCESS);
 }
 
 } // namespace
@@ -121,6 +159,11 @@ std::vector<std::pair<std::string, std::string>> Run::Impl::physicsRecord() cons
   }
   for (const auto &op : ops.operators())
     record.emplace_back("options_" + op->type(), optionsUnder(op->optionsPrefix()));
+  if (scalars.size() > 0) { // names, initial values and sources (a checkpoint without scalars has no entry)
+    std::string text;
+    for (int s = 0; s < scalars.size(); ++s) text += (s ? "," : "") + scalars.name(s);
+    record.emplace_back("scalars", text + " " + optionsUnder("scalar_"));
+  }
   return record;
 }
 
@@ -135,18 +178,10 @@ PetscErrorCode Run::Impl::writeCheckpoint(long step) const {
   PetscCallMPI(MPI_Comm_rank(comm, &rank));
   std::unique_ptr<AtomicFile> out; // removes the temporary if anything below fails
   if (rank == 0) PetscCallCXX(out = std::make_unique<AtomicFile>(checkpointFile));
-  OwnedVec natural, onZero;
-  OwnedScatter scatter, toZero;
-  PetscCall(db->layout().naturalScatter(nf, fstate.masses(), natural.put(), scatter.put()));
-  PetscCall(VecScatterBegin(scatter, fstate.masses(), natural, INSERT_VALUES, SCATTER_FORWARD));
-  PetscCall(VecScatterEnd(scatter, fstate.masses(), natural, INSERT_VALUES, SCATTER_FORWARD));
-  PetscCall(VecScatterCreateToZero(natural, toZero.put(), onZero.put()));
-  PetscCall(VecScatterBegin(toZero, natural, onZero, INSERT_VALUES, SCATTER_FORWARD));
-  PetscCall(VecScatterEnd(toZero, natural, onZero, INSERT_VALUES, SCATTER_FORWARD));
-  PetscInt gathered;
-  const PetscScalar *masses = nullptr;
-  PetscCall(VecGetLocalSize(onZero, &gathered));
-  PetscCall(VecGetArrayRead(onZero, &masses));
+  std::vector<double> masses, amounts;
+  PetscCall(gatherOnZero(db->layout(), nf, fstate.masses(), &masses));
+  const int na = nf * scalars.size();
+  if (na > 0) PetscCall(gatherOnZero(db->layout(), na, fstate.amounts(), &amounts));
   std::vector<std::pair<std::string, std::vector<double>>> states; // the same on every rank
   for (const auto &e : monitors) {
     states.emplace_back(e.name, e.monitor->saveState());
@@ -164,7 +199,11 @@ PetscErrorCode Run::Impl::writeCheckpoint(long step) const {
     {
       h5::File f = h5::File::create(*out, h5::Checksums::fletcher32); // a damaged checkpoint is refused
       // As PETSc's VecView writes a vector of block size nf (VecLoad reads it).
-      f.write("/masses", std::vector<double>(masses, masses + gathered), nf > 1 ? static_cast<hsize_t>(nf) : 0);
+      f.write("/masses", masses, nf > 1 ? static_cast<hsize_t>(nf) : 0);
+      if (na > 0) {
+        f.write("/scalar_amounts", amounts, na > 1 ? static_cast<hsize_t>(na) : 0);
+        f.write("/scalar_ledger_reference", scalars.ledgerReference());
+      }
       f.writeAttr("/", "format", std::string("rcfd-checkpoint"));
       f.writeAttr("/", "version", kCheckpointVersion);
       f.writeAttr("/", "step", static_cast<long long>(step));
@@ -190,7 +229,6 @@ PetscErrorCode Run::Impl::writeCheckpoint(long step) const {
     }
     out->commit();
   });
-  PetscCall(VecRestoreArrayRead(onZero, &masses));
   PetscCall(written);
   PetscFunctionReturn(PETSC_SUCCESS);
 }
@@ -201,7 +239,8 @@ PetscErrorCode Run::Impl::readCheckpoint() {
   bool jumpsRecorded = false;
   std::string previousDirectory;
   std::vector<int64_t> words;
-  std::vector<double> reference, switchingState;
+  std::vector<double> reference, switchingState, scalarReference;
+  const int na = nf * scalars.size();
   std::vector<std::vector<double>> states(monitors.size()), operatorStates(ops.operators().size());
   PetscFunctionBeginUser;
   PetscCall(collectively(
@@ -222,6 +261,10 @@ PetscErrorCode Run::Impl::readCheckpoint() {
           throw h5::Error("-restart '" + restartFile + "' has checkpoint version " +
                           std::to_string(f.readAttrInt("/", "version")) + ", this rcfd reads version " +
                           std::to_string(kCheckpointVersion));
+        if (f.exists("/scalar_amounts") != (na > 0)) // before the physics: its entry is there only with scalars
+          throw h5::Error("-restart '" + restartFile + "' continues a run " +
+                          (na > 0 ? std::string("without scalars; a restart cannot add -scalars")
+                                  : std::string("that carried scalars; give the same -scalars")));
         for (const auto &[name, text] : physicsRecord()) {
           if (!f.hasAttribute("/physics", name)) // every rcfd writing version 2 recorded these for its run
             throw h5::Error("-restart '" + restartFile + "' holds no record of the physics entry '" + name +
@@ -251,6 +294,15 @@ PetscErrorCode Run::Impl::readCheckpoint() {
         previousDirectory = f.readAttrString("/", "output_dir");
         words = f.read<int64_t>("/path_state");
         reference = f.read<double>("/ledger_reference", nf);
+        if (na > 0) {
+          std::size_t held = 1;
+          for (hsize_t extent : f.extents("/scalar_amounts")) held *= extent;
+          if (held != static_cast<std::size_t>(cells * na))
+            throw h5::Error("-restart '" + restartFile + "' holds " + std::to_string(held) +
+                            " scalar amounts, expected " + std::to_string(cells) + " cells x " + std::to_string(na));
+          if (f.checksums() == h5::Checksums::fletcher32) f.read<double>("/scalar_amounts");
+          scalarReference = f.read<double>("/scalar_ledger_reference", na);
+        }
         restorePathState(*path, std::vector<std::uint64_t>(words.begin(), words.end()));
         for (std::size_t m = 0; m < monitors.size(); ++m) {
           const std::string name = "/monitors/" + monitors[m].name;
@@ -276,15 +328,11 @@ PetscErrorCode Run::Impl::readCheckpoint() {
                           ", beyond this run's " + std::to_string(steps) + " steps (-t_end)");
       },
       PETSC_ERR_USER_INPUT));
-  OwnedVec natural;
-  OwnedScatter scatter;
-  OwnedViewer v;
-  PetscCall(db->layout().naturalScatter(nf, fstate.masses(), natural.put(), scatter.put()));
-  PetscCall(PetscObjectSetName((PetscObject)natural.get(), "masses"));
-  PetscCall(PetscViewerHDF5Open(comm, restartFile.c_str(), FILE_MODE_READ, v.put()));
-  PetscCall(VecLoad(natural, v));
-  PetscCall(VecScatterBegin(scatter, natural, fstate.masses(), INSERT_VALUES, SCATTER_REVERSE));
-  PetscCall(VecScatterEnd(scatter, natural, fstate.masses(), INSERT_VALUES, SCATTER_REVERSE));
+  PetscCall(loadFromCheckpoint(db->layout(), nf, restartFile, "masses", fstate.masses()));
+  if (na > 0) {
+    PetscCall(loadFromCheckpoint(db->layout(), na, restartFile, "scalar_amounts", fstate.amounts()));
+    scalars.restoreLedger(scalarReference);
+  }
   startStep = static_cast<long>(step);
   frames.clear();
   ledger.restore(reference);

@@ -3,6 +3,7 @@
 #include "rcfd/plugin.hpp"
 #include "base/checked_options.hpp"
 #include "state/initial_state.hpp"
+#include "observable/scalar_monitor.hpp"
 #include "base/petsc_compat.hpp"
 
 #include "base/atomic_file.hpp"
@@ -202,6 +203,9 @@ PetscErrorCode Run::setFromOptions() {
   PetscCall(r.ops.setFromOptions(r.comm));
   PetscCall(r.paths.createFromOptions(r.comm, &r.path));
   PetscCall(r.ledger.setFromOptions(r.comm));
+  PetscCall(r.scalars.setFromOptions(r.comm));
+  PetscCheck(r.scalars.size() == 0 || !r.switching, r.comm, PETSC_ERR_USER_INPUT,
+             "-scalars cannot be carried across database switches yet; give one database with -db");
   PetscCall(r.cog->setFromOptions(r.comm));
   r.monitors.front().every = r.cog->every();
   PetscCall(r.answers.setFromOptions(r.comm));
@@ -276,8 +280,13 @@ PetscErrorCode Run::setUp() {
              r.tEnd, r.tEnd / dt, dt);
   r.steps = std::lround(r.tEnd / dt);
   PetscCall(r.fstate.create(r.db->layout(), r.set.size()));
+  if (r.scalars.size() > 0) PetscCall(r.fstate.createScalars(r.scalars.names()));
   const RunContext ctx = r.context();
   PetscCall(r.ops.setUp(ctx));
+  for (const auto &op : r.ops.operators())
+    PetscCheck(r.scalars.size() == 0 || op->carriesScalars(), r.comm, PETSC_ERR_USER_INPUT,
+               "-scalars: the operator '%s' of -pipeline does not carry scalars yet (shift, drift, dispersion and the column "
+               "carry do); run without -scalars or without '%s'", op->type().c_str(), op->type().c_str());
   PetscCall(r.path->setUp(PathContext{*r.db, r.quiet == PETSC_TRUE}));
   r.pathFrames = r.db->numFrames();
   PetscCall(collectively(r.comm, [&] { // before anything is written: one sentence, nothing made
@@ -297,6 +306,8 @@ PetscErrorCode Run::setUp() {
   for (auto &a : asked) r.monitors.push_back({std::move(a.monitor), a.every, a.name});
   for (auto &m : r.registered) r.monitors.push_back(std::move(m)); // -monitors
   r.registered.clear();
+  if (r.scalars.size() > 0) // scalars.csv, with the centres of gravity
+    r.monitors.push_back({std::make_unique<ScalarMonitor>(r.scalars.names()), r.cog->every(), "scalars"});
   if (!r.ops.conservesMass() && r.ops.accountsMass()) // the balance per fraction of what operators add
     r.monitors.push_back({std::make_unique<MassAccountMonitor>(r.ops), r.cog->every(), "mass_account.csv"});
   std::vector<OperatorMonitor> brought; // e.g. the discharge's product size distribution
@@ -330,9 +341,10 @@ PetscErrorCode Run::setUp() {
   r.jumps = std::make_unique<JumpsFile>(r.comm, r.outputDir, r.switching != nullptr, std::move(labels));
   PetscCall(r.jumpCog.setUp(*r.db, r.set)); // the databases of a set share the mesh and layout
   r.isSetUp = true;
-  if (r.restartFile.empty())
+  if (r.restartFile.empty()) {
     PetscCall(setInitialState(InitialState{r.initKind, r.initFile}, *r.db, r.set, r.solidDensity, r.fstate));
-  else PetscCall(r.readCheckpoint());
+    if (r.scalars.size() > 0) PetscCall(r.scalars.setInitial(*r.db, r.fstate));
+  } else PetscCall(r.readCheckpoint());
   if (r.viewer) {
     PetscCall(PetscViewerPushFormat(r.viewer, r.viewFormat));
     PetscCall(view(r.viewer));
@@ -438,6 +450,7 @@ PetscErrorCode Run::Impl::march() {
   const bool conservative = r.ops.conservesMass();
   const bool ledgerOn = conservative || r.ops.accountsMass(); // mass changed on purpose is accounted
   if (ledgerOn && r.startStep == 0) PetscCall(r.ledger.start(r.fstate));
+  if (r.scalars.size() > 0 && r.startStep == 0) PetscCall(r.scalars.startLedger(r.fstate));
   std::vector<double> added; // by the operators that change mass on purpose, since the start
   std::vector<double> expected; // what the ledger expects each fraction to hold at a step's start
   // The frame of the next step; after a restart the path stands on it.
@@ -503,6 +516,7 @@ PetscErrorCode Run::Impl::march() {
       PetscCall(r.jumps->add(s + 1, (s + 1) * dt, info.frame, info.nextFrame,
                              r.switching ? r.switching->activeName() : std::string(), &before, &after));
     } else PetscCall(r.ops.apply(info, r.fstate));
+    if (r.scalars.size() > 0) PetscCall(r.scalars.applySources(dt, r.fstate));
     frame = next;
     const double t = (s + 1) * dt;
     if (r.stopAtSteady) PetscCall(r.steadyAt(s + 1, t, r.dbFrame(frame), false, &stop));
@@ -510,6 +524,8 @@ PetscErrorCode Run::Impl::march() {
     if (ledgerOn) {
       const double start = MPI_Wtime();
       PetscCall(r.ledger.check(s + 1, r.fstate, s + 1 == r.steps || stop, conservative ? nullptr : &added));
+      if (r.scalars.size() > 0)
+        PetscCall(r.scalars.checkLedger(s + 1, dt, r.ledger.interval(), r.fstate, s + 1 == r.steps || stop));
       r.ledgerSeconds += MPI_Wtime() - start;
     }
     if (r.switching) PetscCall(r.followSwitches(s + 1, t, frame));

@@ -8,6 +8,7 @@
 #include "observable/cog_monitor.hpp"
 #include "operator/mass_account_monitor.hpp"
 #include "run/jumps_file.hpp"
+#include "state/scalars.hpp"
 #include "switching/database_switcher.hpp"
 
 #include "rcfd/carry.hpp"
@@ -52,7 +53,9 @@ struct Run::Impl {
   /// remap of a stitching jump.
   PetscErrorCode switchTo(const SwitchDecision &target, int nextFrame, double time, bool remap);
   RunContext context() const {
-    return RunContext{*db, set, solidDensity, switching ? &switching->operatingConditions() : nullptr};
+    RunContext c{*db, set, solidDensity, switching ? &switching->operatingConditions() : nullptr};
+    c.numScalars = scalars.size();
+    return c;
   }
   /// The active database's frame for the path's frame k: the path runs over the
   /// frames of the database the run started on, a database of another length
@@ -81,6 +84,7 @@ struct Run::Impl {
   FractionState fstate;
   Pipeline ops;
   MassLedger ledger;
+  ScalarSet scalars; // -scalars: carried per fraction, with their ledger (docs/scalars.md)
   std::unique_ptr<FramePath> path;
   int pathFrames = 0; // the path's frame index: frames of the database the run started on
   CogMonitor *cog = nullptr; // the first entry of `monitors`

@@ -130,6 +130,11 @@ PetscErrorCode FractionSet::view(PetscViewer viewer) const {
 PetscErrorCode FractionState::create(const Layout &layout, int numFractions) {
   PetscFunctionBeginUser;
   nf = numFractions;
+  ns = 0;
+  names.clear();
+  amountA.reset();
+  amountB.reset();
+  amountNow = amountSpare = nullptr;
   nlocal = layout.numLocal();
   occupied = Occupied{};
   known = KnownSums{};
@@ -201,6 +206,50 @@ PetscErrorCode FractionState::setOccupiedEnd(PetscInt end) {
   occupied.of = current;
   occupied.end = std::clamp<PetscInt>(end, 0, nlocal);
   PetscCall(PetscObjectStateGet((PetscObject)current, &occupied.state));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode FractionState::createScalars(const std::vector<std::string> &scalarNames) {
+  PetscFunctionBeginUser;
+  PetscCheck(current, PETSC_COMM_SELF, PETSC_ERR_ORDER, "FractionState::createScalars() needs create() first");
+  names = scalarNames;
+  ns = static_cast<int>(names.size());
+  amountA.reset();
+  amountB.reset();
+  amountNow = amountSpare = nullptr;
+  if (ns == 0) PetscFunctionReturn(PETSC_SUCCESS);
+  PetscInt global;
+  PetscCall(VecGetSize(current, &global));
+  PetscCall(VecCreate(PetscObjectComm((PetscObject)current), amountA.put()));
+  PetscCall(VecSetSizes(amountA, nlocal * nf * ns, global * ns));
+  PetscCall(VecSetBlockSize(amountA, nf * ns));
+  PetscCall(VecSetType(amountA, VECMPI));
+  PetscCall(VecDuplicate(amountA, amountB.put()));
+  PetscCall(VecZeroEntries(amountA));
+  PetscCall(VecZeroEntries(amountB));
+  amountNow = amountA;
+  amountSpare = amountB;
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+// Cell by cell from the first, as localTotals() adds the masses, over the
+// cells that may hold mass: a cell without mass holds no amount (every
+// operator moves amounts with the masses, and a cell whose masses are all
+// zero received none).
+PetscErrorCode FractionState::amountTotals(std::vector<double> *perScalarFraction) const {
+  const PetscScalar *x;
+  PetscInt end;
+  PetscFunctionBeginUser;
+  const int w = nf * ns;
+  perScalarFraction->assign(w, 0.0);
+  if (ns == 0) PetscFunctionReturn(PETSC_SUCCESS);
+  PetscCall(occupiedEnd(&end));
+  double *sum = perScalarFraction->data();
+  PetscCall(VecGetArrayRead(amountNow, &x));
+  for (PetscInt c = 0; c < end; ++c, x += w)
+    for (int k = 0; k < w; ++k) sum[k] += x[k];
+  PetscCall(VecRestoreArrayRead(amountNow, &x));
+  PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, sum, w, MPI_DOUBLE, MPI_SUM, PetscObjectComm((PetscObject)amountNow)));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 

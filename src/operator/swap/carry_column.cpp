@@ -85,10 +85,10 @@ private:
   const Database *columnsOf = nullptr;
   Columns columns;
   std::vector<PetscInt> lowestAbove; // per column and level: the smallest natural cell at or above the level
-  OccupiedGather gatherMasses, gatherAlpha;
+  OccupiedGather gatherMasses, gatherAlpha, gatherAmounts;
   // Natural order, zero at and above `valid` (the last jump's bound), kept
   // between jumps: a jump writes only the cells below its bound.
-  std::vector<double> bulk, target, out;
+  std::vector<double> bulk, target, out, content;
   PetscInt valid = 0;
   long jumps = 0;
   double movedAcross = 0.0, movedAcrossMax = 0.0; // share of the bed's mass moved between columns
@@ -176,6 +176,9 @@ PetscErrorCode nonzeroEnd(Vec v, PetscInt *end) {
 //     bubbling bed throws it, and only as much as the two frames' columns differ.
 //  4. Each column's pieces go to its cells by cumulative mass (transport()).
 //  5. One factor per fraction restores its total to round-off.
+// With scalars each cell's content is its nf masses followed by its ns x nf
+// amounts (w numbers), and every share of a cell's content takes its amounts
+// in the same share as its masses; the bulk is the masses' sum alone.
 PetscErrorCode ColumnCarry::carry(const CarryContext &ctx, Vec targetAlpha, FractionState &state) {
   PetscFunctionBeginUser;
   const Database &db = ctx.db;
@@ -198,7 +201,7 @@ PetscErrorCode ColumnCarry::carry(const CarryContext &ctx, Vec targetAlpha, Frac
       }
     bulk.assign(n, 0.0);
     target.assign(n, 0.0);
-    out.assign(n * nf, 0.0);
+    out.clear();
     valid = 0;
     columnsOf = &db;
   }
@@ -207,19 +210,32 @@ PetscErrorCode ColumnCarry::carry(const CarryContext &ctx, Vec targetAlpha, Frac
   PetscCall(nonzeroEnd(targetAlpha, &alphaEnd));
   PetscCall(gatherMasses.gather(layout, nf, state.masses(), massEnd));
   PetscCall(gatherAlpha.gather(layout, 1, targetAlpha, alphaEnd));
-  const std::vector<double> &m = gatherMasses.values(), &alpha = gatherAlpha.values();
+  const std::vector<double> &alpha = gatherAlpha.values();
   const size_t end = static_cast<size_t>(std::max(gatherMasses.end(), gatherAlpha.end()));
+  const int na = nf * state.numScalars(), w = nf + na; // the numbers of a cell's content
+  if (out.size() != n * w) out.assign(n * w, 0.0), valid = 0;
+  if (na > 0) { // masses and amounts side by side, cell by cell (amounts are zero where masses are)
+    PetscCall(gatherAmounts.gather(layout, na, state.amounts(), massEnd));
+    const std::vector<double> &mm = gatherMasses.values(), &a = gatherAmounts.values();
+    content.resize(end * w);
+    for (size_t c = 0; c < end; ++c) {
+      std::copy_n(&mm[c * nf], nf, &content[c * w]);
+      std::copy_n(&a[c * na], na, &content[c * w + nf]);
+    }
+  }
+  const std::vector<double> &m = na > 0 ? content : gatherMasses.values();
   if (end < static_cast<size_t>(valid)) { // what the last jump wrote above this one's bound
     std::fill(bulk.begin() + end, bulk.begin() + valid, 0.0);
     std::fill(target.begin() + end, target.begin() + valid, 0.0);
-    std::fill(out.begin() + end * nf, out.begin() + valid * nf, 0.0);
+    std::fill(out.begin() + end * w, out.begin() + valid * w, 0.0);
   }
   valid = static_cast<PetscInt>(end);
-  std::vector<double> before(nf, 0.0);
+  std::vector<double> before(w, 0.0);
   double inventory = 0.0, targetTotal = 0.0;
   for (size_t c = 0; c < end; ++c) {
     bulk[c] = 0.0;
-    for (int i = 0; i < nf; ++i) bulk[c] += m[c * nf + i], before[i] += m[c * nf + i];
+    for (int i = 0; i < nf; ++i) bulk[c] += m[c * w + i];
+    for (int i = 0; i < w; ++i) before[i] += m[c * w + i];
     target[c] = ctx.solidDensity * alpha[c] * volume[c];
     inventory += bulk[c];
     targetTotal += target[c];
@@ -237,8 +253,8 @@ PetscErrorCode ColumnCarry::carry(const CarryContext &ctx, Vec targetAlpha, Frac
     height[col] = static_cast<int>(
         std::partition_point(above, above + L, [&](PetscInt c) { return static_cast<size_t>(c) < end; }) - above);
   }
-  std::copy(m.begin(), m.begin() + end * nf, out.begin());
-  std::vector<double> colTarget(L), pool(nf, 0.0), pieceStore(static_cast<size_t>(L + 1) * nf);
+  std::copy(m.begin(), m.begin() + end * w, out.begin());
+  std::vector<double> colTarget(L), pool(w, 0.0), pieceStore(static_cast<size_t>(L + 1) * w);
   std::vector<double> oldTotal(columns.count, 0.0), newTotal(columns.count, 0.0);
   std::vector<char> moves(columns.count, 0);
   double deficit = 0.0;
@@ -260,13 +276,13 @@ PetscErrorCode ColumnCarry::carry(const CarryContext &ctx, Vec targetAlpha, Frac
         const double M = bulk[cells[l]];
         const double above = std::min(M, std::max(0.0, below + M - newTotal[col]));
         if (above > 0.0)
-          for (int i = 0; i < nf; ++i) pool[i] += above * (m[cells[l] * nf + i] / M);
+          for (int i = 0; i < w; ++i) pool[i] += above * (m[cells[l] * w + i] / M);
         below += M;
       }
     }
   }
   double poolMass = 0.0;
-  for (double p : pool) poolMass += p;
+  for (int i = 0; i < nf; ++i) poolMass += pool[i];
 
   std::vector<Piece> pieces;
   for (int col = 0; col < columns.count; ++col) {
@@ -280,27 +296,28 @@ PetscErrorCode ColumnCarry::carry(const CarryContext &ctx, Vec targetAlpha, Frac
       const double M = bulk[cells[l]];
       if (!(M > 0.0)) continue;
       const double part = std::min(M, keep - below);
-      double *f = &pieceStore[static_cast<size_t>(l) * nf];
-      for (int i = 0; i < nf; ++i) f[i] = part == M ? m[cells[l] * nf + i] : part * (m[cells[l] * nf + i] / M);
+      double *f = &pieceStore[static_cast<size_t>(l) * w];
+      for (int i = 0; i < w; ++i) f[i] = part == M ? m[cells[l] * w + i] : part * (m[cells[l] * w + i] / M);
       pieces.push_back({part, f});
       below += M;
     }
     if (newTotal[col] > oldTotal[col] && deficit > 0.0) { // its share of the pool, on top
       const double share = (newTotal[col] - oldTotal[col]) / deficit;
-      double *f = &pieceStore[static_cast<size_t>(L) * nf];
+      double *f = &pieceStore[static_cast<size_t>(L) * w];
       double M = 0.0;
       for (int i = 0; i < nf; ++i) f[i] = share * pool[i], M += f[i];
+      for (int i = nf; i < w; ++i) f[i] = share * pool[i];
       if (M > 0.0) pieces.push_back({M, f});
     }
     for (int l = 0; l < H; ++l) colTarget[l] = target[cells[l]];
-    transport(pieces, cells, colTarget.data(), H, nf, out);
+    transport(pieces, cells, colTarget.data(), H, w, out);
   }
 
-  std::vector<double> after(nf, 0.0);
+  std::vector<double> after(w, 0.0);
   for (size_t c = 0; c < end; ++c)
-    for (int i = 0; i < nf; ++i) after[i] += out[c * nf + i];
-  std::vector<double> factor(nf, 1.0);
-  for (int i = 0; i < nf; ++i) factor[i] = after[i] > 0.0 ? before[i] / after[i] : 1.0;
+    for (int i = 0; i < w; ++i) after[i] += out[c * w + i];
+  std::vector<double> factor(w, 1.0);
+  for (int i = 0; i < w; ++i) factor[i] = after[i] > 0.0 ? before[i] / after[i] : 1.0;
   // The own cells below the bound; those above held nothing and hold nothing.
   const std::vector<PetscInt> &owned = layout.ownedNatural(); // ascending
   const PetscInt ownEnd = static_cast<PetscInt>(
@@ -308,8 +325,14 @@ PetscErrorCode ColumnCarry::carry(const CarryContext &ctx, Vec targetAlpha, Frac
   PetscScalar *own;
   PetscCall(VecGetArray(state.masses(), &own));
   for (PetscInt r = 0; r < ownEnd; ++r)
-    for (int i = 0; i < nf; ++i) own[r * nf + i] = out[owned[r] * nf + i] * factor[i];
+    for (int i = 0; i < nf; ++i) own[r * nf + i] = out[owned[r] * w + i] * factor[i];
   PetscCall(VecRestoreArray(state.masses(), &own));
+  if (na > 0) { // own cells above the bound hold no mass, so no amount either
+    PetscCall(VecGetArray(state.amounts(), &own));
+    for (PetscInt r = 0; r < ownEnd; ++r)
+      for (int k = 0; k < na; ++k) own[r * na + k] = out[owned[r] * w + nf + k] * factor[nf + k];
+    PetscCall(VecRestoreArray(state.amounts(), &own));
+  }
   PetscCall(state.setOccupiedEnd(ownEnd));
   const double across = inventory > 0.0 ? poolMass / inventory : 0.0;
   movedAcross += across;

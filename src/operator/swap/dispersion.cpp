@@ -42,7 +42,14 @@ PetscErrorCode DispersionOperator::apply(const StepInfo &step, FractionState &st
   PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, &worst, 1, MPI_DOUBLE, MPI_MAX, comm));
   const int n = std::max(1, static_cast<int>(std::ceil(worst * x.maxFacesPerCell() * step.dt / 0.5)));
   const double dt = step.dt / n;
-  for (int s = 0; s < n; ++s)
+  // The scalars' amounts: the X a side sends of its mixture takes X / M of each amount.
+  FaceExchange *ax = state.numScalars() > 0 ? amountExchange() : nullptr;
+  const int w = ns * nf;
+  for (int s = 0; s < n; ++s) {
+    if (ax) {
+      PetscCall(ax->gatherBegin(state.amounts()));
+      PetscCall(ax->gatherEnd());
+    }
     PetscCall(x.sweep(state.masses(), [&] {
       for (const SwapFace &f : x.faces()) {
         const PetscScalar *mL = x.massAt(f.lower), *mU = x.massAt(f.upper);
@@ -57,8 +64,22 @@ PetscErrorCode DispersionOperator::apply(const StepInfo &step, FractionState &st
           dL[i] -= net;
           dU[i] += net;
         }
+        if (ax) {
+          const PetscScalar *sL = ax->massAt(f.lower), *sU = ax->massAt(f.upper);
+          PetscScalar *eL = ax->changeAt(f.lower), *eU = ax->changeAt(f.upper);
+          for (int k = 0; k < w; ++k) {
+            const double net = X * (sL[k] / ML - sU[k] / MU);
+            eL[k] -= net;
+            eU[k] += net;
+          }
+        }
       }
     }));
+    if (ax) {
+      PetscCall(ax->endKernel());
+      PetscCall(ax->addChanges(state.amounts()));
+    }
+  }
   countStep(n);
   PetscFunctionReturn(PETSC_SUCCESS);
 }

@@ -393,6 +393,13 @@ PetscErrorCode DriftOperator::substep(double dt, const double *scale, FractionSt
   FaceExchange &x = exchange();
   PetscFunctionBeginUser;
   PetscCall(state.occupiedEnd(&occupiedEnd));
+  FaceExchange *ax = state.numScalars() > 0 ? amountExchange() : nullptr; // the scalars' amounts
+  PetscCheck(!ax == !(state.numScalars() > 0) && (!ax || state.numScalars() == ns), comm, PETSC_ERR_ARG_WRONGSTATE,
+             "The drift was set up for %d scalars and given a state with %d", ns, state.numScalars());
+  if (ax) {
+    PetscCall(ax->gatherBegin(state.amounts()));
+    PetscCall(ax->gatherEnd());
+  }
   PetscCall(x.gatherBegin(state.masses()));
   switch (nf) { // the common inventories get loops the compiler unrolls
   case 2: PetscCall(sweep<2>(dt, scale)); break;
@@ -404,6 +411,10 @@ PetscErrorCode DriftOperator::substep(double dt, const double *scale, FractionSt
   PetscCall(x.endKernel());
   PetscCall(x.addChanges(state.masses()));
   PetscCall(state.setOccupiedEnd(occupiedEnd));
+  if (ax) {
+    PetscCall(ax->endKernel());
+    PetscCall(ax->addChanges(state.amounts()));
+  }
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
@@ -481,8 +492,18 @@ template <int NF> PetscErrorCode DriftOperator::sweep(double dt, const double *s
       sums[c] = {M, 1.0 / M, rate, U, D};
     }
   };
-  auto swapFaces = [&](auto localSpeeds, const DriftFace *f, const DriftFace *end) {
+  // The scalars' amounts (docs/scalars.md): each side sends amount x its
+  // coefficient, so a swapped mass carries its sending cell's value.
+  FaceExchange *ax = amountExchange();
+  const bool withAmounts = ax && ax->numGathered() > 0 && ns > 0;
+  const int w = ns * n; // amounts per cell
+  const PetscScalar *ownAmounts = withAmounts ? ax->massAt(0) : nullptr;
+  const PetscScalar *ghostAmounts = withAmounts && gathered > own ? ax->massAt(own) : nullptr;
+  PetscScalar *ownAmountChanges = withAmounts ? ax->changeInMarked(0) : nullptr;
+  PetscScalar *ghostAmountChanges = withAmounts ? ax->changeInMarked(own) : nullptr;
+  auto swapFaces = [&](auto localSpeeds, auto amounts, const DriftFace *f, const DriftFace *end) {
     constexpr bool perCell = decltype(localSpeeds)::value; // else the fixed speeds, read once
+    constexpr bool carry = decltype(amounts)::value;      // the scalars' amounts too
     for (; f != end; ++f) {
       const PetscInt L = f->lower, U = f->upper;
       if (!(swaps[L] & swaps[U])) continue;
@@ -509,6 +530,20 @@ template <int NF> PetscErrorCode DriftOperator::sweep(double dt, const double *s
       for (int i = 0; i < n; ++i) dL[i] -= net[i];
       PetscScalar *dU = U < own ? ownChanges + U * n : ghostChanges + (U - own) * n;
       for (int i = 0; i < n; ++i) dU[i] += net[i];
+      if constexpr (carry) {
+        const PetscScalar *aL = L < own ? ownAmounts + L * w : ghostAmounts + (L - own) * w;
+        const PetscScalar *aU = U < own ? ownAmounts + U * w : ghostAmounts + (U - own) * w;
+        PetscScalar *eL = L < own ? ownAmountChanges + L * w : ghostAmountChanges + (L - own) * w;
+        PetscScalar *eU = U < own ? ownAmountChanges + U * w : ghostAmountChanges + (U - own) * w;
+        double sendL[cap], sendU[cap]; // each side's share sent, per fraction
+        for (int i = 0; i < n; ++i) sendL[i] = kL * uL[i] + topLower, sendU[i] = kU * uU[i] + topUpper;
+        for (int k = 0; k < w; k += n)
+          for (int i = 0; i < n; ++i) {
+            const double moved = aL[k + i] * sendL[i] - aU[k + i] * sendU[i];
+            eL[k + i] -= moved;
+            eU[k + i] += moved;
+          }
+      }
     }
   };
   sumCells(ownMasses, 0, top); // while the ghosts' masses travel
@@ -519,10 +554,14 @@ template <int NF> PetscErrorCode DriftOperator::sweep(double dt, const double *s
   const auto end = std::partition_point(driftFaces.begin(), driftFaces.end(),
                                         [&](const DriftFace &f) { return lastOwnCell(f, own) < top; });
   const DriftFace *faces = driftFaces.data(), *below = faces + (end - driftFaces.begin());
-  if (local || measuredSpeeds) swapFaces(std::true_type{}, faces, below);
-  else swapFaces(std::false_type{}, faces, below);
+  if (withAmounts) {
+    if (local || measuredSpeeds) swapFaces(std::true_type{}, std::true_type{}, faces, below);
+    else swapFaces(std::false_type{}, std::true_type{}, faces, below);
+  } else if (local || measuredSpeeds) swapFaces(std::true_type{}, std::false_type{}, faces, below);
+  else swapFaces(std::false_type{}, std::false_type{}, faces, below);
   // Both cells of a face that swaps are cells that swap.
   if (first <= last) x.markChanged(first, last + 1);
+  if (withAmounts && first <= last) ax->markChanged(first, last + 1);
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 

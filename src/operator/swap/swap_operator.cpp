@@ -21,6 +21,12 @@ PetscErrorCode SwapOperator::setUp(const RunContext &ctx) {
   const FaceChoice choice = swapFaces(ctx);
   faces = std::make_unique<FaceExchange>();
   PetscCall(faces->setUp(ctx.db, nf, choice.direction, choice.minShare));
+  ns = ctx.numScalars;
+  amountFaces.reset();
+  if (ns > 0) { // the same faces in the same order, so the same gathered cells
+    amountFaces = std::make_unique<FaceExchange>();
+    PetscCall(amountFaces->setUp(ctx.db, nf * ns, choice.direction, choice.minShare));
+  }
   PetscCall(setUpSwap(ctx));
   PetscFunctionReturn(PETSC_SUCCESS);
 }

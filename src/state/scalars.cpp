@@ -1,0 +1,215 @@
+#include "state/scalars.hpp"
+#include "base/petsc_compat.hpp"
+
+#include "base/checked_options.hpp"
+#include "base/collective.hpp"
+#include "base/h5.hpp"
+#include "rcfd/zone.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+#include <string>
+
+namespace rcfd {
+
+namespace {
+constexpr int kMaxScalars = 16;
+} // namespace
+
+PetscErrorCode ScalarSet::setFromOptions(MPI_Comm comm) {
+  std::vector<std::string> names;
+  PetscBool given = PETSC_FALSE;
+  PetscFunctionBeginUser;
+  scalars.clear();
+  PetscOptionsBegin(comm, nullptr, "Scalars carried with the fractions (docs/scalars.md)", "rcfd");
+  PetscCall(checkedStringArray(PetscOptionsObject, "-scalars",
+                               "Names of the scalars each fraction carries, e.g. temperature,moisture,tracer",
+                               kMaxScalars, &names, &given));
+  PetscCall(checkedReal(PetscOptionsObject, "-scalar_leak_tolerance",
+                        "Relative change of a scalar's total amount treated as a leak, not round-off", &tolerance,
+                        kPositive));
+  PetscOptionsEnd();
+  for (std::size_t s = 0; s < names.size(); ++s) {
+    const std::string &n = names[s];
+    PetscCheck(!n.empty() && std::isalpha(static_cast<unsigned char>(n[0])) &&
+                   n.find_first_not_of("abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ0123456789_") ==
+                       std::string::npos,
+               comm, PETSC_ERR_USER_INPUT,
+               "-scalars: '%s' is not a scalar name (a letter, then letters, digits or _)", n.c_str());
+    PetscCheck(n != "d32" && n.rfind("alpha_", 0) != 0, comm, PETSC_ERR_USER_INPUT,
+               "-scalars: '%s' is the name of a field the run writes (d32, alpha_...); name the scalar otherwise",
+               n.c_str());
+    for (std::size_t t = 0; t < s; ++t)
+      PetscCheck(names[t] != n, comm, PETSC_ERR_USER_INPUT, "-scalars names '%s' twice", n.c_str());
+    Scalar x;
+    x.name = n;
+    const std::string prefix = "scalar_" + n + "_";
+    PetscReal values[64];
+    PetscInt count = 64;
+    PetscBool zonesGiven = PETSC_FALSE, valuesGiven = PETSC_FALSE, fileGiven = PETSC_FALSE;
+    char file[PETSC_MAX_PATH_LEN] = "";
+    PetscOptionsBegin(comm, prefix.c_str(), ("Scalar " + n).c_str(), "rcfd");
+    PetscCall(checkedReal(PetscOptionsObject, "-initial", "Initial value in every cell and fraction", &x.initial,
+                          {0.0, PETSC_MAX_REAL, true, true, "a value >= 0 (no negative or NaN values)"}));
+    PetscCall(checkedReal(PetscOptionsObject, "-decay", "First-order decay rate k [1/s]: amounts times exp(-k dt) per step",
+                          &x.decay, {0.0, PETSC_MAX_REAL, true, true, "a rate >= 0 in 1/s"}));
+    PetscCall(checkedStringArray(PetscOptionsObject, "-zones", "Zones (of -zones) with their own initial value",
+                                 64, &x.zones, &zonesGiven));
+    PetscCall(checkedRealArray(PetscOptionsObject, "-zone_values", "Initial value in each zone of -scalar_NAME_zones",
+                               values, &count, &valuesGiven));
+    PetscCall(PetscOptionsString("-initial_file", "HDF5 file with /values [cells x fractions]: the initial value "
+                                 "per cell and fraction", "", file, file, sizeof file, &fileGiven));
+    PetscOptionsEnd();
+    if (fileGiven) x.file = file;
+    PetscCheck(!fileGiven || !x.file.empty(), comm, PETSC_ERR_USER_INPUT,
+               "-%sinitial_file is empty; give the HDF5 file with /values [cells x fractions]", prefix.c_str());
+    if (valuesGiven) x.zoneValues.assign(values, values + count);
+    PetscCheck(x.zones.size() == x.zoneValues.size(), comm, PETSC_ERR_USER_INPUT,
+               "-%szone_values has %zu values but -%szones names %zu zones; give one value per zone",
+               prefix.c_str(), x.zoneValues.size(), prefix.c_str(), x.zones.size());
+    for (std::size_t k = 0; k < x.zoneValues.size(); ++k)
+      PetscCheck(x.zoneValues[k] >= 0.0 && std::isfinite(x.zoneValues[k]), comm, PETSC_ERR_USER_INPUT,
+                 "-%szone_values: value %zu is %g; expected a value >= 0 (no negative or NaN values)",
+                 prefix.c_str(), k + 1, x.zoneValues[k]);
+    scalars.push_back(std::move(x));
+  }
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+std::vector<std::string> ScalarSet::names() const {
+  std::vector<std::string> all;
+  for (const Scalar &x : scalars) all.push_back(x.name);
+  return all;
+}
+
+PetscErrorCode ScalarSet::setInitial(const Database &db, FractionState &state) const {
+  PetscFunctionBeginUser;
+  const int ns = size(), nf = state.numFractions(), w = ns * nf;
+  const PetscInt nlocal = db.layout().numLocal();
+  const MPI_Comm comm = db.layout().comm();
+  // The value of each scalar in each own cell and fraction: uniform, then the
+  // zones in order, or the file's.
+  std::vector<double> value(static_cast<std::size_t>(nlocal) * w);
+  ZoneSet zones;
+  bool anyZone = false;
+  for (const Scalar &x : scalars) anyZone = anyZone || !x.zones.empty();
+  if (anyZone) {
+    PetscCall(zones.setFromOptions(db.layout().comm()));
+    PetscCall(zones.setUp(db.mesh(), db.layout(), db.metadata().gravity));
+  }
+  for (int s = 0; s < ns; ++s) {
+    const Scalar &x = scalars[s];
+    auto set = [&](PetscInt c, double v) { std::fill_n(&value[c * w + s * nf], nf, v); };
+    for (PetscInt c = 0; c < nlocal; ++c) set(c, x.initial);
+    for (std::size_t k = 0; k < x.zones.size(); ++k) {
+      const Zone *z = zones.find(x.zones[k]);
+      PetscCheck(z, comm, PETSC_ERR_USER_INPUT,
+                 "-scalar_%s_zones names '%s', which is no zone of -zones", x.name.c_str(), x.zones[k].c_str());
+      for (PetscInt c : z->localCells()) set(c, x.zoneValues[k]);
+    }
+    if (x.file.empty()) continue;
+    // Every rank reads the file's values (a number per cell and fraction) and keeps its own cells'.
+    const std::string option = "-scalar_" + x.name + "_initial_file '" + x.file + "'";
+    std::vector<double> all;
+    PetscCall(collectively(comm, [&] {
+      h5::File f = h5::File::openRead(x.file, MPI_COMM_NULL);
+      const auto dims = f.extents("/values");
+      if (dims.size() != 2 || dims[0] != (hsize_t)db.layout().numCells() || dims[1] != (hsize_t)nf)
+        throw std::runtime_error(option + ": /values should be " + std::to_string(db.layout().numCells()) +
+                                 " cells x " + std::to_string(nf) + " fractions, as -init_file's /masses");
+      all = f.read<double>("/values");
+      std::size_t bad = 0;
+      for (double v : all) bad += !(v >= 0.0) || !std::isfinite(v);
+      if (bad > 0)
+        throw std::runtime_error(option + ": /values holds " + std::to_string(bad) +
+                                 " negative or non-finite (NaN, inf) values; expected values >= 0");
+    }, PETSC_ERR_USER_INPUT));
+    const std::vector<PetscInt> &owned = db.layout().ownedNatural();
+    for (PetscInt c = 0; c < nlocal; ++c)
+      for (int i = 0; i < nf; ++i) value[c * w + s * nf + i] = all[owned[c] * nf + i];
+  }
+  const PetscScalar *m;
+  PetscScalar *a;
+  PetscCall(VecGetArrayRead(state.masses(), &m));
+  PetscCall(VecGetArrayWrite(state.amounts(), &a));
+  for (PetscInt c = 0; c < nlocal; ++c)
+    for (int s = 0; s < ns; ++s)
+      for (int i = 0; i < nf; ++i) a[c * w + s * nf + i] = m[c * nf + i] * value[c * w + s * nf + i];
+  PetscCall(VecRestoreArrayWrite(state.amounts(), &a));
+  PetscCall(VecRestoreArrayRead(state.masses(), &m));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode ScalarSet::applySources(double dt, FractionState &state) const {
+  PetscFunctionBeginUser;
+  const int ns = size(), nf = state.numFractions(), w = ns * nf;
+  bool any = false;
+  for (const Scalar &x : scalars) any = any || x.decay > 0.0;
+  if (!any) PetscFunctionReturn(PETSC_SUCCESS);
+  std::vector<double> factor(ns);
+  for (int s = 0; s < ns; ++s) factor[s] = std::exp(-scalars[s].decay * dt);
+  PetscInt n;
+  PetscScalar *a;
+  PetscCall(VecGetLocalSize(state.amounts(), &n));
+  PetscCall(VecGetArray(state.amounts(), &a));
+  for (PetscInt c = 0; c < n / w; ++c)
+    for (int s = 0; s < ns; ++s)
+      if (factor[s] != 1.0)
+        for (int i = 0; i < nf; ++i) a[c * w + s * nf + i] *= factor[s];
+  PetscCall(VecRestoreArray(state.amounts(), &a));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode ScalarSet::startLedger(const FractionState &state) {
+  PetscFunctionBeginUser;
+  PetscCall(state.amountTotals(&reference));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode ScalarSet::checkLedger(long step, double dt, PetscInt every, FractionState &state, bool endOfRun) {
+  PetscFunctionBeginUser;
+  const bool regular = every > 0 && step % every == 0;
+  if (every == 0 || (!regular && !endOfRun) || size() == 0) PetscFunctionReturn(PETSC_SUCCESS);
+  const int ns = size(), nf = state.numFractions(), w = ns * nf;
+  const MPI_Comm comm = PetscObjectComm((PetscObject)state.amounts());
+  std::vector<double> now;
+  PetscCall(state.amountTotals(&now));
+  std::vector<double> factor(w, 1.0);
+  for (int s = 0; s < ns; ++s) {
+    // Exactly what the sources leave: the start times exp(-k t).
+    const double kept = std::exp(-scalars[s].decay * dt * static_cast<double>(step));
+    double scale = 0.0; // the scalar's whole amount, for a fraction that should hold none
+    for (int i = 0; i < nf; ++i) scale += reference[s * nf + i] * kept;
+    for (int i = 0; i < nf; ++i) {
+      const int k = s * nf + i;
+      const double expected = reference[k] * kept;
+      if (expected == 0.0) {
+        PetscCheck(std::fabs(now[k]) <= tolerance * scale, comm, PETSC_ERR_PLIB,
+                   "Scalar %s of fraction %d should have no amount but has %g after step %ld: an operator created it",
+                   scalars[s].name.c_str(), i, now[k], step);
+        continue;
+      }
+      const double change = now[k] / expected - 1.0;
+      PetscCheck(std::fabs(change) <= tolerance, comm, PETSC_ERR_PLIB,
+                 "Scalar %s of fraction %d changed its total amount by %.3e (relative) by step %ld, more than its "
+                 "sources and round-off (-scalar_leak_tolerance %g): an operator does not carry it conservatively",
+                 scalars[s].name.c_str(), i, change, step, (double)tolerance);
+      largest = std::fmax(largest, std::fabs(change));
+      factor[k] = expected / now[k];
+    }
+  }
+  if (!regular) PetscFunctionReturn(PETSC_SUCCESS); // verified only, as the mass ledger
+  if (std::any_of(factor.begin(), factor.end(), [](double f) { return f != 1.0; })) {
+    PetscInt n;
+    PetscScalar *a;
+    PetscCall(VecGetLocalSize(state.amounts(), &n));
+    PetscCall(VecGetArray(state.amounts(), &a));
+    for (PetscInt j = 0; j < n; j += w)
+      for (int k = 0; k < w; ++k) a[j + k] *= factor[k];
+    PetscCall(VecRestoreArray(state.amounts(), &a));
+  }
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+} // namespace rcfd

@@ -1,0 +1,229 @@
+// Scalars carried with the fractions (-scalars, docs/scalars.md), on the small
+// database along a stitched path (random sequences joined by jumps) through
+// shift, drift, dispersion and the column carry:
+//  - a uniform scalar stays uniform to round-off (1e-12 relative) in every
+//    cell and fraction holding mass, and its total is value x mass;
+//  - a scalar hot in the bottom layers only stays within its initial bounds
+//    (a swapped mass carries its sender's value) and its total is kept to
+//    1e-12 (the ledger closes);
+//  - the field files hold each scalar's value per fraction and cell;
+//  - a first-order decay's total is exp(-k t) times its start, to 1e-12;
+//  - the run on the ranks of the test equals the same run on one rank
+//    (PETSC_COMM_SELF) to 1e-12, masses and amounts (as rcfd's masses do);
+//  - a run restarted from its mid-run checkpoint ends with the same bits, and
+//    writes the same scalars.csv, byte for byte;
+//  - initial values from a file (a value per cell and fraction) give amount =
+//    mass x value exactly;
+//  - an operator that does not carry scalars, a negative or NaN initial value
+//    (given or in a file), a file of another shape are refused with one sentence.
+// Runs at 1 and 2 ranks.  usage: test_scalars DIR -db SMALL.h5 [run options]
+#include "check.hpp"
+#include "scoped_options.hpp"
+#include "state_access.hpp"
+#include "base/petsc_compat.hpp"
+#include "base/h5.hpp"
+#include "rcfd/run.hpp"
+
+#include <cmath>
+#include <fstream>
+#include <iterator>
+#include <string>
+#include <vector>
+
+using namespace rcfd;
+
+namespace {
+
+constexpr double kT = 0.6, kDecay = 1.7;
+const std::string kScalars =
+    " -scalars temperature,moisture,tracer -scalar_temperature_initial 300 -scalar_moisture_initial 0.1"
+    " -zones hot -zone_hot_layers 0,3 -scalar_moisture_zones hot -scalar_moisture_zone_values 0.4"
+    " -scalar_tracer_initial 2 -scalar_tracer_decay 1.7 -pipeline shift,drift,dispersion,carry"
+    " -dispersion_coefficient 2e-4 -path_type random"
+    " -path_seed 5 -monitor_digits 17";
+
+struct Outcome {
+  std::vector<double> masses, amounts; // natural order
+  std::vector<double> initialMass;     // per fraction
+  int jumps = 0;
+  std::vector<std::string> labels; // of the fractions
+};
+
+PetscErrorCode runCase(MPI_Comm comm, const std::string &options, const std::string &dir, Outcome *out,
+                       bool fields = false) {
+  PetscFunctionBeginUser;
+  ScopedOptions scoped(options + " -output_dir " + dir);
+  const OperatorRegistry registry = OperatorRegistry::withBuiltins();
+  Run run(comm, registry);
+  PetscCall(run.setFromOptions());
+  run.setQuiet(true);
+  run.keepHistory(true);
+  run.setWriteFields(fields);
+  PetscCall(run.setUp());
+  PetscCall(run.state().totals(&out->initialMass));
+  PetscCall(run.solve());
+  const int nf = run.state().numFractions(), na = nf * run.state().numScalars();
+  out->masses = test::gatherNatural(run.database(), run.state().masses(), nf);
+  out->amounts = test::gatherNatural(run.database(), run.state().amounts(), na);
+  const std::vector<int> &frames = run.framesUsed();
+  for (std::size_t k = 1; k < frames.size(); ++k) out->jumps += frames[k] != frames[k - 1] + 1;
+  for (int i = 0; i < nf; ++i) out->labels.push_back(run.fractions().label(i));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+std::string fileBytes(const std::string &path) {
+  std::ifstream in(path, std::ios::binary);
+  return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+}
+
+} // namespace
+
+int main(int argc, char **argv) {
+  PetscCall(PetscInitialize(&argc, &argv, nullptr, nullptr));
+  {
+    const std::string dir = test::rankCountDirectory(argc, argv, "scalars");
+    PetscMPIInt rank;
+    PetscCallMPI(MPI_Comm_rank(PETSC_COMM_WORLD, &rank));
+    const std::string opts = kScalars + " -t_end " + std::to_string(kT);
+    Outcome all;
+    PetscCall(runCase(PETSC_COMM_WORLD, opts, dir + "/all", &all, true));
+    const int nf = static_cast<int>(all.initialMass.size()), ns = 3, w = ns * nf;
+    const std::size_t cells = all.masses.size() / nf;
+    RCFD_CHECK(all.jumps >= 5);
+    RCFD_CHECK(all.amounts.size() == cells * w);
+
+    // Uniform stays uniform; the zone's values stay within their bounds; no negative amount.
+    double worstUniform = 0.0, lowMoisture = 1e300, highMoisture = -1e300, lowest = 0.0;
+    std::vector<double> total(w, 0.0), mass(nf, 0.0);
+    for (std::size_t c = 0; c < cells; ++c)
+      for (int i = 0; i < nf; ++i) {
+        const double m = all.masses[c * nf + i];
+        mass[i] += m;
+        for (int s = 0; s < ns; ++s) {
+          const double a = all.amounts[c * w + s * nf + i];
+          total[s * nf + i] += a;
+          lowest = std::fmin(lowest, a);
+        }
+        if (!(m > 1e-12 * all.initialMass[i])) continue; // a trace: its value is round-off over round-off
+        worstUniform = std::fmax(worstUniform, std::fabs(all.amounts[c * w + i] / m / 300.0 - 1.0));
+        const double moisture = all.amounts[c * w + nf + i] / m;
+        lowMoisture = std::fmin(lowMoisture, moisture);
+        highMoisture = std::fmax(highMoisture, moisture);
+      }
+    RCFD_CHECK_CLOSE(worstUniform, 0.0, 1e-12);
+    RCFD_CHECK(lowest >= 0.0);
+    RCFD_CHECK(lowMoisture >= 0.1 * (1.0 - 1e-12) && highMoisture <= 0.4 * (1.0 + 1e-12));
+    RCFD_CHECK(highMoisture - lowMoisture > 0.01); // the hot zone is not mixed away: the bound is tested
+    for (int i = 0; i < nf; ++i) {
+      RCFD_CHECK_CLOSE(total[i] / (300.0 * all.initialMass[i]), 1.0, 1e-12);
+      // The tracer: 2 x mass at the start, times exp(-k t).
+      RCFD_CHECK_CLOSE(total[2 * nf + i] / (2.0 * all.initialMass[i]), std::exp(-kDecay * kT), 1e-12);
+      RCFD_CHECK_CLOSE(total[2 * nf + i] / (2.0 * all.initialMass[i] * std::exp(-kDecay * kT)), 1.0, 1e-12);
+    }
+
+    // The last field file: the uniform scalar's value per fraction and cell is
+    // 300 where the fraction has mass (NaN elsewhere), the zone's within its bounds.
+    if (rank == 0) {
+      h5::File f = h5::File::openRead(dir + "/all/fields_000001.h5", MPI_COMM_NULL);
+      int valued = 0, wrong = 0;
+      for (const std::string &label : all.labels) {
+        for (double v : f.read<double>("/temperature_" + label))
+          if (!std::isnan(v)) ++valued, wrong += std::fabs(v / 300.0 - 1.0) > 1e-12;
+        for (double v : f.read<double>("/moisture_" + label))
+          if (!std::isnan(v)) wrong += v < 0.1 * (1.0 - 1e-12) || v > 0.4 * (1.0 + 1e-12);
+      }
+      RCFD_CHECK(valued > 100 && wrong == 0);
+      RCFD_CHECK(f.read<double>("/tracer").size() == cells);
+    }
+
+    // The ranks of the test equal one rank to 1e-12, as the masses do in
+    // rcfd (tests/test_rank_equivalence.sh): sums over the ranks (the
+    // ledgers', the drift's limits) round in another order.
+    Outcome alone;
+    PetscCall(runCase(PETSC_COMM_SELF, opts, dir + "/alone" + std::to_string(rank), &alone));
+    double worstRanks = 0.0;
+    for (std::size_t k = 0; k < all.amounts.size(); ++k)
+      worstRanks = std::fmax(worstRanks, std::fabs(alone.amounts[k] - all.amounts[k]) /
+                                             std::fmax(1e-300, std::fabs(all.amounts[k])));
+    for (std::size_t k = 0; k < all.masses.size(); ++k)
+      if (all.masses[k] > 1e-12 * all.initialMass[k % nf]) // traces: round-off over round-off
+        worstRanks = std::fmax(worstRanks, std::fabs(alone.masses[k] / all.masses[k] - 1.0));
+    RCFD_CHECK_CLOSE(worstRanks, 0.0, 1e-12);
+
+    // Restarted at half time: the same bits and the same scalars.csv.
+    Outcome first, second;
+    PetscCall(runCase(PETSC_COMM_WORLD, kScalars + " -t_end " + std::to_string(kT / 2) + " -checkpoint_every " +
+                                            std::to_string(kT / 2), dir + "/first", &first));
+    PetscCall(runCase(PETSC_COMM_WORLD, opts + " -restart " + dir + "/first/checkpoint.h5", dir + "/first", &second));
+    RCFD_CHECK(second.masses == all.masses);
+    RCFD_CHECK(second.amounts == all.amounts);
+    if (rank == 0) {
+      const std::string a = fileBytes(dir + "/all/scalars.csv"), b = fileBytes(dir + "/first/scalars.csv");
+      RCFD_CHECK(!a.empty() && a == b);
+    }
+
+    auto refused = [&](const std::string &more, const std::string &sentence) {
+      ErrorCapture capture;
+      Outcome none;
+      const PetscErrorCode status = runCase(PETSC_COMM_WORLD, opts + more, dir + "/refused", &none);
+      RCFD_CHECK(status != 0);
+      if (capture.message().find(sentence) == std::string::npos)
+        test::fail(__FILE__, __LINE__, "expected '" + sentence + "', got '" + capture.message() + "'");
+    };
+
+    // Initial values from a file: a value per cell and fraction, amount = mass x value.
+    auto valuesFile = [&](const std::string &name, std::vector<double> values, hsize_t cols) {
+      const std::string path = dir + "/" + name + ".h5";
+      if (rank == 0) {
+        h5::File f = h5::File::create(path);
+        f.write("/values", values, cols);
+        f.close();
+      }
+      MPI_Barrier(PETSC_COMM_WORLD);
+      return path;
+    };
+    std::vector<double> given(cells * nf);
+    for (std::size_t c = 0; c < cells; ++c)
+      for (int i = 0; i < nf; ++i) given[c * nf + i] = 10.0 + static_cast<double>(c % 7) + 0.5 * i;
+    {
+      ScopedOptions scoped(opts + " -scalar_moisture_initial_file " + valuesFile("values", given, nf) +
+                           " -output_dir " + dir + "/file");
+      const OperatorRegistry registry = OperatorRegistry::withBuiltins();
+      Run run(PETSC_COMM_WORLD, registry);
+      PetscCall(run.setFromOptions());
+      run.setQuiet(true);
+      run.setWriteFields(false);
+      PetscCall(run.setUp());
+      const std::vector<double> m = test::gatherNatural(run.database(), run.state().masses(), nf);
+      const std::vector<double> a = test::gatherNatural(run.database(), run.state().amounts(), w);
+      int wrong = 0, held = 0;
+      for (std::size_t c = 0; c < cells; ++c)
+        for (int i = 0; i < nf; ++i) {
+          held += m[c * nf + i] > 0.0;
+          wrong += a[c * w + nf + i] != m[c * nf + i] * given[c * nf + i]; // moisture: the file's
+          wrong += a[c * w + i] != m[c * nf + i] * 300.0;                   // temperature: uniform
+        }
+      RCFD_CHECK(held > 100 && wrong == 0);
+    }
+    std::vector<double> negative = given;
+    negative[3] = -1.0;
+    refused(" -scalar_moisture_initial_file " + valuesFile("negative", negative, nf),
+            "/values holds 1 negative or non-finite (NaN, inf) values; expected values >= 0");
+    refused(" -scalar_moisture_initial_file " + valuesFile("short", std::vector<double>(given.begin(), given.end() - nf), nf),
+            "/values should be " + std::to_string(cells) + " cells x " + std::to_string(nf) + " fractions");
+
+    // Refusals, each with its sentence.
+    refused(" -pipeline shift,drift,dispersion,carry,growth -growth_rate 1 -growth_zone hot",
+            "-scalars: the operator 'growth' of -pipeline does not carry scalars yet");
+    refused(" -restart " + dir + "/first/checkpoint.h5 -scalar_tracer_decay 1",
+            "continues a run made with other scalars or scalar options");
+    refused(" -carry_type remap", "-scalars: the operator 'carry' of -pipeline does not carry scalars yet");
+    refused(" -scalar_temperature_initial -1", "-scalar_temperature_initial");
+    refused(" -scalar_temperature_initial nan", "-scalar_temperature_initial");
+    refused(" -scalar_moisture_zone_values -0.5", "-scalar_moisture_zone_values");
+    refused(" -scalar_moisture_zone_values 0.2,0.3", "-scalar_moisture_zone_values has 2 values but");
+  }
+  const int failed = rcfd::test::globalFailures();
+  PetscCall(PetscFinalize());
+  return failed ? 1 : 0;
+}
