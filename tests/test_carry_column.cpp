@@ -212,7 +212,7 @@ void acrossColumns() {
 // after each jump every own row at or above the bound the carry says is empty.
 std::vector<std::vector<double>> jumps(const Database &db, const std::vector<double> &start, bool sayBound,
                                        bool *emptyAbove) {
-  const FractionSet set({1e-3, 3e-3}, {0.5, 0.5});
+  const FractionSet set = rcfd::test::fractionSet({1e-3, 3e-3}, {0.5, 0.5});
   const RunContext ctx{db, set, kRho};
   auto carry = created(OperatorRegistry::withBuiltins(), "carry");
   {
