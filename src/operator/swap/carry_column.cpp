@@ -78,6 +78,7 @@ public:
   }
   PetscErrorCode apply(const CarryContext &ctx, const StepInfo &step, FractionState &state) override;
   PetscErrorCode view(PetscViewer viewer) const override;
+  bool carriesScalars() const override { return true; }
 
 private:
   PetscErrorCode carry(const CarryContext &ctx, Vec targetAlpha, FractionState &state);
