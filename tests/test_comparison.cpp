@@ -378,6 +378,7 @@ void comparisonObject(const std::string &dir) {
   RCFD_CHECK(refused == PETSC_ERR_USER_INPUT && why &&
              std::string(why) == "'" + dir + "/ref-profiles.csv' is a profiles file but the reference '" + ref +
                                      "' is a centre-of-gravity file: compare files of one kind.");
+  RCFD_CHECK(other.writeScores(dir + "/unsolved.csv") == PETSC_ERR_ORDER && !std::filesystem::exists(dir + "/unsolved.csv"));
   // The database distance of two files (distance(): 0.25).
   Comparison::DatabaseDistance d;
   RCFD_CHECK(Comparison::databaseDistance(comm, dir + "/bed-cog.csv", dir + "/bed_dynamics.csv", &d) == 0);

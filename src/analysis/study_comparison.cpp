@@ -57,6 +57,7 @@ struct Comparison::Impl {
   std::vector<PolydisperseScore> polydisperse;
   std::vector<ProfileDifference> profiles;
   std::vector<HalvesDifference> halves;
+  bool solved = false;
 };
 
 Comparison::Comparison(MPI_Comm c) : impl(std::make_unique<Impl>()), comm(c) {}
@@ -158,6 +159,7 @@ PetscErrorCode Comparison::solve() {
       }
     }
   }, PETSC_ERR_USER_INPUT));
+  next->solved = true;
   impl = std::move(next);
   why = std::move(notes);
   scored.clear();
@@ -200,7 +202,7 @@ PetscErrorCode Comparison::writeCurves(const std::string &file) const {
   PetscFunctionBeginUser;
   PetscCheck(fileKind == Kind::centresOfGravity || fileKind == Kind::bottomLayer, comm, PETSC_ERR_ARG_WRONG,
              "Comparison: '%s' holds no curves over time to write to '%s'", reference.c_str(), file.c_str());
-  PetscCheck(!impl->reference.curves.empty(), comm, PETSC_ERR_ORDER, "Comparison: solve() before writeCurves()");
+  PetscCheck(impl->solved, comm, PETSC_ERR_ORDER, "Comparison: solve() before writeCurves()");
   PetscCallMPI(MPI_Comm_rank(comm, &rank));
   PetscCall(collectively(comm, [&] {
     if (rank != 0) return;
@@ -214,6 +216,7 @@ PetscErrorCode Comparison::writeCurves(const std::string &file) const {
 PetscErrorCode Comparison::writeScores(const std::string &file) const {
   PetscMPIInt rank;
   PetscFunctionBeginUser;
+  PetscCheck(impl->solved, comm, PETSC_ERR_ORDER, "Comparison: solve() before writeScores()");
   PetscCallMPI(MPI_Comm_rank(comm, &rank));
   PetscCall(collectively(comm, [&] {
     if (rank != 0) return;
