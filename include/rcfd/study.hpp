@@ -114,7 +114,8 @@ public:
   /// positive and finite is refused here, a -pipeline without drift in
   /// setUp(), each in one sentence.
   PetscErrorCode setDriftLaw(const std::string &sizeLaw, double kd);
-  /// The same with a calibration's result (its model and kd).
+  /// The same with a calibration's result: its model and kd (what Result
+  /// holds; a run scaled by agitation, -calibrate_exponent, is not handed over).
   PetscErrorCode setDriftLaw(const Calibration::Result &fit);
   /// Refuses a path without a seed, a run on several databases and a drift
   /// law set without a drift operator in -pipeline, each in one sentence.
