@@ -4,6 +4,7 @@
 #include "cli/commands.hpp"
 #include "base/checked_options.hpp"
 #include "base/petsc_compat.hpp"
+#include "mesh/box_mesh.hpp"
 
 #include "cli/particle_input.hpp"
 #include "analysis/measured_drift.hpp"
@@ -204,7 +205,7 @@ PetscErrorCode buildCommand(MPI_Comm comm) {
       };
     }
 
-    DatabaseFileWriter writer(out.database, Mesh::box(box), meta);
+    DatabaseFileWriter writer(out.database, boxMesh(box), meta);
     ParticleFrameBuilder builder(opt, [&](const FrameRecord &f) { writer.append(f); });
     using Clock = std::chrono::steady_clock;
     const auto start = Clock::now();

@@ -1,6 +1,7 @@
 // rcfd coarsen: an exactly coarsened copy of a database (src/database/coarsen.hpp).
 #include "cli/commands.hpp"
 #include "base/petsc_compat.hpp"
+#include "mesh/box_mesh.hpp"
 #include "base/checked_options.hpp"
 
 #include "base/atomic_file.hpp"
@@ -126,7 +127,7 @@ PetscErrorCode coarsenCommand(MPI_Comm comm, const char *positional) {
                 db->metadata().source + ")";
   meta.weightBits = weightBits;
   std::unique_ptr<DatabaseFileWriter> writer;
-  PetscCall(collectively(comm, [&] { writer = std::make_unique<DatabaseFileWriter>(out, Mesh::box(coarse.box), meta); }));
+  PetscCall(collectively(comm, [&] { writer = std::make_unique<DatabaseFileWriter>(out, boxMesh(coarse.box), meta); }));
   const std::vector<double> &volume = db->mesh().cellVolume;
   int64_t nnz = 0;
   PetscCall(collectively(comm, [&] {

@@ -1,6 +1,7 @@
 #include "cli/commands.hpp"
 #include "base/checked_options.hpp"
 #include "base/petsc_compat.hpp"
+#include "mesh/box_mesh.hpp"
 
 #include "analysis/span_statistics.hpp"
 #include "builders/synthetic/synthetic_bed.hpp"
@@ -240,7 +241,7 @@ PetscErrorCode synthCommand(MPI_Comm comm) {
       std::snprintf(at, sizeof at, ", at u_sup = %g m/s", conditions.superficialVelocity);
       meta.source += at;
     }
-    DatabaseFileWriter writer(path, Mesh::box(options.box), meta);
+    DatabaseFileWriter writer(path, boxMesh(options.box), meta);
     if (!pointNote.empty()) writer.setNote("synth_operating_point", pointNote);
     report = generateSyntheticBed(options, [&](const FrameRecord &frame) {
       writer.append(frame);
