@@ -92,6 +92,11 @@ public:
   void swapAmounts() { std::swap(amountNow, amountSpare); }
   /// Total amount of each scalar and fraction, [scalar][fraction] (collective).
   PetscErrorCode amountTotals(std::vector<double> *perScalarFraction) const;
+  /// Not collective.  Multiplies every own cell's amount of scalar s and
+  /// fraction i by factor[s * nf + i] (nothing when all are 1).
+  PetscErrorCode scaleAmounts(const std::vector<double> &factor);
+  /// Not collective.  This rank's part of amountTotals().
+  PetscErrorCode localAmountTotals(std::vector<double> *perScalarFraction) const;
 
   /// Not collective.  One past the last own cell (local index) that may hold
   /// mass: every cell at or above it is empty.  The number of own cells when

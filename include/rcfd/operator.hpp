@@ -69,6 +69,13 @@ public:
   /// docs/scalars.md) with the masses it moves: a run with -scalars refuses a
   /// pipeline with an operator that does not.  False by default.
   virtual bool carriesScalars() const { return false; }
+  /// For an operator that carries scalars and changes mass on purpose (feed,
+  /// discharge, growth in the number reading): the amount of each scalar it
+  /// has added to each fraction since the run started, [scalar][fraction]
+  /// (removed: negative), the same on every rank, kept by saveState().  The
+  /// scalars' ledger adds it to what it expects.  nullptr (the default): the
+  /// operator moves amounts only as it moves mass, conserving them.
+  virtual const std::vector<double> *addedAmounts() const { return nullptr; }
   /// Checkpoint contract, as Monitor's: what the operator needs to continue a
   /// run exactly (its ledger, mass held back), the same on every rank; the
   /// run stores it under /operators/<type> and hands it back to
@@ -174,6 +181,8 @@ public:
   bool accountsMass() const;
   /// Sum over the operators of addedMass(), per fraction (empty: none reports).
   void addedMass(std::vector<double> *perFraction) const;
+  /// Sum over the operators of addedAmounts(), [scalar][fraction] (empty: none reports).
+  void addedAmounts(std::vector<double> *perScalarFraction) const;
   const std::vector<std::unique_ptr<Operator>> &operators() const { return ops; }
   const std::vector<std::string> &skipped() const { return left; }
   /// This rank's wall time [s] spent in each operator's apply() so far, in
