@@ -202,6 +202,22 @@ int main(int argc, char **argv) {
       valueSpread(spray, 0, 300.0, &worst, &lowest);
       RCFD_CHECK(lowest >= 0.0);
     }
+    // The bottom layer's moisture (bottom.csv), sprayed into the bottom layers: the liquid there over its solid.
+    {
+      Outcome o;
+      PetscCall(runCase(PETSC_COMM_WORLD,
+                        kSpray + " -zones wet -zone_wet_layers 0,1 -scalar_spray_zone wet -scalar_exchange_model none -bottom_layer"
+                                 " -moisture_warning 1e-3 -moisture_warning_umf_share 0.01 -superficial_velocity 1.1"
+                                 " -t_end 0.2",
+                        dir + "/wet", &o));
+      if (rank == 0) {
+        const double wet = lastValue(dir + "/wet/bottom.csv", "moisture_bottom");
+        RCFD_CHECK(wet > 1e-3); // above the warning's threshold
+        // Nothing dries: the bed holds all that was sprayed.
+        RCFD_CHECK_CLOSE(scalarTotal(o, 1) / (0.05 * 0.2), 1.0, 1e-12);
+      }
+    }
+
     // Dried out: a bed with a little moisture and strong drying ends at exactly zero, all of it dried.
     {
       Outcome o;
