@@ -68,7 +68,7 @@ PetscErrorCode BottomLayerMonitor::sample(const MonitorContext &ctx) {
   }
   if (moisture >= 0) { // the bottom layer's moisture amount over its solid
     std::vector<double> amounts;
-    PetscCall(sampler->geometry().fractionMasses(ctx.state.amounts(), ns * nf, &amounts));
+    PetscCall(sampler->geometry().layerAmounts(ctx.state, 0, &amounts));
     double water = 0.0, solid = 0.0;
     for (int i = 0; i < nf; ++i) water += amounts[moisture * nf + i], solid += (*perLayer)[i];
     const double wet = solid > 0.0 ? water / solid : std::numeric_limits<double>::quiet_NaN();

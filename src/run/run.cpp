@@ -4,6 +4,7 @@
 #include "base/checked_options.hpp"
 #include "state/initial_state.hpp"
 #include "observable/scalar_mixing_monitor.hpp"
+#include "observable/scalar_profiles_monitor.hpp"
 #include "observable/scalar_monitor.hpp"
 #include "base/petsc_compat.hpp"
 
@@ -208,6 +209,13 @@ PetscErrorCode Run::setFromOptions() {
   PetscCall(r.scalars.setFromOptions(r.comm));
   PetscCheck(r.scalars.size() == 0 || !r.switching, r.comm, PETSC_ERR_USER_INPUT,
              "-scalars cannot be carried across database switches yet; give one database with -db");
+  // An operator's options per scalar, -<prefix>scalar_NAME (the feed's values), are read at its set-up,
+  // where it learns the names; looked up now, so that the program's check of unused options knows them.
+  for (const auto &op : r.ops.operators())
+    for (const std::string &name : r.scalars.names()) {
+      PetscBool given = PETSC_FALSE;
+      PetscCall(PetscOptionsHasName(nullptr, op->optionsPrefix().c_str(), ("-scalar_" + name).c_str(), &given));
+    }
   PetscCall(r.cog->setFromOptions(r.comm));
   r.monitors.front().every = r.cog->every();
   PetscCall(r.answers.setFromOptions(r.comm));
@@ -316,6 +324,14 @@ PetscErrorCode Run::setUp() {
   if (r.scalars.size() > 0 && r.scalars.mixingAsked()) // with them: scalar_mixing.csv
     r.monitors.push_back({std::make_unique<ScalarMixingMonitor>(r.scalars.names(), r.scalars.mixingTolerance()),
                           r.cog->every(), "scalar_mixing"});
+  if (r.scalars.size() > 0 && r.scalars.profilesAsked()) { // scalar_profiles.csv, sampled as the answers are
+    TimeWindow window;
+    if (!r.scalars.profilesWindow().empty())
+      window = TimeWindow{r.scalars.profilesWindow()[0], r.scalars.profilesWindow()[1]};
+    window.resolve(r.steps * dt);
+    r.monitors.push_back({std::make_unique<ScalarProfilesMonitor>(r.scalars.names(), window), r.cog->every(),
+                          "scalar_profiles"});
+  }
   if (!r.ops.conservesMass() && r.ops.accountsMass()) // the balance per fraction of what operators add
     r.monitors.push_back({std::make_unique<MassAccountMonitor>(r.ops), r.cog->every(), "mass_account.csv"});
   std::vector<OperatorMonitor> brought; // e.g. the discharge's product size distribution

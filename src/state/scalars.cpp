@@ -22,6 +22,9 @@ PetscErrorCode ScalarSet::setFromOptions(MPI_Comm comm) {
   PetscBool given = PETSC_FALSE;
   PetscFunctionBeginUser;
   scalars.clear();
+  PetscReal span[2] = {0.0, 0.0};
+  PetscInt two = 2;
+  PetscBool spanGiven = PETSC_FALSE;
   PetscOptionsBegin(comm, nullptr, "Scalars carried with the fractions (docs/scalars.md)", "rcfd");
   PetscCall(checkedStringArray(PetscOptionsObject, "-scalars",
                                "Names of the scalars each fraction carries, e.g. temperature,moisture,tracer",
@@ -34,7 +37,16 @@ PetscErrorCode ScalarSet::setFromOptions(MPI_Comm comm) {
   PetscCall(checkedReal(PetscOptionsObject, "-scalar_mixing_tolerance",
                         "Mixed: every cell within this share of the starting contrast of the bed's mean",
                         &mixingShare, kPositive));
+  PetscCall(PetscOptionsBool("-scalar_profiles", "Write scalar_profiles.csv: each scalar per class and cell layer, "
+                             "averaged over -scalar_profiles_window", "", profiles, &profiles, nullptr));
+  PetscCall(checkedRealArray(PetscOptionsObject, "-scalar_profiles_window",
+                             "Window t0,t1 [s] of scalar_profiles.csv (default: the last second)", span, &two,
+                             &spanGiven));
   PetscOptionsEnd();
+  PetscCheck(!spanGiven || (two == 2 && span[1] >= span[0] && span[0] >= 0.0), comm, PETSC_ERR_USER_INPUT,
+             "-scalar_profiles_window needs two times t0,t1 [s] with 0 <= t0 <= t1");
+  window.clear();
+  if (spanGiven) window = {static_cast<double>(span[0]), static_cast<double>(span[1])};
   for (std::size_t s = 0; s < names.size(); ++s) {
     const std::string &n = names[s];
     PetscCheck(!n.empty() && std::isalpha(static_cast<unsigned char>(n[0])) &&
@@ -253,14 +265,18 @@ PetscErrorCode ScalarSet::report(const FractionState &state) const {
   std::vector<double> now;
   PetscCall(state.amountTotals(&now));
   const int nf = state.numFractions();
-  double held = 0.0;
+  double held = 0.0, carried = 0.0; // the liquid in the bed, and what operators brought (feed) or took (discharge)
   for (int s = 0; s < size(); ++s)
     if (scalars[s].name == "moisture")
-      for (int i = 0; i < nf; ++i) held += now[s * nf + i];
+      for (int i = 0; i < nf; ++i) {
+        held += now[s * nf + i];
+        if (!seen.empty()) carried += seen[s * nf + i];
+      }
   const std::vector<double> &a = sourceTerms.account();
   PetscCall(PetscPrintf(comm, "  sources: %s\n  liquid sprayed %.6g kg (missed an empty zone %.3g kg), dried %.6g kg, "
-                              "held %.6g kg; heat from the gas %.6g J, of evaporation %.6g J\n",
-                        sourceTerms.describe().c_str(), a[0], a[1], a[2], held, a[3], a[4]));
+                              "held %.6g kg, brought in (+) or taken out (-) by feed and discharge %.6g kg; heat from "
+                              "the gas %.6g J, of evaporation %.6g J\n",
+                        sourceTerms.describe().c_str(), a[0], a[1], a[2], held, carried, a[3], a[4]));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 

@@ -30,6 +30,9 @@ public:
   double decayRate(int s) const { return scalars[s].decay; }
   /// -scalar_mixing (scalar_mixing.csv) and its -scalar_mixing_tolerance (0.05).
   bool mixingAsked() const { return mixing == PETSC_TRUE; }
+  /// -scalar_profiles (scalar_profiles.csv) and its -scalar_profiles_window t0,t1 (NaN: not given).
+  bool profilesAsked() const { return profiles == PETSC_TRUE; }
+  const std::vector<double> &profilesWindow() const { return window; }
   double mixingTolerance() const { return mixingShare; }
   /// Collective.  Each amount = the cell's mass of the fraction x the scalar's
   /// initial value there (the masses set first).
@@ -85,7 +88,8 @@ private:
   std::vector<double> decayFactor; // per scalar: exp(-k dt) of the last applySources
   std::vector<double> stepSources; // [scalar][fraction]: the sources' global change in the last step
   PetscReal tolerance = 1e-12, mixingShare = 0.05;
-  PetscBool mixing = PETSC_FALSE;
+  PetscBool mixing = PETSC_FALSE, profiles = PETSC_FALSE;
+  std::vector<double> window; // -scalar_profiles_window, empty: not given
   double largest = 0.0;
 };
 
