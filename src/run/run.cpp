@@ -681,7 +681,7 @@ PetscErrorCode Run::solve() {
     }
     PetscCall(PetscPrintf(r.comm, "  operators: %.3g s of the wall (%s); mass ledger %.3g s\n", total, costs.c_str(),
                           r.ledgerSeconds));
-    if (r.scalars.size() > 0) PetscCall(r.scalars.report(r.fstate));
+    if (r.scalars.size() > 0) PetscCall(r.scalars.report(r.fstate, r.steps * dt)); // its account is since the start
     if (r.switching)
       PetscCall(PetscPrintf(r.comm, "  databases: %ld switches, %d loads in %.3g s (%.3g s per load), at most %d held at once%s\n",
                             r.switching->numSwitches(), r.switching->set().numLoads(), r.switching->set().loadSeconds(),

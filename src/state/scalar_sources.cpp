@@ -46,6 +46,8 @@ PetscErrorCode ScalarSources::setFromOptions(MPI_Comm c, const std::vector<std::
   PetscCall(checkedReal(PetscOptionsObject, "-gas_prandtl", "The gas's Prandtl number", &prandtl, positive));
   PetscCall(checkedReal(PetscOptionsObject, "-gas_schmidt", "The vapour's Schmidt number in the gas", &schmidt,
                         positive));
+  PetscCall(checkedReal(PetscOptionsObject, "-gas_heat_capacity", "The gas's heat capacity c_p,g [J/kg/K] (the check of "
+                        "the well-mixed gas)", &gasHeatCapacity, positive));
   PetscCall(checkedReal(PetscOptionsObject, "-solid_heat_capacity", "The solid's heat capacity c_p [J/kg/K]",
                         &heatCapacity, positive));
   PetscCall(checkedReal(PetscOptionsObject, "-heat_of_evaporation",
@@ -71,13 +73,22 @@ PetscErrorCode ScalarSources::setUp(const Database &database, const FractionSet 
   solidDensity = density;
   diameter.resize(nf);
   for (int i = 0; i < nf; ++i) diameter[i] = fractions.diameter(i);
-  if (model == Model::Gunn) { // the case's gas, else the database's, else air (as the bottom layer's u_mf)
+  if (model != Model::None) { // the case's gas, else the database's, else air (as the bottom layer's u_mf)
     FluidizationModel gas;
     PetscCall(OperatingConditions::fromOptions(comm, &gas.given));
     const OperatingConditions resolved = gas.resolve(database.metadata().conditions);
     gasDensity = resolved.gasDensity;
     viscosity = resolved.gasKinematicViscosity;
     velocity = resolved.superficialVelocity;
+    // The gas's heat capacity flow through the box's cross-section normal to gravity.
+    capacityFlow = 0.0;
+    if (database.mesh().isBox()) {
+      const Vec3 &g = database.metadata().gravity, &length = database.mesh().boxSpec().length;
+      int up = 0;
+      for (int a = 1; a < 3; ++a)
+        if (std::fabs(g[a]) > std::fabs(g[up])) up = a;
+      capacityFlow = gasDensity * velocity * length[(up + 1) % 3] * length[(up + 2) % 3] * gasHeatCapacity;
+    }
   }
   sprayZone.reset();
   if (sprayRate > 0.0) {

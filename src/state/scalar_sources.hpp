@@ -50,6 +50,12 @@ public:
   double heatTimeConstant(double d, double eps) const;
   /// One line on what the sources are, for the run's view.
   std::string describe() const;
+  /// The gas's heat capacity flow rho_g u_sup A c_p,g [W/K] through the bed's cross-section A (a box
+  /// mesh; 0 when unknown), for the check of the well-mixed gas (ScalarSet::report).
+  double gasCapacityFlow() const { return capacityFlow; }
+  double gasInletTemperature() const { return gasTemperature; }
+  bool exchangesHeat() const { return model != Model::None && temperature >= 0; }
+  int temperatureColumn() const { return temperature; }
 
 private:
   enum class Model { None, Gunn, Constant };
@@ -62,7 +68,8 @@ private:
   Model model = Model::None;
   double h = 0.0, beta = 0.0, gasTemperature = 293.15, humidityDeficit = 0.0, conductivity = 0.026,
          prandtl = 0.71, schmidt = 0.6, heatCapacity = 1000.0, evaporation = 0.0;
-  double gasDensity = 1.2, viscosity = 1.5e-5, velocity = 1.1, solidDensity = 1440.0;
+  double gasDensity = 1.2, viscosity = 1.5e-5, velocity = 1.1, solidDensity = 1440.0, gasHeatCapacity = 1005.0,
+         capacityFlow = 0.0;
   std::vector<double> diameter;
   const Database *db = nullptr;
   MPI_Comm comm = MPI_COMM_NULL;

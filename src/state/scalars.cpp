@@ -257,7 +257,7 @@ PetscErrorCode ScalarSet::checkLedger(long step, PetscInt every, FractionState &
 
 namespace rcfd {
 
-PetscErrorCode ScalarSet::report(const FractionState &state) const {
+PetscErrorCode ScalarSet::report(const FractionState &state, double time) const {
   PetscFunctionBeginUser;
   const MPI_Comm comm = PetscObjectComm((PetscObject)state.amounts());
   PetscCall(PetscPrintf(comm, "  scalars: largest round-off removed by their ledger %.2e (relative)\n", largest));
@@ -277,6 +277,23 @@ PetscErrorCode ScalarSet::report(const FractionState &state) const {
                               "held %.6g kg, brought in (+) or taken out (-) by feed and discharge %.6g kg; heat from "
                               "the gas %.6g J, of evaporation %.6g J\n",
                         sourceTerms.describe().c_str(), a[0], a[1], a[2], held, carried, a[3], a[4]));
+  // The gas is taken well mixed at its inlet state: it gives heat as if it never cooled.  What it gave,
+  // spread over its flow, is the mean drop of its temperature that heat needs; past the difference
+  // between the gas and the bed, a real gas could not have given it (docs/scalars.md, "Sources").
+  const int t = sourceTerms.temperatureColumn();
+  if (sourceTerms.exchangesHeat() && sourceTerms.gasCapacityFlow() > 0.0 && time > 0.0) {
+    std::vector<double> mass;
+    PetscCall(state.totals(&mass));
+    double amount = 0.0, solid = 0.0;
+    for (int i = 0; i < nf; ++i) amount += now[t * nf + i], solid += mass[i];
+    const double bed = solid > 0.0 ? amount / solid : 0.0, drop = a[3] / (sourceTerms.gasCapacityFlow() * time);
+    const double room = std::fabs(sourceTerms.gasInletTemperature() - bed);
+    if (std::fabs(drop) > room)
+      PetscCall(PetscPrintf(comm, "  note: the gas gave the solid %.4g W on average, a mean drop of %.4g K of its %.4g W/K "
+                                  "(rho_g u_sup A c_p,g), more than the %.4g K between the gas and the bed at the end: the "
+                                  "gas, taken well mixed at its inlet state, overestimates the exchange (docs/scalars.md)\n",
+                            a[3] / time, drop, sourceTerms.gasCapacityFlow(), room));
+  }
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 

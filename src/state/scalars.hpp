@@ -68,7 +68,8 @@ public:
   void restoreLedger(const std::vector<double> &r);
   /// Collective.  Prints the ledger's largest correction and, with sources, what
   /// they brought: liquid sprayed, dried and held, heat from the gas.
-  PetscErrorCode report(const FractionState &state) const;
+  /// `time`: the simulated time the account covers [s] (the check of the well-mixed gas).
+  PetscErrorCode report(const FractionState &state, double time) const;
   /// Largest relative round-off the ledger removed.
   double largestCorrection() const { return largest; }
 
