@@ -93,8 +93,9 @@ public:
   /// Total amount of each scalar and fraction, [scalar][fraction] (collective).
   PetscErrorCode amountTotals(std::vector<double> *perScalarFraction) const;
   /// Not collective.  Multiplies every own cell's amount of scalar s and
-  /// fraction i by factor[s * nf + i] (nothing when all are 1).
-  PetscErrorCode scaleAmounts(const std::vector<double> &factor);
+  /// fraction i by factor[s * nf + i] (nothing when all are 1), the cells
+  /// below `end` only when given (the others hold no mass, so no amount).
+  PetscErrorCode scaleAmounts(const std::vector<double> &factor, PetscInt end = -1);
   /// Not collective.  This rank's part of amountTotals().
   PetscErrorCode localAmountTotals(std::vector<double> *perScalarFraction) const;
 

@@ -81,10 +81,11 @@ protected:
   /// masses' (bedFactors on the amounts' totals): `before` this rank's
   /// amounts before the operator (localAmountTotals), `zoneChange` what its
   /// zone's cells gained (local), `change` what it added (global).  Collective
-  /// (one reduction); scales every own cell's amounts.  A uniform scalar fed
+  /// (one reduction); scales the amounts of the own cells below `end` (the
+  /// occupied end before the operator: it put nothing into an empty cell).  A uniform scalar fed
   /// at its own value gets the masses' factors: it stays uniform.
   PetscErrorCode rescaleAmounts(FractionState &state, std::vector<double> before, const std::vector<double> &zoneChange,
-                                const std::vector<double> &change) const;
+                                const std::vector<double> &change, PetscInt end) const;
   /// The checkpoint's part of the amounts added (appended, and read back from `offset`).
   void saveAmounts(std::vector<double> *s) const { s->insert(s->end(), addedAmount.begin(), addedAmount.end()); }
   void restoreAmounts(const std::vector<double> &s, std::size_t offset) {

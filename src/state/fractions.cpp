@@ -252,13 +252,14 @@ PetscErrorCode FractionState::localAmountTotals(std::vector<double> *perScalarFr
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
-PetscErrorCode FractionState::scaleAmounts(const std::vector<double> &factor) {
+PetscErrorCode FractionState::scaleAmounts(const std::vector<double> &factor, PetscInt end) {
   PetscFunctionBeginUser;
   const int w = nf * ns;
   if (std::all_of(factor.begin(), factor.end(), [](double f) { return f == 1.0; })) PetscFunctionReturn(PETSC_SUCCESS);
   PetscInt n;
   PetscScalar *x;
   PetscCall(VecGetLocalSize(amountNow, &n));
+  if (end >= 0) n = std::min(n, end * w);
   PetscCall(VecGetArray(amountNow, &x));
   for (PetscInt j = 0; j < n; j += w)
     for (int k = 0; k < w; ++k) x[j + k] *= factor[k];

@@ -90,6 +90,13 @@ PetscErrorCode ScalarSources::setUp(const Database &database, const FractionSet 
       capacityFlow = gasDensity * velocity * length[(up + 1) % 3] * length[(up + 2) % 3] * gasHeatCapacity;
     }
   }
+  heatTerms.assign(nf, Terms{});
+  massTerms.assign(nf, Terms{});
+  for (int i = 0; i < nf && model == Model::Gunn; ++i) {
+    const double re = velocity * diameter[i] / viscosity;
+    heatTerms[i] = {1.0 + 0.7 * std::pow(re, 0.2) * std::cbrt(prandtl), std::pow(re, 0.7) * std::cbrt(prandtl)};
+    massTerms[i] = {1.0 + 0.7 * std::pow(re, 0.2) * std::cbrt(schmidt), std::pow(re, 0.7) * std::cbrt(schmidt)};
+  }
   sprayZone.reset();
   if (sprayRate > 0.0) {
     ZoneSet zones;
@@ -113,6 +120,17 @@ double ScalarSources::gunn(double reynolds, double pr, double eps) const {
   const double cube = std::cbrt(pr);
   return (7.0 - 10.0 * eps + 5.0 * eps * eps) * (1.0 + 0.7 * std::pow(reynolds, 0.2) * cube) +
          (1.33 - 2.4 * eps + 1.2 * eps * eps) * std::pow(reynolds, 0.7) * cube;
+}
+
+void ScalarSources::classCoefficients(int i, double eps, double *heat, double *mass) const {
+  if (model != Model::Gunn) {
+    *heat = heatCoefficient(diameter[i], eps);
+    *mass = massCoefficient(diameter[i], eps);
+    return;
+  }
+  const double first = 7.0 - 10.0 * eps + 5.0 * eps * eps, second = 1.33 - 2.4 * eps + 1.2 * eps * eps;
+  *heat = (first * heatTerms[i].a + second * heatTerms[i].b) * conductivity / diameter[i];
+  *mass = (first * massTerms[i].a + second * massTerms[i].b) * (viscosity / schmidt) / diameter[i];
 }
 
 double ScalarSources::heatCoefficient(double d, double eps) const {
@@ -158,10 +176,13 @@ PetscErrorCode ScalarSources::apply(double dt, int frame, FractionState &state, 
         const double mass = m[c * nf + i];
         if (!(mass > 0.0)) continue;
         const double d = diameter[i];
+        double h, beta;
+        classCoefficients(i, eps, &h, &beta);
         PetscScalar *T = heats ? &a[c * w + temperature * nf + i] : nullptr;
         if (heats) { // exact for a gas at its inlet temperature: T - T_g falls as exp(-dt / tau)
           const double target = mass * gasTemperature, before = *T;
-          *T = target + (before - target) * std::exp(-dt / heatTimeConstant(d, eps));
+          // tau = rho_s c_p d / (6 h)
+          *T = target + (before - target) * std::exp(-dt * 6.0 * h / (solidDensity * heatCapacity * d));
           sums[temperature * nf + i] += *T - before;
           *heatIn += (*T - before) * heatCapacity;
         }
@@ -169,7 +190,7 @@ PetscErrorCode ScalarSources::apply(double dt, int frame, FractionState &state, 
         // The first drying period: beta rho_g (Y_s - Y_g) per unit surface, 6 m / (rho_s d) of it;
         // it stops when the moisture is gone, never below zero.
         PetscScalar &X = a[c * w + moisture * nf + i];
-        const double wanted = massCoefficient(d, eps) * gasDensity * humidityDeficit * 6.0 * mass /
+        const double wanted = beta * gasDensity * humidityDeficit * 6.0 * mass /
                               (solidDensity * d) * dt;
         const double removed = std::min(wanted, static_cast<double>(X));
         X = removed == X ? 0.0 : X - removed;

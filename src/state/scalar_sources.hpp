@@ -61,6 +61,14 @@ private:
   enum class Model { None, Gunn, Constant };
   /// Gunn (1978): Nu (or Sh, with Sc for Pr) of a particle in a bed of voidage eps.
   double gunn(double reynolds, double prandtl, double eps) const;
+  /// Gunn's Nu = (7 - 10 eps + 5 eps^2) a + (1.33 - 2.4 eps + 1.2 eps^2) b with a, b of the class
+  /// (its Re and Pr or Sc), computed once at set-up: the steps evaluate polynomials only.
+  struct Terms {
+    double a = 0.0, b = 0.0;
+  };
+  std::vector<Terms> heatTerms, massTerms; // per class
+  /// h [W/m^2/K] and beta [m/s] of class i in a cell of voidage eps.
+  void classCoefficients(int i, double eps, double *heat, double *mass) const;
   int temperature = -1, moisture = -1, ns = 0, nf = 0;
   double sprayRate = 0.0;
   std::string sprayZoneName = "spray";

@@ -100,7 +100,7 @@ PetscErrorCode DischargeOperator::apply(const StepInfo &step, FractionState &sta
       PetscCall(VecRestoreArray(state.amounts(), &a));
       PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, left.data(), w, MPI_DOUBLE, MPI_SUM, comm));
       for (int k = 0; k < w; ++k) left[k] = -left[k], addedAmount[k] += left[k];
-      if (keepBulk) PetscCall(rescaleAmounts(state, amountsBefore, zoneAmountChange, left));
+      if (keepBulk) PetscCall(rescaleAmounts(state, amountsBefore, zoneAmountChange, left, end));
     }
     for (int i = 0; i < nf; ++i) change[i] = -(all ? inZone[i] : inZone[i] * share);
     if (keepBulk) { // the zone keeps its masses (scaled back), or is emptied

@@ -128,7 +128,7 @@ PetscErrorCode FeedOperator::apply(const StepInfo &step, FractionState &state) {
     if (defersRescale()) oweRescale(step, state, std::move(factor), end); // the discharge's pass settles it
     else PetscCall(scaleBed(state, factor, end));
   } else PetscCall(state.setOccupiedEnd(end)); // mass went only where there was some
-  if (ns > 0 && keepBulk) PetscCall(rescaleAmounts(state, amountsBefore, zoneAmountChange, fedAmount));
+  if (ns > 0 && keepBulk) PetscCall(rescaleAmounts(state, amountsBefore, zoneAmountChange, fedAmount, end));
   for (int k = 0; k < w; ++k) addedAmount[k] += fedAmount[k];
   for (int i = 0; i < nf; ++i) {
     added[i] += held[i];

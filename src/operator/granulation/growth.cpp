@@ -155,7 +155,7 @@ PetscErrorCode GrowthOperator::apply(const StepInfo &step, FractionState &state)
   }
   PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, sums.data(), static_cast<int>(sums.size()), MPI_DOUBLE, MPI_SUM, comm));
   const std::vector<double> change = account(sums.data(), sums.data() + amountsAt);
-  if (ns > 0) PetscCall(rescaleAmounts(state, amountsBefore, zoneAmountChange, amountChange));
+  if (ns > 0) PetscCall(rescaleAmounts(state, amountsBefore, zoneAmountChange, amountChange, end));
   std::vector<double> gained(nf);
   for (int i = 0; i < nf; ++i) gained[i] = change[i] + zoneChange[i]; // the transfers, then the rescale
   PetscCall(scaleBed(state, bedFactors(bed, change, gained), end));

@@ -147,13 +147,13 @@ std::vector<double> ZoneOperator::bedFactors(const std::vector<double> &bed, con
 
 PetscErrorCode ZoneOperator::rescaleAmounts(FractionState &state, std::vector<double> before,
                                            const std::vector<double> &zoneChange,
-                                           const std::vector<double> &change) const {
+                                           const std::vector<double> &change, PetscInt end) const {
   PetscFunctionBeginUser;
   const int w = ns * nf;
   before.insert(before.end(), zoneChange.begin(), zoneChange.end());
   PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, before.data(), 2 * w, MPI_DOUBLE, MPI_SUM, comm));
   const std::vector<double> bed(before.begin(), before.begin() + w), gained(before.begin() + w, before.end());
-  PetscCall(state.scaleAmounts(bedFactors(bed, change, gained)));
+  PetscCall(state.scaleAmounts(bedFactors(bed, change, gained), end));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
