@@ -69,13 +69,6 @@ public:
   /// docs/scalars.md) with the masses it moves: a run with -scalars refuses a
   /// pipeline with an operator that does not.  False by default.
   virtual bool carriesScalars() const { return false; }
-  /// For an operator that carries scalars and changes mass on purpose (feed,
-  /// discharge, growth in the number reading): the amount of each scalar it
-  /// has added to each fraction since the run started, [scalar][fraction]
-  /// (removed: negative), the same on every rank, kept by saveState().  The
-  /// scalars' ledger adds it to what it expects.  nullptr (the default): the
-  /// operator moves amounts only as it moves mass, conserving them.
-  virtual const std::vector<double> *addedAmounts() const { return nullptr; }
   /// Checkpoint contract, as Monitor's: what the operator needs to continue a
   /// run exactly (its ledger, mass held back), the same on every rank; the
   /// run stores it under /operators/<type> and hands it back to
@@ -91,6 +84,14 @@ public:
   /// operator can share work with its neighbours (the granulation operators
   /// hand the bed's totals and a rescale on).  The default does nothing.
   virtual PetscErrorCode setUpInPipeline(const std::vector<Operator *> &before);
+  /// For an operator that carries scalars and changes mass on purpose (feed,
+  /// discharge, growth in the number reading): the amount of each scalar it
+  /// has added to each fraction since the run started, [scalar][fraction]
+  /// (removed: negative), the same on every rank, kept by saveState().  The
+  /// scalars' ledger adds it to what it expects.  nullptr (the default): the
+  /// operator moves amounts only as it moves mass, conserving them.  (Declared
+  /// last, so that the other virtual functions keep their places.)
+  virtual const std::vector<double> *addedAmounts() const { return nullptr; }
 
 protected:
   std::string prefix;
