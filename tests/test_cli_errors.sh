@@ -120,8 +120,11 @@ expect_error "-scalar_temperature_initial nan: expected a value >= 0 (no negativ
 expect_error "-scalar_moisture_zone_values: value 1 is -0.5; expected a value >= 0" run -db "$db" -scalars moisture \
   -zones low -zone_low_layers 0,3 -scalar_moisture_zones low -scalar_moisture_zone_values -0.5 -output_dir "$work/sc"
 expect_error "-scalars: 'bad-name' is not a scalar name" run -db "$db" -scalars bad-name -output_dir "$work/sc"
-expect_error "-scalars: the operator 'growth' of -pipeline does not carry scalars yet" run -db "$db" -scalars tracer \
-  -pipeline shift,drift,carry,growth -zones s -zone_s_layers 0,3 -growth_zone s -growth_rate 1 -output_dir "$work/sc"
+expect_error "-scalars: the operator 'carry' of -pipeline does not carry scalars yet" run -db "$db" -scalars tracer \
+  -pipeline shift,drift,carry -carry_type remap -output_dir "$work/sc"
+expect_error "-feed_scalar_tracer is not given; the feed needs the value of every scalar it brings" run -db "$db" \
+  -scalars tracer -pipeline shift,drift,carry,feed -zones f -zone_f_layers 0,3 -feed_zone f -feed_rate 0.1 \
+  -output_dir "$work/sc"
 [ ! -e "$work/sc" ] && ok || fail "a refused run with scalars left $work/sc behind"
 # Help from the program itself, not "unknown command".
 if "$rcfd" -help | grep -q "usage: rcfd <command>"; then ok; else fail "rcfd -help"; fi

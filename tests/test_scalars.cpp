@@ -213,8 +213,8 @@ int main(int argc, char **argv) {
             "/values should be " + std::to_string(cells) + " cells x " + std::to_string(nf) + " fractions");
 
     // Refusals, each with its sentence.
-    refused(" -pipeline shift,drift,dispersion,carry,growth -growth_rate 1 -growth_zone hot",
-            "-scalars: the operator 'growth' of -pipeline does not carry scalars yet");
+    refused(" -pipeline shift,drift,dispersion,carry,feed -feed_rate 1 -feed_zone hot",
+            "-feed_scalar_temperature is not given; the feed needs the value of every scalar it brings");
     refused(" -restart " + dir + "/first/checkpoint.h5 -scalar_tracer_decay 1",
             "continues a run made with other scalars or scalar options");
     refused(" -carry_type remap", "-scalars: the operator 'carry' of -pipeline does not carry scalars yet");

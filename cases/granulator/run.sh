@@ -6,7 +6,9 @@
 #   still/      shift,drift,carry                      no growth, no through-flow
 #   growth/     + growth                               m_g = 1 kg/s, c = 0.01
 #   granulator/ + growth, feed, discharge               and m_f = 0.2 kg/s in and out
-# and draws each run's figures (-plot) and the halves of the three side by side (Fig. 7).
+#   spray-dry/  the granulator with liquid sprayed and dried (spray-dry.yaml, docs/scalars.md)
+# and draws each run's figures (-plot), the halves of the first three side by side (Fig. 7), and
+# moisture and temperature against size and height (spray-dry/scalar_profiles.png).
 set -euo pipefail
 root=$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)
 rcfd=${RCFD:-$root/build/rcfd}
@@ -26,10 +28,16 @@ echo "== growth only"
 echo "== growth with through-flow"
 "${runs[@]}" -pipeline shift,drift,carry,growth,feed,discharge "${growth[@]}" "${flow[@]}" -growth_view \
   -feed_view -discharge_view -output_dir "$out/granulator"
+echo "== growth with through-flow, spray and drying"
+"${runs[@]}" -options_file "$root/cases/granulator/spray-dry.yaml" -pipeline shift,drift,carry,growth,feed,discharge \
+  "${growth[@]}" "${flow[@]}" -output_dir "$out/spray-dry"
 python=${RCFD_PYTHON:-/usr/bin/python3}
 if "$python" -c "import matplotlib" 2>/dev/null; then
   "$python" "$root/src/cli/figures/granulation_halves.py" "$out"/{still,growth,granulator}/halves.csv \
     --labels "no growth, no through-flow;growth only;growth with through-flow" -o "$out/fig7-halves.png" \
     --title "bottom and top halves, mean over 50-60 s"
+  "$python" "$root/src/cli/figures/scalar_profiles.py" "$out/spray-dry/scalar_profiles.csv" \
+    --scalars moisture,temperature --product "$out/spray-dry/steady_state.csv" -o "$out/spray-dry/scalar_profiles.png" \
+    --title "spray and dry: mean over 50-60 s"
 fi
-echo "Wrote $out/{still,growth,granulator}/ (halves, cog, product, mass_account) and $out/fig7-halves.png"
+echo "Wrote $out/{still,growth,granulator,spray-dry}/ (halves, cog, product, mass_account; scalars) and $out/fig7-halves.png"

@@ -92,6 +92,12 @@ public:
   void swapAmounts() { std::swap(amountNow, amountSpare); }
   /// Total amount of each scalar and fraction, [scalar][fraction] (collective).
   PetscErrorCode amountTotals(std::vector<double> *perScalarFraction) const;
+  /// Not collective.  Multiplies every own cell's amount of scalar s and
+  /// fraction i by factor[s * nf + i] (nothing when all are 1), the cells
+  /// below `end` only when given (the others hold no mass, so no amount).
+  PetscErrorCode scaleAmounts(const std::vector<double> &factor, PetscInt end = -1);
+  /// Not collective.  This rank's part of amountTotals().
+  PetscErrorCode localAmountTotals(std::vector<double> *perScalarFraction) const;
 
   /// Not collective.  One past the last own cell (local index) that may hold
   /// mass: every cell at or above it is empty.  The number of own cells when

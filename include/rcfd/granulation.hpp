@@ -28,6 +28,12 @@ class ZoneOperator : public Operator {
 public:
   bool conservesMass() const override { return false; }
   const std::vector<double> *addedMass() const override { return &added; }
+  /// The scalars (docs/scalars.md) move with the mass: growth moves a class's
+  /// amount with the mass it moves, the feed brings its own values
+  /// (-feed_scalar_NAME), the discharge takes the cell's; what they add or
+  /// remove is accounted per scalar and fraction (addedAmounts).
+  bool carriesScalars() const override { return true; }
+  const std::vector<double> *addedAmounts() const override { return ns > 0 ? &addedAmount : nullptr; }
   const std::string &zoneName() const { return zoneName_; }
   /// Frames of the database in which the zone holds no solid.
   int emptyFrames() const { return emptyFrames_; }
@@ -70,6 +76,21 @@ protected:
   /// `change`: what it added (kg, per fraction); `zoneChange`: what its
   /// zone's cells gained, rescale included, which each operator knows from
   /// its zone's sums without reading the bed again.
+  /// With scalars and -keep_bulk: the amounts' counterpart of the bed's
+  /// rescale, one factor per scalar and fraction from the same rule as the
+  /// masses' (bedFactors on the amounts' totals): `before` this rank's
+  /// amounts before the operator (localAmountTotals), `zoneChange` what its
+  /// zone's cells gained (local), `change` what it added (global).  Collective
+  /// (one reduction); scales the amounts of the own cells below `end` (the
+  /// occupied end before the operator: it put nothing into an empty cell).  A uniform scalar fed
+  /// at its own value gets the masses' factors: it stays uniform.
+  PetscErrorCode rescaleAmounts(FractionState &state, std::vector<double> before, const std::vector<double> &zoneChange,
+                                const std::vector<double> &change, PetscInt end) const;
+  /// The checkpoint's part of the amounts added (appended, and read back from `offset`).
+  void saveAmounts(std::vector<double> *s) const { s->insert(s->end(), addedAmount.begin(), addedAmount.end()); }
+  void restoreAmounts(const std::vector<double> &s, std::size_t offset) {
+    addedAmount.assign(s.begin() + offset, s.begin() + offset + ns * nf);
+  }
   static std::vector<double> bedFactors(const std::vector<double> &bed, const std::vector<double> &change,
                                         const std::vector<double> &zoneChange);
   /// Not collective.  Multiplies every fraction of the occupied cells by its
@@ -109,11 +130,12 @@ protected:
   virtual bool mayDeferRescale() const { return false; }
 
   MPI_Comm comm = MPI_COMM_NULL;
-  int nf = 0;
+  int nf = 0, ns = 0; // fractions, scalars
   std::string zoneName_;
   std::unique_ptr<Zone> zone;
   int emptyFrames_ = 0, frames = 0;
   std::vector<double> added; // [kg] per fraction since the start (removed: negative)
+  std::vector<double> addedAmount; // [scalar][fraction] since the start (removed: negative)
   PetscBool keepBulk = PETSC_TRUE;
 
 public:
@@ -207,7 +229,14 @@ private:
   /// The step's bookkeeping from the global sums moved per class (and the
   /// limited mass after them): moved, oversize, coating, added, limited;
   /// returns the change per class.
-  std::vector<double> account(const double *sums);
+  /// `amountSums`: the amounts moved out of each scalar and class (global), which
+  /// give the step's amountChange and addedAmounts.
+  std::vector<double> account(const double *sums, const double *amountSums);
+  /// Not collective.  Moves a cell's amounts with its masses' transfers `out`
+  /// (computed from `cell`, the masses before them): each moved mass takes its
+  /// class's value; adds what left each class to `moved`.
+  void moveAmounts(const PetscScalar *cell, const std::vector<double> &out, PetscScalar *amount, double *moved);
+  std::vector<double> amountChange, going; // [scalar][fraction]: the step's change, a cell's moving amounts
   PetscErrorCode sumsReduced(const StepInfo &step, const double *global) override;
 };
 
@@ -235,12 +264,15 @@ public:
     rate = kgPerSecond, shares = std::move(massShares);
   }
   const std::vector<double> &feedShares() const { return shares; }
+  /// The feed's value of each scalar (-feed_scalar_NAME, read at setUp), or
+  /// set here before setUp (one per scalar).
+  void setScalarValues(std::vector<double> values) { scalarValues = std::move(values); }
   /// Feed not yet delivered, per class [kg].
   const std::vector<double> &heldBack() const { return held; }
 
 private:
   double rate = 0.0;
-  std::vector<double> shares, held;
+  std::vector<double> shares, held, scalarValues;
   long heldSteps = 0;
 };
 
@@ -270,6 +302,9 @@ public:
   double dischargeRate() const { return rate; }
   /// Discharged so far, per class [kg] (= -addedMass()).
   std::vector<double> discharged() const;
+  /// Discharged so far of each scalar, [scalar][fraction] (= -addedAmounts()):
+  /// the product's value of a scalar is its amount over the discharged mass.
+  std::vector<double> dischargedAmounts() const;
   /// Mass asked for but not yet taken because the zone held less [kg].
   double owed() const { return owedMass; }
   long limitedSteps() const { return limitedCount; }

@@ -84,6 +84,14 @@ public:
   /// operator can share work with its neighbours (the granulation operators
   /// hand the bed's totals and a rescale on).  The default does nothing.
   virtual PetscErrorCode setUpInPipeline(const std::vector<Operator *> &before);
+  /// For an operator that carries scalars and changes mass on purpose (feed,
+  /// discharge, growth in the number reading): the amount of each scalar it
+  /// has added to each fraction since the run started, [scalar][fraction]
+  /// (removed: negative), the same on every rank, kept by saveState().  The
+  /// scalars' ledger adds it to what it expects.  nullptr (the default): the
+  /// operator moves amounts only as it moves mass, conserving them.  (Declared
+  /// last, so that the other virtual functions keep their places.)
+  virtual const std::vector<double> *addedAmounts() const { return nullptr; }
 
 protected:
   std::string prefix;
@@ -174,6 +182,8 @@ public:
   bool accountsMass() const;
   /// Sum over the operators of addedMass(), per fraction (empty: none reports).
   void addedMass(std::vector<double> *perFraction) const;
+  /// Sum over the operators of addedAmounts(), [scalar][fraction] (empty: none reports).
+  void addedAmounts(std::vector<double> *perScalarFraction) const;
   const std::vector<std::unique_ptr<Operator>> &operators() const { return ops; }
   const std::vector<std::string> &skipped() const { return left; }
   /// This rank's wall time [s] spent in each operator's apply() so far, in

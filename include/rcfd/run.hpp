@@ -115,6 +115,11 @@ public:
   const std::vector<BedSample> &history() const;
   /// Frame used by each step since the start or the restart; empty unless keepHistory(true).
   const std::vector<int> &framesUsed() const;
+  /// The scalars' sources so far (docs/scalars.md, "Sources"): liquid sprayed
+  /// [kg], liquid that missed an empty spray zone [kg], liquid dried [kg], heat
+  /// from the gas into the solid [J], heat of evaporation taken [J]; the same on
+  /// every rank.
+  std::vector<double> scalarSourceAccount() const;
   long numSteps() const;
   const std::string &outputDirectory() const;
 

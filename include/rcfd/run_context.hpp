@@ -6,6 +6,9 @@
 #include "rcfd/database.hpp"
 #include "rcfd/fractions.hpp"
 
+#include <string>
+#include <vector>
+
 namespace rcfd {
 
 /// What an operator or a monitor may read while it is set up.
@@ -22,6 +25,8 @@ struct RunContext {
   /// operator that carries them (Operator::carriesScalars) prepares for
   /// FractionState::amounts() with numScalars x nf columns per cell.
   int numScalars = 0;
+  /// Their names (-scalars), in the order of their columns; null without scalars.
+  const std::vector<std::string> *scalarNames = nullptr;
   /// The run's conditions now: `conditions`, else the database file's.
   const OperatingConditions &operatingConditions() const { return conditions ? *conditions : db.metadata().conditions; }
 };

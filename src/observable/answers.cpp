@@ -89,6 +89,12 @@ PetscErrorCode Answers::setFromOptions(MPI_Comm c) {
   }
   PetscCall(PetscOptionsBool("-bottom_layer", "Write bottom.csv: Sauter diameter of the bottom layer, u_mf, warning",
                              "", bottom, &bottom, nullptr));
+  PetscCall(checkedReal(PetscOptionsObject, "-moisture_warning",
+                        "Warn when the bottom layer's moisture (a scalar named moisture) passes this [kg/kg] while "
+                        "the bed is near de-fluidization by size (0: no warning)", &moistureWarning, kNonNegative));
+  PetscCall(checkedReal(PetscOptionsObject, "-moisture_warning_umf_share",
+                        "Near de-fluidization for the moisture warning: u_mf of the bottom layer at least this share "
+                        "of u_sup", &moistureUmfShare, kPositive));
   PetscCall(PetscOptionsString("-umf_correlation", "Minimum fluidization correlation", "", correlation.c_str(),
                                text, sizeof text, &set));
   if (set) correlation = text;
@@ -152,7 +158,11 @@ PetscErrorCode Answers::createMonitors(const RunContext &run, double tEnd, bool 
     PetscCheck(run.solidDensity > value[1], comm, PETSC_ERR_USER_INPUT,
                "u_mf needs a particle density (%s kg/m^3) above the gas density (%s kg/m^3, -gas_density)",
                plain(run.solidDensity).c_str(), plain(value[1]).c_str());
-    out->push_back({std::make_unique<BottomLayerMonitor>(sampler, fluidization_, &zones, quiet), every, "bottom.csv"});
+  {
+    auto monitor = std::make_unique<BottomLayerMonitor>(sampler, fluidization_, &zones, quiet);
+    monitor->setMoistureWarning(moistureWarning, moistureUmfShare);
+    out->push_back({std::move(monitor), every, "bottom.csv"});
+  }
   }
   if (mixing) out->push_back({std::make_unique<MixingMonitor>(), every, "mixing.csv"});
   if (dynamics) out->push_back({std::make_unique<BedDynamicsMonitor>(sampler, quiet), every, "bed_dynamics.csv"});

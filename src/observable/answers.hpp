@@ -131,8 +131,17 @@ public:
   std::vector<double> saveState() const override;
   PetscErrorCode restoreState(const std::vector<double> &state) override;
   const DefluidizationDetector &warning() const { return detector; }
+  /// With a scalar named moisture (docs/scalars.md): bottom.csv gains the
+  /// bottom layer's moisture (moisture_bottom, kg per kg solid), and a warning
+  /// is printed once when it passes `threshold` (> 0) while u_mf of the bottom
+  /// layer is at least `umfShare` of u_sup (near de-fluidization by size).
+  void setMoistureWarning(double threshold, double umfShare) { wetThreshold = threshold, nearShare = umfShare; }
+  /// Time of the moisture warning [s] (NaN: not given).
+  double wetSince() const { return wetTime; }
 
 private:
+  int moisture = -1, ns = 0; // the moisture's column among the scalars, their number
+  double wetThreshold = 0.0, nearShare = 0.8, wetTime = std::numeric_limits<double>::quiet_NaN();
   std::shared_ptr<LayerSampler> sampler;
   FluidizationModel model; // the case's conditions (NaN: the database's in use) and correlation
   DefluidizationDetector detector;
@@ -229,6 +238,7 @@ public:
 private:
   MPI_Comm comm = MPI_COMM_NULL;
   PetscInt every = 1;
+  double moistureWarning = 0.0, moistureUmfShare = 0.8; // -moisture_warning, -moisture_warning_umf_share
   PetscBool profiles = PETSC_FALSE, halves = PETSC_FALSE, bottom = PETSC_FALSE, mixing = PETSC_FALSE,
             dynamics = PETSC_FALSE;
   TimeWindow profilesWindow, halvesWindow;

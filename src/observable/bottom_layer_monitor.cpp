@@ -19,6 +19,12 @@ PetscErrorCode BottomLayerMonitor::setUp(const RunContext &run, const FractionSt
   gravity = std::hypot(g[0], g[1], g[2]);
   std::string header = "time_s,d32_bottom_m,umf_m_s,usup_m_s,defluidized";
   for (const Zone &z : zones->all()) header += ",d32_" + z.name() + "_m";
+  // A scalar named moisture (docs/scalars.md): the bottom layer's, for the wet-bed warning.
+  moisture = -1;
+  ns = run.numScalars;
+  for (int s = 0; run.scalarNames && s < ns; ++s)
+    if ((*run.scalarNames)[s] == "moisture") moisture = s;
+  if (moisture >= 0) header += ",moisture_bottom";
   csv = std::make_unique<CsvSeries>(comm, dir + "/bottom.csv", header);
   PetscFunctionReturn(PETSC_SUCCESS);
 }
@@ -60,7 +66,26 @@ PetscErrorCode BottomLayerMonitor::sample(const MonitorContext &ctx) {
     for (std::size_t z = 0; z < zones->all().size(); ++z) // a zone is one "layer" of nf masses
       row.push_back(layers::sauterDiameter(global, static_cast<int>(z), *fractions));
   }
+  if (moisture >= 0) { // the bottom layer's moisture amount over its solid
+    std::vector<double> amounts;
+    PetscCall(sampler->geometry().layerAmounts(ctx.state, 0, &amounts));
+    double water = 0.0, solid = 0.0;
+    for (int i = 0; i < nf; ++i) water += amounts[moisture * nf + i], solid += (*perLayer)[i];
+    const double wet = solid > 0.0 ? water / solid : std::numeric_limits<double>::quiet_NaN();
+    row.push_back(wet);
+    if (wetThreshold > 0.0 && std::isnan(wetTime) && wet > wetThreshold &&
+        umf >= nearShare * detector.superficialVelocity()) {
+      wetTime = ctx.time;
+      PetscCall(PetscPrintf(comm,
+                            "WARNING: wet bottom layer at t = %.6g s: its moisture %.4g kg/kg passed -moisture_warning "
+                            "%g while its u_mf = %.4g m/s is %.0f %% of u_sup (near de-fluidization by size)\n",
+                            ctx.time, wet, wetThreshold, umf, 100.0 * umf / detector.superficialVelocity()));
+    }
+  }
   PetscCall(csv->add(formatNumberRow(row)));
+  if (ctx.last && !quiet && std::isfinite(wetTime))
+    PetscCall(PetscPrintf(comm, "  bottom layer: wet and near de-fluidization from t = %.6g s on (-moisture_warning "
+                                "%g)\n", wetTime, wetThreshold));
   if (ctx.last && !quiet) {
     if (detector.fired())
       PetscCall(PetscPrintf(comm, "  bottom layer: de-fluidized from t = %.6g s on (%s)\n", detector.firstTime(),
@@ -74,18 +99,21 @@ PetscErrorCode BottomLayerMonitor::sample(const MonitorContext &ctx) {
 
 PetscErrorCode BottomLayerMonitor::flush() { return csv->flush(); }
 
-// State: {fired, first time, length of bottom.csv}.
+// State: {fired, first time, length of bottom.csv} and, with moisture, the wet warning's time.
 std::vector<double> BottomLayerMonitor::saveState() const {
   std::vector<double> state = detector.saveState();
   state.push_back(csv->mark());
+  if (moisture >= 0) state.push_back(wetTime);
   return state;
 }
 
 PetscErrorCode BottomLayerMonitor::restoreState(const std::vector<double> &state) {
   PetscFunctionBeginUser;
-  PetscCheck(state.size() == 3, PETSC_COMM_SELF, PETSC_ERR_FILE_UNEXPECTED,
-             "The checkpoint's bottom.csv state holds %zu numbers, expected 3 (the detector and the file's length)",
-             state.size());
+  const std::size_t expected = moisture >= 0 ? 4 : 3;
+  PetscCheck(state.size() == expected, PETSC_COMM_SELF, PETSC_ERR_FILE_UNEXPECTED,
+             "The checkpoint's bottom.csv state holds %zu numbers, expected %zu (the detector, the file's length and "
+             "with moisture the wet warning)", state.size(), expected);
+  if (moisture >= 0) wetTime = state[3];
   PetscCall(collectively(PETSC_COMM_SELF, [&] { detector.restoreState({state[0], state[1]}); },
                          PETSC_ERR_FILE_UNEXPECTED));
   PetscCall(csv->resume(state[2]));

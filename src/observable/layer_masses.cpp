@@ -55,6 +55,23 @@ PetscErrorCode HorizontalLayers::fractionMasses(const FractionState &state, std:
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
+PetscErrorCode HorizontalLayers::layerAmounts(const FractionState &state, int l, std::vector<double> *amounts) const {
+  PetscInt end;
+  const PetscScalar *a;
+  PetscFunctionBeginUser;
+  const int w = state.numScalars() * state.numFractions();
+  std::vector<double> local(w, 0.0);
+  PetscCall(state.occupiedEnd(&end));
+  PetscCall(VecGetArrayRead(state.amounts(), &a));
+  for (PetscInt c = 0; c < end; ++c)
+    if (layerOfLocal[c] == l)
+      for (int k = 0; k < w; ++k) local[k] += a[c * w + k];
+  PetscCall(VecRestoreArrayRead(state.amounts(), &a));
+  amounts->assign(w, 0.0);
+  PetscCallMPI(MPI_Allreduce(local.data(), amounts->data(), w, MPI_DOUBLE, MPI_SUM, comm));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
 PetscErrorCode HorizontalLayers::sumLayers(Vec masses, int nf, PetscInt end, std::vector<double> *perLayer) const {
   PetscFunctionBeginUser;
   std::vector<double> local(centre.size() * nf, 0.0);

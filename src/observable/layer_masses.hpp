@@ -27,6 +27,9 @@ public:
   /// The same for the state, reading only the cells that may hold mass
   /// (FractionState::occupiedEnd; the empty ones add nothing, same bits).
   PetscErrorCode fractionMasses(const FractionState &state, std::vector<double> *perLayer) const;
+  /// Collective: the scalars' amounts of layer l alone, [s * nf + i] (docs/scalars.md; a pass over
+  /// the cells that may hold mass and a reduction of ns x nf numbers).
+  PetscErrorCode layerAmounts(const FractionState &state, int l, std::vector<double> *amounts) const;
   /// Collective: solid volume sum(alpha_s V) [m^3] of each layer for one frame's alpha_s.
   PetscErrorCode solidVolumes(Vec alpha, std::vector<double> *perLayer) const;
 

@@ -2,6 +2,7 @@
 // size distributions, written in the layout of rcfd reference's files
 // (src/analysis/particle_reference.cpp) so that rcfd compare can diff them.
 #include "observable/answers.hpp"
+#include "observable/scalar_profiles_monitor.hpp"
 #include "base/petsc_compat.hpp"
 
 #include <cmath>
@@ -164,6 +165,83 @@ std::vector<double> HalvesMonitor::saveState() const {
 
 PetscErrorCode HalvesMonitor::restoreState(const std::vector<double> &state) {
   return restoreSums(state, "halves.csv", &count, {&bottomSum, &topSum});
+}
+
+PetscErrorCode ScalarProfilesMonitor::setUp(const RunContext &run, const FractionState &, const std::string &dir) {
+  PetscFunctionBeginUser;
+  comm = run.db.layout().comm();
+  fractions = &run.fractions;
+  path = dir + "/scalar_profiles.csv";
+  PetscCall(layers.setUp(run.db));
+  const std::size_t nl = layers.numLayers(), nf = fractions->size();
+  massSums.assign(nl * nf, 0.0);
+  amountSums.assign(nl * names.size() * nf, 0.0);
+  count = 0.0;
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+// Two passes over the cells and two reductions per sample in the window.
+PetscErrorCode ScalarProfilesMonitor::sample(const MonitorContext &ctx) {
+  PetscFunctionBeginUser;
+  if (!window.contains(ctx.time)) PetscFunctionReturn(PETSC_SUCCESS);
+  std::vector<double> masses, amounts;
+  PetscCall(layers.fractionMasses(ctx.state, &masses));
+  PetscCall(layers.fractionMasses(ctx.state.amounts(), static_cast<int>(names.size()) * fractions->size(), &amounts));
+  for (std::size_t k = 0; k < massSums.size(); ++k) massSums[k] += masses[k];
+  for (std::size_t k = 0; k < amountSums.size(); ++k) amountSums[k] += amounts[k];
+  count += 1.0;
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode ScalarProfilesMonitor::flush() {
+  PetscMPIInt rank;
+  PetscFunctionBeginUser;
+  PetscCallMPI(MPI_Comm_rank(comm, &rank));
+  if (rank != 0 || count == 0.0) PetscFunctionReturn(PETSC_SUCCESS);
+  const int nf = fractions->size(), ns = static_cast<int>(names.size());
+  char line[256];
+  std::snprintf(line, sizeof line,
+                "# z [m] layer centre; mass_ [kg] mean per layer and class; NAME_ the scalar's value (amount / mass), "
+                "mass-weighted over %.0f samples in [%g, %g] s\nz",
+                count, window.begin, window.end);
+  std::string text = line;
+  for (int i = 0; i < nf; ++i) text += ",mass_" + fractions->label(i);
+  for (const std::string &n : names) {
+    for (int i = 0; i < nf; ++i) text += "," + n + "_" + fractions->label(i);
+    text += "," + n + "_all";
+  }
+  text += "\n";
+  for (int l = 0; l < layers.numLayers(); ++l) {
+    text += formatNumber(layers.height(l));
+    double solid = 0.0;
+    for (int i = 0; i < nf; ++i) {
+      solid += massSums[l * nf + i];
+      text += "," + formatNumber(massSums[l * nf + i] / count);
+    }
+    for (int s = 0; s < ns; ++s) {
+      double all = 0.0;
+      for (int i = 0; i < nf; ++i) {
+        const double m = massSums[l * nf + i], a = amountSums[(static_cast<std::size_t>(l) * ns + s) * nf + i];
+        all += a;
+        text += "," + formatNumber(m > 0.0 ? a / m : std::nan(""));
+      }
+      text += "," + formatNumber(solid > 0.0 ? all / solid : std::nan(""));
+    }
+    text += "\n";
+  }
+  PetscCall(writeFileAtomically(path, text));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+std::vector<double> ScalarProfilesMonitor::saveState() const {
+  std::vector<double> state{count};
+  state.insert(state.end(), massSums.begin(), massSums.end());
+  state.insert(state.end(), amountSums.begin(), amountSums.end());
+  return state;
+}
+
+PetscErrorCode ScalarProfilesMonitor::restoreState(const std::vector<double> &state) {
+  return restoreSums(state, "scalar_profiles.csv", &count, {&massSums, &amountSums});
 }
 
 } // namespace rcfd

@@ -158,14 +158,26 @@ bool Pipeline::accountsMass() const {
   return true;
 }
 
-void Pipeline::addedMass(std::vector<double> *perFraction) const {
-  perFraction->clear();
+namespace {
+// The sum over the operators of what each says it added (a vector each, or nullptr).
+template <class Get>
+void sumAdded(const std::vector<std::unique_ptr<Operator>> &ops, Get get, std::vector<double> *sum) {
+  sum->clear();
   for (const auto &op : ops) {
-    const std::vector<double> *added = op->addedMass();
+    const std::vector<double> *added = get(*op);
     if (!added) continue;
-    perFraction->resize(added->size(), 0.0);
-    for (std::size_t i = 0; i < added->size(); ++i) (*perFraction)[i] += (*added)[i];
+    sum->resize(added->size(), 0.0);
+    for (std::size_t k = 0; k < added->size(); ++k) (*sum)[k] += (*added)[k];
   }
+}
+} // namespace
+
+void Pipeline::addedMass(std::vector<double> *perFraction) const {
+  sumAdded(ops, [](const Operator &op) { return op.addedMass(); }, perFraction);
+}
+
+void Pipeline::addedAmounts(std::vector<double> *perScalarFraction) const {
+  sumAdded(ops, [](const Operator &op) { return op.addedAmounts(); }, perScalarFraction);
 }
 
 PetscErrorCode Pipeline::view(PetscViewer viewer) const {

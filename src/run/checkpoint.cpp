@@ -202,7 +202,8 @@ PetscErrorCode Run::Impl::writeCheckpoint(long step) const {
       f.write("/masses", masses, nf > 1 ? static_cast<hsize_t>(nf) : 0);
       if (na > 0) {
         f.write("/scalar_amounts", amounts, na > 1 ? static_cast<hsize_t>(na) : 0);
-        f.write("/scalar_ledger_reference", scalars.ledgerReference());
+        f.write("/scalar_ledger_reference", scalars.ledgerState());
+        if (scalars.sources().any()) f.write("/scalar_sources", scalars.sources().account());
       }
       f.writeAttr("/", "format", std::string("rcfd-checkpoint"));
       f.writeAttr("/", "version", kCheckpointVersion);
@@ -239,7 +240,7 @@ PetscErrorCode Run::Impl::readCheckpoint() {
   bool jumpsRecorded = false;
   std::string previousDirectory;
   std::vector<int64_t> words;
-  std::vector<double> reference, switchingState, scalarReference;
+  std::vector<double> reference, switchingState, scalarReference, sourceAccount;
   const int na = nf * scalars.size();
   std::vector<std::vector<double>> states(monitors.size()), operatorStates(ops.operators().size());
   PetscFunctionBeginUser;
@@ -301,7 +302,8 @@ PetscErrorCode Run::Impl::readCheckpoint() {
             throw h5::Error("-restart '" + restartFile + "' holds " + std::to_string(held) +
                             " scalar amounts, expected " + std::to_string(cells) + " cells x " + std::to_string(na));
           if (f.checksums() == h5::Checksums::fletcher32) f.read<double>("/scalar_amounts");
-          scalarReference = f.read<double>("/scalar_ledger_reference", na);
+          scalarReference = f.read<double>("/scalar_ledger_reference", na + scalars.size());
+          if (scalars.sources().any()) sourceAccount = f.read<double>("/scalar_sources", 5);
         }
         restorePathState(*path, std::vector<std::uint64_t>(words.begin(), words.end()));
         for (std::size_t m = 0; m < monitors.size(); ++m) {
@@ -332,6 +334,7 @@ PetscErrorCode Run::Impl::readCheckpoint() {
   if (na > 0) {
     PetscCall(loadFromCheckpoint(db->layout(), na, restartFile, "scalar_amounts", fstate.amounts()));
     scalars.restoreLedger(scalarReference);
+    if (scalars.sources().any()) scalars.sources().restoreAccount(sourceAccount);
   }
   startStep = static_cast<long>(step);
   frames.clear();

@@ -3,6 +3,8 @@
 #include "rcfd/plugin.hpp"
 #include "base/checked_options.hpp"
 #include "state/initial_state.hpp"
+#include "observable/scalar_mixing_monitor.hpp"
+#include "observable/scalar_profiles_monitor.hpp"
 #include "observable/scalar_monitor.hpp"
 #include "base/petsc_compat.hpp"
 
@@ -86,6 +88,7 @@ Pipeline &Run::pipeline() { return impl->ops; }
 const FramePath &Run::path() const { return *impl->path; }
 const std::vector<BedSample> &Run::history() const { return impl->cog->samples(); }
 const std::vector<int> &Run::framesUsed() const { return impl->frames; }
+std::vector<double> Run::scalarSourceAccount() const { return impl->scalars.sources().account(); }
 long Run::numSteps() const { return impl->steps; }
 const std::string &Run::outputDirectory() const { return impl->outputDir; }
 
@@ -206,6 +209,13 @@ PetscErrorCode Run::setFromOptions() {
   PetscCall(r.scalars.setFromOptions(r.comm));
   PetscCheck(r.scalars.size() == 0 || !r.switching, r.comm, PETSC_ERR_USER_INPUT,
              "-scalars cannot be carried across database switches yet; give one database with -db");
+  // An operator's options per scalar, -<prefix>scalar_NAME (the feed's values), are read at its set-up,
+  // where it learns the names; looked up now, so that the program's check of unused options knows them.
+  for (const auto &op : r.ops.operators())
+    for (const std::string &name : r.scalars.names()) {
+      PetscBool given = PETSC_FALSE;
+      PetscCall(PetscOptionsHasName(nullptr, op->optionsPrefix().c_str(), ("-scalar_" + name).c_str(), &given));
+    }
   PetscCall(r.cog->setFromOptions(r.comm));
   r.monitors.front().every = r.cog->every();
   PetscCall(r.answers.setFromOptions(r.comm));
@@ -280,13 +290,16 @@ PetscErrorCode Run::setUp() {
              r.tEnd, r.tEnd / dt, dt);
   r.steps = std::lround(r.tEnd / dt);
   PetscCall(r.fstate.create(r.db->layout(), r.set.size()));
-  if (r.scalars.size() > 0) PetscCall(r.fstate.createScalars(r.scalars.names()));
+  if (r.scalars.size() > 0) {
+    PetscCall(r.fstate.createScalars(r.scalars.names()));
+    PetscCall(r.scalars.setUp(*r.db, r.set, r.solidDensity));
+  }
   const RunContext ctx = r.context();
   PetscCall(r.ops.setUp(ctx));
   for (const auto &op : r.ops.operators())
     PetscCheck(r.scalars.size() == 0 || op->carriesScalars(), r.comm, PETSC_ERR_USER_INPUT,
-               "-scalars: the operator '%s' of -pipeline does not carry scalars yet (shift, drift, dispersion and the column "
-               "carry do); run without -scalars or without '%s'", op->type().c_str(), op->type().c_str());
+               "-scalars: the operator '%s' of -pipeline does not carry scalars yet (shift, drift, dispersion, the column "
+               "carry, growth, feed and discharge do); run without -scalars or without '%s'", op->type().c_str(), op->type().c_str());
   PetscCall(r.path->setUp(PathContext{*r.db, r.quiet == PETSC_TRUE}));
   r.pathFrames = r.db->numFrames();
   PetscCall(collectively(r.comm, [&] { // before anything is written: one sentence, nothing made
@@ -308,6 +321,17 @@ PetscErrorCode Run::setUp() {
   r.registered.clear();
   if (r.scalars.size() > 0) // scalars.csv, with the centres of gravity
     r.monitors.push_back({std::make_unique<ScalarMonitor>(r.scalars.names()), r.cog->every(), "scalars"});
+  if (r.scalars.size() > 0 && r.scalars.mixingAsked()) // with them: scalar_mixing.csv
+    r.monitors.push_back({std::make_unique<ScalarMixingMonitor>(r.scalars.names(), r.scalars.mixingTolerance()),
+                          r.cog->every(), "scalar_mixing"});
+  if (r.scalars.size() > 0 && r.scalars.profilesAsked()) { // scalar_profiles.csv, sampled as the answers are
+    TimeWindow window;
+    if (!r.scalars.profilesWindow().empty())
+      window = TimeWindow{r.scalars.profilesWindow()[0], r.scalars.profilesWindow()[1]};
+    window.resolve(r.steps * dt);
+    r.monitors.push_back({std::make_unique<ScalarProfilesMonitor>(r.scalars.names(), window), r.cog->every(),
+                          "scalar_profiles"});
+  }
   if (!r.ops.conservesMass() && r.ops.accountsMass()) // the balance per fraction of what operators add
     r.monitors.push_back({std::make_unique<MassAccountMonitor>(r.ops), r.cog->every(), "mass_account.csv"});
   std::vector<OperatorMonitor> brought; // e.g. the discharge's product size distribution
@@ -450,7 +474,12 @@ PetscErrorCode Run::Impl::march() {
   const bool conservative = r.ops.conservesMass();
   const bool ledgerOn = conservative || r.ops.accountsMass(); // mass changed on purpose is accounted
   if (ledgerOn && r.startStep == 0) PetscCall(r.ledger.start(r.fstate));
+  std::vector<double> addedAmounts; // [scalar][fraction], by the operators that change mass on purpose
   if (r.scalars.size() > 0 && r.startStep == 0) PetscCall(r.scalars.startLedger(r.fstate));
+  if (r.scalars.size() > 0 && r.startStep > 0) { // their restored ledgers: what the checkpoint's expected holds
+    r.ops.addedAmounts(&addedAmounts);
+    r.scalars.operatorsAddedSoFar(addedAmounts);
+  }
   std::vector<double> added; // by the operators that change mass on purpose, since the start
   std::vector<double> expected; // what the ledger expects each fraction to hold at a step's start
   // The frame of the next step; after a restart the path stands on it.
@@ -516,7 +545,11 @@ PetscErrorCode Run::Impl::march() {
       PetscCall(r.jumps->add(s + 1, (s + 1) * dt, info.frame, info.nextFrame,
                              r.switching ? r.switching->activeName() : std::string(), &before, &after));
     } else PetscCall(r.ops.apply(info, r.fstate));
-    if (r.scalars.size() > 0) PetscCall(r.scalars.applySources(dt, r.fstate));
+    if (r.scalars.size() > 0) {
+      PetscCall(r.scalars.applySources(dt, r.dbFrame(next), r.fstate));
+      r.ops.addedAmounts(&addedAmounts);
+      r.scalars.advanceLedger(addedAmounts);
+    }
     frame = next;
     const double t = (s + 1) * dt;
     if (r.stopAtSteady) PetscCall(r.steadyAt(s + 1, t, r.dbFrame(frame), false, &stop));
@@ -525,7 +558,7 @@ PetscErrorCode Run::Impl::march() {
       const double start = MPI_Wtime();
       PetscCall(r.ledger.check(s + 1, r.fstate, s + 1 == r.steps || stop, conservative ? nullptr : &added));
       if (r.scalars.size() > 0)
-        PetscCall(r.scalars.checkLedger(s + 1, dt, r.ledger.interval(), r.fstate, s + 1 == r.steps || stop));
+        PetscCall(r.scalars.checkLedger(s + 1, r.ledger.interval(), r.fstate, s + 1 == r.steps || stop));
       r.ledgerSeconds += MPI_Wtime() - start;
     }
     if (r.switching) PetscCall(r.followSwitches(s + 1, t, frame));
@@ -648,6 +681,7 @@ PetscErrorCode Run::solve() {
     }
     PetscCall(PetscPrintf(r.comm, "  operators: %.3g s of the wall (%s); mass ledger %.3g s\n", total, costs.c_str(),
                           r.ledgerSeconds));
+    if (r.scalars.size() > 0) PetscCall(r.scalars.report(r.fstate, r.steps * dt)); // its account is since the start
     if (r.switching)
       PetscCall(PetscPrintf(r.comm, "  databases: %ld switches, %d loads in %.3g s (%.3g s per load), at most %d held at once%s\n",
                             r.switching->numSwitches(), r.switching->set().numLoads(), r.switching->set().loadSeconds(),

@@ -55,6 +55,7 @@ struct Run::Impl {
   RunContext context() const {
     RunContext c{*db, set, solidDensity, switching ? &switching->operatingConditions() : nullptr};
     c.numScalars = scalars.size();
+    if (c.numScalars > 0) c.scalarNames = &fstate.scalarNames();
     return c;
   }
   /// The active database's frame for the path's frame k: the path runs over the

@@ -236,7 +236,7 @@ PetscErrorCode FractionState::createScalars(const std::vector<std::string> &scal
 // cells that may hold mass: a cell without mass holds no amount (every
 // operator moves amounts with the masses, and a cell whose masses are all
 // zero received none).
-PetscErrorCode FractionState::amountTotals(std::vector<double> *perScalarFraction) const {
+PetscErrorCode FractionState::localAmountTotals(std::vector<double> *perScalarFraction) const {
   const PetscScalar *x;
   PetscInt end;
   PetscFunctionBeginUser;
@@ -249,7 +249,30 @@ PetscErrorCode FractionState::amountTotals(std::vector<double> *perScalarFractio
   for (PetscInt c = 0; c < end; ++c, x += w)
     for (int k = 0; k < w; ++k) sum[k] += x[k];
   PetscCall(VecRestoreArrayRead(amountNow, &x));
-  PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, sum, w, MPI_DOUBLE, MPI_SUM, PetscObjectComm((PetscObject)amountNow)));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode FractionState::scaleAmounts(const std::vector<double> &factor, PetscInt end) {
+  PetscFunctionBeginUser;
+  const int w = nf * ns;
+  if (std::all_of(factor.begin(), factor.end(), [](double f) { return f == 1.0; })) PetscFunctionReturn(PETSC_SUCCESS);
+  PetscInt n;
+  PetscScalar *x;
+  PetscCall(VecGetLocalSize(amountNow, &n));
+  if (end >= 0) n = std::min(n, end * w);
+  PetscCall(VecGetArray(amountNow, &x));
+  for (PetscInt j = 0; j < n; j += w)
+    for (int k = 0; k < w; ++k) x[j + k] *= factor[k];
+  PetscCall(VecRestoreArray(amountNow, &x));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode FractionState::amountTotals(std::vector<double> *perScalarFraction) const {
+  PetscFunctionBeginUser;
+  PetscCall(localAmountTotals(perScalarFraction));
+  if (ns == 0) PetscFunctionReturn(PETSC_SUCCESS);
+  PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, perScalarFraction->data(), nf * ns, MPI_DOUBLE, MPI_SUM,
+                             PetscObjectComm((PetscObject)amountNow)));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 

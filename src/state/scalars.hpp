@@ -7,6 +7,7 @@
 
 #include "rcfd/database.hpp"
 #include "rcfd/fractions.hpp"
+#include "state/scalar_sources.hpp"
 
 #include <string>
 #include <vector>
@@ -27,22 +28,48 @@ public:
   const std::string &name(int s) const { return scalars[s].name; }
   std::vector<std::string> names() const;
   double decayRate(int s) const { return scalars[s].decay; }
+  /// -scalar_mixing (scalar_mixing.csv) and its -scalar_mixing_tolerance (0.05).
+  bool mixingAsked() const { return mixing == PETSC_TRUE; }
+  /// -scalar_profiles (scalar_profiles.csv) and its -scalar_profiles_window t0,t1 (NaN: not given).
+  bool profilesAsked() const { return profiles == PETSC_TRUE; }
+  const std::vector<double> &profilesWindow() const { return window; }
+  double mixingTolerance() const { return mixingShare; }
   /// Collective.  Each amount = the cell's mass of the fraction x the scalar's
   /// initial value there (the masses set first).
   PetscErrorCode setInitial(const Database &db, FractionState &state) const;
-  /// Not collective.  The sources of one step of dt: a decaying scalar's
-  /// amounts times exp(-k dt).
-  PetscErrorCode applySources(double dt, FractionState &state) const;
+  /// Collective.  The sources' set-up (ScalarSources::setUp).
+  PetscErrorCode setUp(const Database &db, const FractionSet &fractions, double solidDensity);
+  /// Collective when sources other than decay are on (one reduction).  The
+  /// sources of one step of dt ending in `frame`: a decaying scalar's amounts
+  /// times exp(-k dt), then the spray and the exchange with the gas
+  /// (ScalarSources), whose global change the ledger adds.
+  PetscErrorCode applySources(double dt, int frame, FractionState &state);
+  const ScalarSources &sources() const { return sourceTerms; }
+  ScalarSources &sources() { return sourceTerms; }
 
   /// Collective.  The ledger: the amounts' totals per scalar and fraction now.
   PetscErrorCode startLedger(const FractionState &state);
+  /// Not collective.  After a step's operators and sources: what the ledger
+  /// expects each total to be now, from what it expected before, what the
+  /// operators added in the step (`operatorsAdded`: Pipeline::addedAmounts
+  /// since the start, global; empty when none reports), the decay and the
+  /// sources' global change (both of applySources):
+  ///   expected <- (expected + operators' step) exp(-k dt) + sources' step.
+  void advanceLedger(const std::vector<double> &operatorsAdded);
+  /// On a restart: the operators' amounts added up to the checkpoint (restored).
+  void operatorsAddedSoFar(const std::vector<double> &operatorsAdded) { seen = operatorsAdded; }
   /// Collective.  Every `every` steps (and at the run's end): each total must
-  /// be its start times exp(-k t) within the tolerance, else the run stops
+  /// be what the ledger expects within the tolerance, else the run stops
   /// naming the scalar; the round-off below it is removed by one factor per
   /// scalar and fraction (not at the end: a restart gives the same bits).
-  PetscErrorCode checkLedger(long step, double dt, PetscInt every, FractionState &state, bool endOfRun);
-  const std::vector<double> &ledgerReference() const { return reference; }
-  void restoreLedger(const std::vector<double> &r) { reference = r; }
+  PetscErrorCode checkLedger(long step, PetscInt every, FractionState &state, bool endOfRun);
+  /// The checkpoint's part of the ledger: the expected totals, then per scalar what passed through it.
+  std::vector<double> ledgerState() const;
+  void restoreLedger(const std::vector<double> &r);
+  /// Collective.  Prints the ledger's largest correction and, with sources, what
+  /// they brought: liquid sprayed, dried and held, heat from the gas.
+  /// `time`: the simulated time the account covers [s] (the check of the well-mixed gas).
+  PetscErrorCode report(const FractionState &state, double time) const;
   /// Largest relative round-off the ledger removed.
   double largestCorrection() const { return largest; }
 
@@ -55,8 +82,15 @@ private:
     std::string file; // values per cell and fraction
   };
   std::vector<Scalar> scalars;
-  std::vector<double> reference; // [scalar][fraction] at step 0
-  PetscReal tolerance = 1e-12;
+  ScalarSources sourceTerms;
+  std::vector<double> expected; // [scalar][fraction]: the totals the ledger expects now
+  std::vector<double> seen;     // the operators' added amounts at the last advance
+  std::vector<double> passed;   // per scalar: its start and all its sources and operators moved in and out
+  std::vector<double> decayFactor; // per scalar: exp(-k dt) of the last applySources
+  std::vector<double> stepSources; // [scalar][fraction]: the sources' global change in the last step
+  PetscReal tolerance = 1e-12, mixingShare = 0.05;
+  PetscBool mixing = PETSC_FALSE, profiles = PETSC_FALSE;
+  std::vector<double> window; // -scalar_profiles_window, empty: not given
   double largest = 0.0;
 };
 

@@ -63,8 +63,14 @@ PetscErrorCode DischargeOperator::apply(const StepInfo &step, FractionState &sta
     const double share = all ? 1.0 : wanted / solid;
     owedMass = all ? wanted - solid : 0.0;
     limitedCount += all;
-    PetscScalar *m;
+    // The scalars leave with the mass at the cell's values (the same share), and
+    // are scaled back to the bulk with the masses.
+    const int w = ns * nf;
+    std::vector<double> amountsBefore, zoneAmountChange(w, 0.0), left(w, 0.0);
+    if (ns > 0 && keepBulk) PetscCall(state.localAmountTotals(&amountsBefore));
+    PetscScalar *m, *a = nullptr;
     PetscCall(VecGetArray(state.masses(), &m));
+    if (ns > 0) PetscCall(VecGetArray(state.amounts(), &a));
     for (PetscInt c : zone->localCells()) {
       PetscScalar *cell = m + c * nf;
       double bulkBefore = 0.0;
@@ -72,13 +78,30 @@ PetscErrorCode DischargeOperator::apply(const StepInfo &step, FractionState &sta
         bulkBefore += cell[i];
         cell[i] = all ? 0.0 : cell[i] - cell[i] * share; // never negative
       }
-      if (!keepBulk || all) continue; // an emptied cell stays empty
-      double bulk = 0.0; // back to the cell's bulk before: its composition is kept
-      for (int i = 0; i < nf; ++i) bulk += cell[i];
-      if (bulk > 0.0)
-        for (int i = 0; i < nf; ++i) cell[i] *= bulkBefore / bulk;
+      double back = 1.0;
+      if (keepBulk && !all) { // an emptied cell stays empty
+        double bulk = 0.0; // back to the cell's bulk before: its composition is kept
+        for (int i = 0; i < nf; ++i) bulk += cell[i];
+        if (bulk > 0.0) {
+          back = bulkBefore / bulk;
+          for (int i = 0; i < nf; ++i) cell[i] *= back;
+        }
+      }
+      for (int k = 0; k < w; ++k) {
+        PetscScalar &x = a[c * w + k];
+        const double before = x, leaving = all ? before : before * share;
+        left[k] += leaving;
+        x = all ? 0.0 : (x - leaving) * back;
+        zoneAmountChange[k] += x - before;
+      }
     }
     PetscCall(VecRestoreArray(state.masses(), &m));
+    if (ns > 0) {
+      PetscCall(VecRestoreArray(state.amounts(), &a));
+      PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, left.data(), w, MPI_DOUBLE, MPI_SUM, comm));
+      for (int k = 0; k < w; ++k) left[k] = -left[k], addedAmount[k] += left[k];
+      if (keepBulk) PetscCall(rescaleAmounts(state, amountsBefore, zoneAmountChange, left, end));
+    }
     for (int i = 0; i < nf; ++i) change[i] = -(all ? inZone[i] : inZone[i] * share);
     if (keepBulk) { // the zone keeps its masses (scaled back), or is emptied
       std::vector<double> zoneChange(nf, 0.0);
@@ -94,6 +117,12 @@ PetscErrorCode DischargeOperator::apply(const StepInfo &step, FractionState &sta
   }
   if (bedValid) leaveBed(step, bed);
   PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+std::vector<double> DischargeOperator::dischargedAmounts() const {
+  std::vector<double> out(addedAmount.size());
+  std::transform(addedAmount.begin(), addedAmount.end(), out.begin(), [](double a) { return -a; });
+  return out;
 }
 
 std::vector<double> DischargeOperator::discharged() const {
@@ -128,17 +157,20 @@ PetscErrorCode DischargeOperator::view(PetscViewer viewer) const {
 std::vector<double> DischargeOperator::saveState() const {
   std::vector<double> s = added;
   s.insert(s.end(), {owedMass, static_cast<double>(limitedCount), static_cast<double>(emptySteps)});
+  saveAmounts(&s);
   return s;
 }
 
 PetscErrorCode DischargeOperator::restoreState(const std::vector<double> &s) {
   PetscFunctionBeginUser;
-  PetscCheck(s.size() == static_cast<std::size_t>(nf + 3), comm, PETSC_ERR_USER_INPUT,
-             "The checkpoint's discharge state has %zu numbers, this run needs %d (other fractions?)", s.size(), nf + 3);
+  PetscCheck(s.size() == static_cast<std::size_t>(nf + 3 + ns * nf), comm, PETSC_ERR_USER_INPUT,
+             "The checkpoint's discharge state has %zu numbers, this run needs %d (other fractions or scalars?)",
+             s.size(), nf + 3 + ns * nf);
   added.assign(s.begin(), s.begin() + nf);
   owedMass = s[nf];
   limitedCount = static_cast<long>(s[nf + 1]);
   emptySteps = static_cast<long>(s[nf + 2]);
+  restoreAmounts(s, nf + 3);
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 

@@ -40,6 +40,24 @@ PetscErrorCode FeedOperator::setUp(const RunContext &ctx) {
              prefix.c_str(), nf, shares.size(), sum);
   held.assign(nf, 0.0);
   heldSteps = 0;
+  // The feed's values of the scalars: -feed_scalar_NAME, required for each when feeding (a
+  // temperature of 0 K is no default); read here, where the names are known.
+  if (ns > 0 && static_cast<int>(scalarValues.size()) != ns) {
+    scalarValues.assign(ns, 0.0);
+    for (int k = 0; k < ns; ++k) {
+      const std::string option = "-scalar_" + (*ctx.scalarNames)[k];
+      PetscBool given = PETSC_FALSE;
+      PetscReal v = 0.0;
+      PetscCall(PetscOptionsGetReal(nullptr, prefix.c_str(), option.c_str(), &v, &given));
+      PetscCheck(given || rate == 0.0, comm, PETSC_ERR_USER_INPUT,
+                 "-%sscalar_%s is not given; the feed needs the value of every scalar it brings (-scalars)",
+                 prefix.c_str(), (*ctx.scalarNames)[k].c_str());
+      PetscCheck(v >= 0.0 && std::isfinite(v), comm, PETSC_ERR_USER_INPUT,
+                 "-%sscalar_%s %g: expected a value >= 0 (no negative or NaN values)", prefix.c_str(),
+                 (*ctx.scalarNames)[k].c_str(), (double)v);
+      scalarValues[k] = v;
+    }
+  }
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
@@ -66,21 +84,39 @@ PetscErrorCode FeedOperator::apply(const StepInfo &step, FractionState &state) {
     PetscFunctionReturn(PETSC_SUCCESS);
   }
   // Each cell of the zone takes its share of the zone's solid; empty cells take none.
-  PetscScalar *m;
+  // The scalars' amounts come with the fed mass at the feed's values, and are
+  // scaled back to the bulk with the masses (the same coefficients).
+  const int w = ns * nf;
+  std::vector<double> amountsBefore, zoneAmountChange(w, 0.0), fedAmount(w);
+  for (int k = 0; k < w; ++k) fedAmount[k] = held[k % nf] * scalarValues[k / nf];
+  if (ns > 0 && keepBulk) PetscCall(state.localAmountTotals(&amountsBefore));
+  PetscScalar *m, *a = nullptr;
   PetscCall(VecGetArray(state.masses(), &m));
+  if (ns > 0) PetscCall(VecGetArray(state.amounts(), &a));
   for (PetscInt c : zone->localCells()) {
     PetscScalar *cell = m + c * nf;
     double cellSolid = 0.0;
     for (int i = 0; i < nf; ++i) cellSolid += cell[i];
     const double share = cellSolid / solid;
     for (int i = 0; i < nf; ++i) cell[i] += held[i] * share;
-    if (!keepBulk) continue;
-    double bulk = 0.0; // back to the cell's bulk before, its new composition kept
-    for (int i = 0; i < nf; ++i) bulk += cell[i];
-    if (bulk > 0.0)
-      for (int i = 0; i < nf; ++i) cell[i] *= cellSolid / bulk;
+    double back = 1.0;
+    if (keepBulk) {
+      double bulk = 0.0; // back to the cell's bulk before, its new composition kept
+      for (int i = 0; i < nf; ++i) bulk += cell[i];
+      if (bulk > 0.0) {
+        back = cellSolid / bulk;
+        for (int i = 0; i < nf; ++i) cell[i] *= back;
+      }
+    }
+    for (int k = 0; k < w; ++k) {
+      PetscScalar &x = a[c * w + k];
+      const double before = x;
+      x = (x + fedAmount[k] * share) * back;
+      zoneAmountChange[k] += x - before;
+    }
   }
   PetscCall(VecRestoreArray(state.masses(), &m));
+  if (ns > 0) PetscCall(VecRestoreArray(state.amounts(), &a));
   if (keepBulk) {
     // Every cell that holds solid took held * cellSolid / solid and was scaled by
     // solid / (solid + fed): the zone now holds (inZone + held) solid / (solid + fed).
@@ -92,6 +128,8 @@ PetscErrorCode FeedOperator::apply(const StepInfo &step, FractionState &state) {
     if (defersRescale()) oweRescale(step, state, std::move(factor), end); // the discharge's pass settles it
     else PetscCall(scaleBed(state, factor, end));
   } else PetscCall(state.setOccupiedEnd(end)); // mass went only where there was some
+  if (ns > 0 && keepBulk) PetscCall(rescaleAmounts(state, amountsBefore, zoneAmountChange, fedAmount, end));
+  for (int k = 0; k < w; ++k) addedAmount[k] += fedAmount[k];
   for (int i = 0; i < nf; ++i) {
     added[i] += held[i];
     if (bedValid) bed[i] += held[i];
@@ -124,16 +162,19 @@ std::vector<double> FeedOperator::saveState() const {
   std::vector<double> s = added;
   s.insert(s.end(), held.begin(), held.end());
   s.push_back(static_cast<double>(heldSteps));
+  saveAmounts(&s);
   return s;
 }
 
 PetscErrorCode FeedOperator::restoreState(const std::vector<double> &s) {
   PetscFunctionBeginUser;
-  PetscCheck(s.size() == static_cast<std::size_t>(2 * nf + 1), comm, PETSC_ERR_USER_INPUT,
-             "The checkpoint's feed state has %zu numbers, this run needs %d (other fractions?)", s.size(), 2 * nf + 1);
+  PetscCheck(s.size() == static_cast<std::size_t>(2 * nf + 1 + ns * nf), comm, PETSC_ERR_USER_INPUT,
+             "The checkpoint's feed state has %zu numbers, this run needs %d (other fractions or scalars?)", s.size(),
+             2 * nf + 1 + ns * nf);
   added.assign(s.begin(), s.begin() + nf);
   held.assign(s.begin() + nf, s.begin() + 2 * nf);
   heldSteps = static_cast<long>(s[2 * nf]);
+  restoreAmounts(s, 2 * nf + 1);
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 

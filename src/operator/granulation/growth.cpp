@@ -52,6 +52,7 @@ PetscErrorCode GrowthOperator::setUp(const RunContext &ctx) {
   moved.assign(nf, 0.0);
   limitedMass = missedMass = coating = oversizeMass = 0.0;
   emptySteps = 0;
+  amountChange.assign(ns * nf, 0.0);
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
@@ -96,9 +97,15 @@ PetscErrorCode GrowthOperator::apply(const StepInfo &step, FractionState &state)
   }
   const double k = toMove / area;
   const auto grows = [&](int i) { return next[i] >= 0 || openTop; }; // an open top's growth leaves
-  // Moved per class, the limited mass, then (restore) what the zone's cells gained.
-  std::vector<double> sums(restore ? 2 * nf + 1 : nf + 1, 0.0), out(nf);
+  // Moved per class, the limited mass, then (restore) what the zone's cells gained, then (scalars)
+  // the amount moved out of each scalar and class: a moved mass takes its class's value in the cell.
+  const int w = ns * nf;
+  const std::size_t amountsAt = restore ? 2 * nf + 1 : nf + 1;
+  std::vector<double> sums(amountsAt + w, 0.0), out(nf), amountsBefore, zoneAmountChange(w, 0.0), cellAmounts(w);
   double *zoneChange = sums.data() + nf + 1;
+  if (ns > 0 && restore) PetscCall(state.localAmountTotals(&amountsBefore));
+  PetscScalar *a = nullptr;
+  if (ns > 0) PetscCall(VecGetArray(state.amounts(), &a));
   for (PetscInt c : zone->localCells()) {
     PetscScalar *cell = m + c * nf;
     double bulkBefore = 0.0;
@@ -107,6 +114,10 @@ PetscErrorCode GrowthOperator::apply(const StepInfo &step, FractionState &state)
       out[i] = std::min(wanted, static_cast<double>(cell[i]));
       sums[nf] += wanted - out[i];
       bulkBefore += cell[i];
+    }
+    if (ns > 0) {
+      if (restore) std::copy(a + c * w, a + c * w + w, cellAmounts.begin());
+      moveAmounts(cell, out, a + c * w, sums.data() + amountsAt);
     }
     for (int i = 0; i < nf; ++i) {
       if (!grows(i)) continue;
@@ -125,7 +136,12 @@ PetscErrorCode GrowthOperator::apply(const StepInfo &step, FractionState &state)
       cell[i] *= back;
       zoneChange[i] += cell[i] - before; // the transfers within the cell sum to nothing but the oversize
     }
+    for (int j = 0; j < w; ++j) { // the amounts' change in the cell: transfers, oversize and rescale
+      a[c * w + j] *= back;
+      zoneAmountChange[j] += a[c * w + j] - cellAmounts[j];
+    }
   }
+  if (ns > 0) PetscCall(VecRestoreArray(state.amounts(), &a));
   PetscCall(VecRestoreArray(state.masses(), &m));
   bedKnown = known || restore;
   if (restore && !known) bed.assign(first.begin() + 1, first.end());
@@ -138,7 +154,8 @@ PetscErrorCode GrowthOperator::apply(const StepInfo &step, FractionState &state)
     PetscFunctionReturn(PETSC_SUCCESS);
   }
   PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, sums.data(), static_cast<int>(sums.size()), MPI_DOUBLE, MPI_SUM, comm));
-  const std::vector<double> change = account(sums.data());
+  const std::vector<double> change = account(sums.data(), sums.data() + amountsAt);
+  if (ns > 0) PetscCall(rescaleAmounts(state, amountsBefore, zoneAmountChange, amountChange, end));
   std::vector<double> gained(nf);
   for (int i = 0; i < nf; ++i) gained[i] = change[i] + zoneChange[i]; // the transfers, then the rescale
   PetscCall(scaleBed(state, bedFactors(bed, change, gained), end));
@@ -147,7 +164,41 @@ PetscErrorCode GrowthOperator::apply(const StepInfo &step, FractionState &state)
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
-std::vector<double> GrowthOperator::account(const double *sums) {
+void GrowthOperator::moveAmounts(const PetscScalar *cell, const std::vector<double> &out, PetscScalar *amount,
+                                 double *moved) {
+  const int w = ns * nf;
+  going.assign(w, 0.0); // from the amounts before this cell's transfers, as the masses' out
+  for (int i = 0; i < nf; ++i) {
+    if (!(out[i] > 0.0)) continue;
+    const double q = out[i] / cell[i]; // out <= cell, so q <= 1; all of it when the class is emptied
+    for (int s = 0; s < ns; ++s) going[s * nf + i] = out[i] >= cell[i] ? amount[s * nf + i] : amount[s * nf + i] * q;
+  }
+  for (int i = 0; i < nf; ++i) {
+    if (!(out[i] > 0.0)) continue;
+    const double ratio = next[i] < 0 ? 0.0 : diameter[next[i]] / diameter[i];
+    for (int s = 0; s < ns; ++s) {
+      const double go = going[s * nf + i];
+      amount[s * nf + i] -= go;
+      moved[s * nf + i] += go;
+      // Number kept: the coating takes the particle's value (a source the ledger counts).
+      if (next[i] >= 0) amount[s * nf + next[i]] += mass == Mass::Number ? go * ratio * ratio * ratio : go;
+    }
+  }
+}
+
+std::vector<double> GrowthOperator::account(const double *sums, const double *amountSums) {
+  for (int s = 0; s < ns; ++s) { // the amounts moved with the mass, per scalar as per class below
+    for (int i = 0; i < nf; ++i) amountChange[s * nf + i] = 0.0;
+    for (int i = 0; i < nf; ++i) {
+      if (!(next[i] >= 0 || openTop)) continue;
+      const double go = amountSums[s * nf + i];
+      amountChange[s * nf + i] -= go;
+      if (next[i] < 0) continue;
+      const double ratio = diameter[next[i]] / diameter[i];
+      amountChange[s * nf + next[i]] += mass == Mass::Number ? go * ratio * ratio * ratio : go;
+    }
+  }
+  for (int k = 0; k < ns * nf; ++k) addedAmount[k] += amountChange[k];
   std::vector<double> change(nf, 0.0); // this step's, per class
   for (int i = 0; i < nf; ++i) {
     if (!(next[i] >= 0 || openTop)) continue; // a closed top's own growth moves nothing
@@ -172,7 +223,7 @@ std::vector<double> GrowthOperator::account(const double *sums) {
 // What moved, reduced here or by the feed after it (carryOn); the bed's totals after it when known.
 PetscErrorCode GrowthOperator::sumsReduced(const StepInfo &step, const double *global) {
   PetscFunctionBeginUser;
-  const std::vector<double> change = account(global);
+  const std::vector<double> change = account(global, global + nf + 1);
   if (bedKnown) {
     std::vector<double> bed = bedBefore;
     for (int i = 0; i < nf; ++i) bed[i] += change[i];
@@ -214,13 +265,15 @@ std::vector<double> GrowthOperator::saveState() const {
   std::vector<double> s = added;
   s.insert(s.end(), moved.begin(), moved.end());
   s.insert(s.end(), {limitedMass, missedMass, coating, static_cast<double>(emptySteps), oversizeMass});
+  saveAmounts(&s);
   return s;
 }
 
 PetscErrorCode GrowthOperator::restoreState(const std::vector<double> &s) {
   PetscFunctionBeginUser;
-  PetscCheck(s.size() == static_cast<std::size_t>(2 * nf + 5), comm, PETSC_ERR_USER_INPUT,
-             "The checkpoint's growth state has %zu numbers, this run needs %d (other fractions?)", s.size(), 2 * nf + 5);
+  PetscCheck(s.size() == static_cast<std::size_t>(2 * nf + 5 + ns * nf), comm, PETSC_ERR_USER_INPUT,
+             "The checkpoint's growth state has %zu numbers, this run needs %d (other fractions or scalars?)", s.size(),
+             2 * nf + 5 + ns * nf);
   added.assign(s.begin(), s.begin() + nf);
   moved.assign(s.begin() + nf, s.begin() + 2 * nf);
   limitedMass = s[2 * nf];
@@ -228,6 +281,7 @@ PetscErrorCode GrowthOperator::restoreState(const std::vector<double> &s) {
   coating = s[2 * nf + 2];
   emptySteps = static_cast<long>(s[2 * nf + 3]);
   oversizeMass = s[2 * nf + 4];
+  restoreAmounts(s, 2 * nf + 5);
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 

@@ -2,7 +2,9 @@
 #include "base/petsc_compat.hpp"
 #include "base/number_rows.hpp"
 
+#include <algorithm>
 #include <cmath>
+#include <cstdio>
 
 namespace rcfd {
 
@@ -89,6 +91,11 @@ PetscErrorCode ProductMonitor::setUp(const RunContext &run, const FractionState 
   for (const char *what : {"discharged", "product", "holdup"})
     for (int i = 0; i < series.nf; ++i) header += std::string(",") + what + "_" + run.fractions.label(i);
   header += ",change,steady";
+  // The scalars (docs/scalars.md): the product's value of each, over the last interval.
+  scalarNames = run.scalarNames ? *run.scalarNames : std::vector<std::string>{};
+  for (const std::string &name : scalarNames) header += ",product_" + name;
+  lastOut.assign(scalarNames.empty() ? 0 : 1 + scalarNames.size(), 0.0);
+  values.assign(scalarNames.size(), ProductSeries::nan);
   csv = std::make_unique<CsvSeries>(comm, dir + "/product.csv", header);
   PetscFunctionReturn(PETSC_SUCCESS);
 }
@@ -119,7 +126,19 @@ PetscErrorCode ProductMonitor::sample(const MonitorContext &ctx) {
   for (int i = 0; i < nf; ++i) line.push_back(values[1 + nf + i] / holdup);
   line.push_back(change);
   line.push_back(change <= series.tolerance ? 1.0 : 0.0);
+  const std::vector<double> v = productValues();
+  line.insert(line.end(), v.begin(), v.end());
   PetscCall(csv->add(numberRow(line)));
+  if (ctx.last && !v.empty()) {
+    std::string text;
+    char item[96];
+    for (std::size_t k = 0; k < v.size(); ++k) {
+      std::snprintf(item, sizeof item, "%s%s %.6g", k ? ", " : "", scalarNames[k].c_str(), v[k]);
+      text += item;
+    }
+    PetscCall(PetscPrintf(comm, "  granulator: product's values over the last %g s: %s (product.csv)\n",
+                          discharge.sampleInterval(), text.c_str()));
+  }
   if (ctx.last) {
     const double steady = series.steadyTime();
     if (std::isfinite(steady))
@@ -132,6 +151,21 @@ PetscErrorCode ProductMonitor::sample(const MonitorContext &ctx) {
                             series.residenceTime(), change, series.tolerance));
   }
   PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+std::vector<double> ProductMonitor::productValues() {
+  const int ns = static_cast<int>(scalarNames.size());
+  if (ns == 0) return {};
+  const std::vector<double> mass = discharge.discharged(), amount = discharge.dischargedAmounts();
+  const int nf = static_cast<int>(mass.size());
+  std::vector<double> out(1 + ns, 0.0);
+  for (int i = 0; i < nf; ++i) out[0] += mass[i];
+  for (int s = 0; s < ns; ++s)
+    for (int i = 0; i < nf; ++i) out[1 + s] += amount[s * nf + i];
+  const double left = out[0] - lastOut[0];
+  for (int s = 0; s < ns; ++s) values[s] = left > 0 ? (out[1 + s] - lastOut[1 + s]) / left : ProductSeries::nan;
+  lastOut = out;
+  return values;
 }
 
 PetscErrorCode ProductMonitor::steadyAt(const MonitorContext &ctx, bool *steady) const {
@@ -156,10 +190,12 @@ PetscErrorCode ProductMonitor::flush() {
   std::string summary = "residence_time_s,tolerance,steady_time_s,end_time_s";
   for (int i = 0; i < series.nf; ++i) summary += ",product_" + fractions->label(i);
   const std::size_t last = series.size() - 1;
-  std::vector<double> values{series.residenceTime(), series.tolerance, series.steadyTime(), series.row(last)[0]};
   const std::vector<double> p = series.product(last);
-  values.insert(values.end(), p.begin(), p.end());
-  PetscCall(writeFileAtomically(dir + "/steady_state.csv", summary + "\n" + numberRow(values) + "\n"));
+  std::vector<double> row{series.residenceTime(), series.tolerance, series.steadyTime(), series.row(last)[0]};
+  row.insert(row.end(), p.begin(), p.end());
+  for (std::size_t k = 0; k < scalarNames.size(); ++k) summary += ",product_" + scalarNames[k];
+  row.insert(row.end(), values.begin(), values.end());
+  PetscCall(writeFileAtomically(dir + "/steady_state.csv", summary + "\n" + numberRow(row) + "\n"));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
@@ -168,13 +204,20 @@ std::vector<double> ProductMonitor::saveState() const {
   std::vector<double> s{length.empty() ? -1.0 : length[0]};
   const std::vector<double> kept = series.state();
   s.insert(s.end(), kept.begin(), kept.end());
+  s.insert(s.end(), lastOut.begin(), lastOut.end()); // with scalars: the last row's totals, then their values
+  s.insert(s.end(), values.begin(), values.end());
   return s;
 }
 
 PetscErrorCode ProductMonitor::restoreState(const std::vector<double> &state) {
   PetscFunctionBeginUser;
-  PetscCheck(!state.empty() && series.restore(state.data() + 1, state.size() - 1), comm, PETSC_ERR_USER_INPUT,
+  const std::size_t extra = lastOut.size() + values.size();
+  PetscCheck(state.size() > extra && series.restore(state.data() + 1, state.size() - 1 - extra), comm,
+             PETSC_ERR_USER_INPUT,
              "The checkpoint's product.csv state does not fit this run's fractions");
+  const std::size_t at = state.size() - extra;
+  std::copy(state.begin() + at, state.begin() + at + lastOut.size(), lastOut.begin());
+  std::copy(state.begin() + at + lastOut.size(), state.end(), values.begin());
   if (state[0] >= 0) PetscCall(csv->resume(state[0]));
   PetscFunctionReturn(PETSC_SUCCESS);
 }

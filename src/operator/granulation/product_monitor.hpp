@@ -73,7 +73,13 @@ public:
 
 private:
   PetscErrorCode currentRow(const MonitorContext &ctx, std::vector<double> *row) const;
+  /// The product's value of each scalar over the last interval (its amount
+  /// discharged over the mass discharged since the last row; NaN when none
+  /// left), and moves the last row's totals on.
+  std::vector<double> productValues();
   const DischargeOperator &discharge;
+  std::vector<std::string> scalarNames;
+  std::vector<double> lastOut, values; // discharged {mass, amount per scalar} at the last row; the values then
   const FractionSet *fractions = nullptr;
   MPI_Comm comm = MPI_COMM_NULL;
   std::string dir;

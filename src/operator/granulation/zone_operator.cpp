@@ -56,6 +56,8 @@ PetscErrorCode ZoneOperator::setUpZone(const RunContext &ctx) {
              "move it where the bed is",
              zoneName_.c_str(), type().c_str(), zone->describe().c_str(), frames);
   added.assign(nf, 0.0);
+  ns = ctx.numScalars;
+  addedAmount.assign(ns * nf, 0.0);
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
@@ -143,6 +145,18 @@ std::vector<double> ZoneOperator::bedFactors(const std::vector<double> &bed, con
   return factor;
 }
 
+PetscErrorCode ZoneOperator::rescaleAmounts(FractionState &state, std::vector<double> before,
+                                           const std::vector<double> &zoneChange,
+                                           const std::vector<double> &change, PetscInt end) const {
+  PetscFunctionBeginUser;
+  const int w = ns * nf;
+  before.insert(before.end(), zoneChange.begin(), zoneChange.end());
+  PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, before.data(), 2 * w, MPI_DOUBLE, MPI_SUM, comm));
+  const std::vector<double> bed(before.begin(), before.begin() + w), gained(before.begin() + w, before.end());
+  PetscCall(state.scaleAmounts(bedFactors(bed, change, gained), end));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
 PetscErrorCode ZoneOperator::scaleBed(FractionState &state, const std::vector<double> &factor, PetscInt end,
                                       const std::vector<double> *owed) const {
   PetscFunctionBeginUser;
@@ -181,7 +195,8 @@ PetscErrorCode ZoneOperator::setUpInPipeline(const std::vector<Operator *> &befo
   ledgerTotals = std::all_of(before.begin(), before.end(), [](const Operator *op) { return op->conservesMass(); });
   if (!previous) PetscFunctionReturn(PETSC_SUCCESS);
   previous->following = this;
-  previous->defers = settlesRescale() && previous->mayDeferRescale();
+  // With scalars each operator rescales its own amounts with its masses: no rescale is handed on.
+  previous->defers = settlesRescale() && previous->mayDeferRescale() && ns == 0;
   // The feed reduces the discharge's zone sums with its own when the zones share
   // no cell: its change leaves them as they are, its rescale is owed on top.
   int shared = 0;

@@ -1,0 +1,267 @@
+// Scalars through the granulator and with sources (docs/scalars.md, slice 2),
+// on the small database along a stitched path:
+//  - growth (closed and open top, the transfer and number readings), feed and
+//    discharge keep a uniform scalar uniform to round-off (1e-12) when the
+//    feed brings the same value, and the product's value (product.csv) is that
+//    value; a tracer brought by the feed alone closes its ledger (the run
+//    checks it every step at 1e-12 and would stop) and is never negative;
+//  - a well-mixed bed (one class) relaxes to the gas temperature as
+//    exp(-t / tau) with tau = rho_s c_p d / (6 h), to 1e-12;
+//  - sprayed liquid = liquid held + liquid dried, to 1e-12 of the sprayed,
+//    with the heat of evaporation taken from the temperature; no negative
+//    amount; a bed dried out ends with exactly zero moisture, all of it dried;
+//  - the ranks of the test equal one rank to 1e-12 (granulator and sources);
+//  - a run restarted from its mid-run checkpoint ends with the same bits, and
+//    the same product.csv and scalars.csv, with scalars and sources.
+// Runs at 1 and 2 ranks.  usage: test_scalar_sources DIR -db SMALL.h5
+#include "check.hpp"
+#include "scoped_options.hpp"
+#include "state_access.hpp"
+#include "base/petsc_compat.hpp"
+#include "rcfd/run.hpp"
+
+#include <cmath>
+#include <fstream>
+#include <iterator>
+#include <sstream>
+#include <string>
+#include <vector>
+
+using namespace rcfd;
+
+namespace {
+
+const std::string kChamber =
+    " -fractions_diameters 1.459e-3,2.0e-3,2.8e-3,4.075e-3 -fractions_mass_shares 0.25,0.25,0.25,0.25"
+    " -pipeline shift,drift,carry,growth,feed,discharge -zones spray,feed,discharge"
+    " -zone_spray_box 0.06,0.14,0,0.05,0.15,0.25 -zone_feed_box 0,0.04,0,0.05,0,0.07"
+    " -zone_discharge_box 0.16,0.2,0,0.05,0,0.07 -growth_rate 5 -feed_rate 0.5 -discharge_rate 0.5"
+    " -feed_mass_shares 0.7,0.1,0.1,0.1 -discharge_sample_interval 0.05 -path_type random -path_seed 5"
+    " -mass_check_every 1 -monitor_digits 17 -scalars temperature,tracer -scalar_temperature_initial 300"
+    " -feed_scalar_temperature 300 -feed_scalar_tracer 1";
+
+const std::string kSpray =
+    " -fractions_diameters 1.459e-3,4.075e-3 -fractions_mass_shares 0.564,0.436 -pipeline shift,drift,carry"
+    " -path_type random -path_seed 5 -mass_check_every 1 -monitor_digits 17 -zones spray"
+    " -zone_spray_box 0.06,0.14,0,0.05,0.15,0.25 -scalars temperature,moisture -scalar_temperature_initial 300"
+    " -scalar_spray_rate 0.05 -scalar_exchange_model constant -scalar_exchange_h 100 -scalar_exchange_beta 0.05"
+    " -scalar_gas_temperature 330 -scalar_gas_humidity_deficit 0.02 -scalar_heat_of_evaporation 2.26e6";
+
+struct Outcome {
+  std::vector<double> masses, amounts; // natural order
+  std::vector<double> account;         // of the sources
+  int nf = 0, ns = 0;
+};
+
+PetscErrorCode runCase(MPI_Comm comm, const std::string &options, const std::string &dir, Outcome *out) {
+  PetscFunctionBeginUser;
+  ScopedOptions scoped(options + " -output_dir " + dir);
+  const OperatorRegistry registry = OperatorRegistry::withBuiltins();
+  Run run(comm, registry);
+  PetscCall(run.setFromOptions());
+  run.setQuiet(true);
+  run.setWriteFields(false);
+  PetscCall(run.setUp());
+  PetscCall(run.solve());
+  out->nf = run.state().numFractions();
+  out->ns = run.state().numScalars();
+  out->masses = test::gatherNatural(run.database(), run.state().masses(), out->nf);
+  out->amounts = test::gatherNatural(run.database(), run.state().amounts(), out->nf * out->ns);
+  out->account = run.scalarSourceAccount();
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+std::string fileBytes(const std::string &path) {
+  std::ifstream in(path, std::ios::binary);
+  return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+}
+
+// The last row's value of a CSV column (NaN when there is none).
+double lastValue(const std::string &path, const std::string &column) {
+  std::istringstream text(fileBytes(path));
+  std::string header, line, last;
+  std::getline(text, header);
+  while (std::getline(text, line))
+    if (!line.empty()) last = line;
+  std::istringstream names(header), values(last);
+  std::string name, value;
+  while (std::getline(names, name, ',') && std::getline(values, value, ','))
+    if (name == column) return std::stod(value);
+  return std::nan("");
+}
+
+// Largest relative departure of scalar s's value from `value` in cells where a
+// fraction holds more than a trace; and the smallest amount of any scalar.
+void valueSpread(const Outcome &o, int s, double value, double *worst, double *lowest) {
+  const int w = o.nf * o.ns;
+  double largest = 0.0;
+  for (double m : o.masses) largest = std::fmax(largest, m);
+  *worst = 0.0;
+  *lowest = 0.0;
+  for (std::size_t c = 0; c < o.masses.size() / o.nf; ++c)
+    for (int i = 0; i < o.nf; ++i) {
+      for (int k = 0; k < o.ns; ++k) *lowest = std::fmin(*lowest, o.amounts[c * w + k * o.nf + i]);
+      const double m = o.masses[c * o.nf + i];
+      if (m > 1e-9 * largest) *worst = std::fmax(*worst, std::fabs(o.amounts[c * w + s * o.nf + i] / m / value - 1.0));
+    }
+}
+
+double scalarTotal(const Outcome &o, int s) {
+  double sum = 0.0;
+  const int w = o.nf * o.ns;
+  for (std::size_t c = 0; c < o.masses.size() / o.nf; ++c)
+    for (int i = 0; i < o.nf; ++i) sum += o.amounts[c * w + s * o.nf + i];
+  return sum;
+}
+
+} // namespace
+
+int main(int argc, char **argv) {
+  return test::rankTestMain(argc, argv, "scalar_sources", [&](const std::string &dir) -> PetscErrorCode {
+    PetscFunctionBeginUser;
+    PetscMPIInt rank;
+    PetscCallMPI(MPI_Comm_rank(PETSC_COMM_WORLD, &rank));
+
+    // The granulator: a uniform temperature stays uniform, whatever the growth's reading.
+    Outcome chamber;
+    const std::string full = kChamber + " -t_end 0.4";
+    PetscCall(runCase(PETSC_COMM_WORLD, full, dir + "/chamber", &chamber));
+    for (const std::string &variant : {std::string(""), std::string(" -growth_top open"),
+                                       std::string(" -growth_mass number"), std::string(" -feed_keep_bulk 0 "
+                                                                                       "-discharge_keep_bulk 0")}) {
+      Outcome o;
+      if (variant.empty()) o = chamber;
+      else PetscCall(runCase(PETSC_COMM_WORLD, full + variant, dir + "/variant", &o));
+      double worst, lowest;
+      valueSpread(o, 0, 300.0, &worst, &lowest);
+      if (!(worst <= 1e-12)) test::fail(__FILE__, __LINE__, "uniform temperature departs by " + std::to_string(worst) + " with" + variant);
+      RCFD_CHECK(lowest >= 0.0);
+      RCFD_CHECK(scalarTotal(o, 1) > 0.0); // the feed brought its tracer
+    }
+    if (rank == 0) RCFD_CHECK_CLOSE(lastValue(dir + "/chamber/product.csv", "product_temperature"), 300.0, 1e-9);
+    if (rank == 0) {
+      const double tracer = lastValue(dir + "/chamber/product.csv", "product_tracer");
+      RCFD_CHECK(tracer > 0.0 && tracer < 1.0); // the product holds some of the feed's tracer, diluted
+    }
+
+    // A well-mixed bed of one class relaxes to the gas temperature: T - T_g = (T0 - T_g) exp(-t / tau).
+    {
+      const double rho = 1440.0, cp = 800.0, d = 2e-3, h = 500.0, t = 0.3;
+      Outcome o;
+      PetscCall(runCase(PETSC_COMM_WORLD,
+                        " -fractions_diameters 2e-3 -fractions_mass_shares 1 -pipeline shift,carry -path_type random"
+                        " -path_seed 5 -scalars temperature -scalar_temperature_initial 400 -scalar_exchange_model "
+                        "constant -scalar_exchange_h 500 -scalar_gas_temperature 300 -scalar_solid_heat_capacity 800"
+                        " -solid_density 1440 -t_end 0.3",
+                        dir + "/relax", &o));
+      const double tau = rho * cp * d / (6.0 * h), expected = 300.0 + 100.0 * std::exp(-t / tau);
+      double worst, lowest;
+      valueSpread(o, 0, expected, &worst, &lowest);
+      RCFD_CHECK_CLOSE(worst, 0.0, 1e-12);
+      double mass = 0.0;
+      for (double m : o.masses) mass += m;
+      RCFD_CHECK_CLOSE(scalarTotal(o, 0) / (mass * expected), 1.0, 1e-12);
+      RCFD_CHECK(expected < 380.0); // a visible relaxation: t is a few tenths of tau
+      // The heat from the gas is what the temperature lost, times c_p.
+      RCFD_CHECK_CLOSE(o.account[3] / (mass * cp * (expected - 400.0)), 1.0, 1e-12);
+    }
+
+    // A hot batch in the bottom layers mixes: its spread over the bed (scalar_mixing.csv) starts at 1
+    // and falls; a tracer's likewise.
+    {
+      Outcome o;
+      PetscCall(runCase(PETSC_COMM_WORLD,
+                        kSpray + " -scalar_spray_rate 0 -scalar_exchange_model none -scalars temperature,tracer"
+                                 " -zones hot -zone_hot_layers 0,3 -scalar_temperature_zones hot"
+                                 " -scalar_temperature_zone_values 400 -scalar_tracer_zones hot"
+                                 " -scalar_tracer_zone_values 1 -scalar_mixing -t_end 1",
+                        dir + "/mixing", &o));
+      if (rank == 0) {
+        std::istringstream text(fileBytes(dir + "/mixing/scalar_mixing.csv"));
+        std::string header, first;
+        std::getline(text, header);
+        std::getline(text, first);
+        RCFD_CHECK(header == "time_s,spread_temperature,spread_tracer");
+        RCFD_CHECK(first.rfind("0,1,1", 0) == 0);
+        const double last = lastValue(dir + "/mixing/scalar_mixing.csv", "spread_temperature");
+        RCFD_CHECK(last < 0.9 && last >= 0.0);
+        RCFD_CHECK_CLOSE(last, lastValue(dir + "/mixing/scalar_mixing.csv", "spread_tracer"), 1e-9);
+      }
+    }
+
+    // Spray and dry: sprayed = held + dried, to the ledger's tolerance; no negative amounts.
+    Outcome spray;
+    PetscCall(runCase(PETSC_COMM_WORLD, kSpray + " -t_end 0.3", dir + "/spray", &spray));
+    {
+      const double sprayed = spray.account[0], dried = spray.account[2], held = scalarTotal(spray, 1);
+      RCFD_CHECK_CLOSE(sprayed, 0.05 * 0.3, 1e-12 * sprayed);
+      RCFD_CHECK(dried > 0.0 && held > 0.0);
+      RCFD_CHECK_CLOSE((held + dried) / sprayed, 1.0, 1e-12);
+      RCFD_CHECK(spray.account[4] > 0.0); // evaporation cooled the solid
+      double worst, lowest;
+      valueSpread(spray, 0, 300.0, &worst, &lowest);
+      RCFD_CHECK(lowest >= 0.0);
+    }
+    // The bottom layer's moisture (bottom.csv), sprayed into the bottom layers: the liquid there over its solid.
+    {
+      Outcome o;
+      PetscCall(runCase(PETSC_COMM_WORLD,
+                        kSpray + " -zones wet -zone_wet_layers 0,1 -scalar_spray_zone wet -scalar_exchange_model none -bottom_layer"
+                                 " -moisture_warning 1e-3 -moisture_warning_umf_share 0.01 -superficial_velocity 1.1"
+                                 " -t_end 0.2",
+                        dir + "/wet", &o));
+      if (rank == 0) {
+        const double wet = lastValue(dir + "/wet/bottom.csv", "moisture_bottom");
+        RCFD_CHECK(wet > 1e-3); // above the warning's threshold
+        // Nothing dries: the bed holds all that was sprayed.
+        RCFD_CHECK_CLOSE(scalarTotal(o, 1) / (0.05 * 0.2), 1.0, 1e-12);
+      }
+    }
+
+    // Dried out: a bed with a little moisture and strong drying ends at exactly zero, all of it dried.
+    {
+      Outcome o;
+      PetscCall(runCase(PETSC_COMM_WORLD,
+                        kSpray + " -scalar_spray_rate 0 -scalar_moisture_initial 1e-4 -scalar_exchange_beta 5 -t_end 0.1",
+                        dir + "/dry", &o));
+      double mass = 0.0, lowest = 0.0;
+      for (double m : o.masses) mass += m;
+      for (double a : o.amounts) lowest = std::fmin(lowest, a);
+      RCFD_CHECK(scalarTotal(o, 1) == 0.0 && lowest >= 0.0);
+      RCFD_CHECK_CLOSE(o.account[2] / (1e-4 * mass), 1.0, 1e-12);
+    }
+
+    // The ranks of the test equal one rank to 1e-12 (granulator, spray and dry).
+    for (const auto &[options, outcome] : {std::make_pair(full, &chamber), std::make_pair(kSpray + " -t_end 0.3", &spray)}) {
+      Outcome alone;
+      PetscCall(runCase(PETSC_COMM_SELF, options, dir + "/alone" + std::to_string(rank), &alone));
+      double worstRanks = 0.0, largest = 0.0;
+      for (double a : outcome->amounts) largest = std::fmax(largest, std::fabs(a));
+      for (std::size_t k = 0; k < outcome->amounts.size(); ++k)
+        worstRanks = std::fmax(worstRanks, std::fabs(alone.amounts[k] - outcome->amounts[k]) / largest);
+      RCFD_CHECK_CLOSE(worstRanks, 0.0, 1e-12);
+    }
+
+    // Restarted at half time: the same bits, product.csv and scalars.csv (granulator; spray and dry).
+    for (const auto &[options, outcome, name] :
+         {std::make_tuple(kChamber, &chamber, std::string("chamber")),
+          std::make_tuple(kSpray, &spray, std::string("spray"))}) {
+      const double t = name == "chamber" ? 0.4 : 0.3;
+      Outcome first, second;
+      PetscCall(runCase(PETSC_COMM_WORLD, options + " -t_end " + std::to_string(t / 2) + " -checkpoint_every " +
+                                              std::to_string(t / 2), dir + "/first_" + name, &first));
+      PetscCall(runCase(PETSC_COMM_WORLD, options + " -t_end " + std::to_string(t) + " -restart " + dir + "/first_" +
+                                              name + "/checkpoint.h5", dir + "/first_" + name, &second));
+      RCFD_CHECK(second.masses == outcome->masses);
+      RCFD_CHECK(second.amounts == outcome->amounts);
+      RCFD_CHECK(second.account == outcome->account);
+      if (rank == 0) {
+        for (const char *file : {"/scalars.csv", "/product.csv"}) {
+          const std::string a = fileBytes(dir + "/" + name + file), b = fileBytes(dir + "/first_" + name + file);
+          RCFD_CHECK(a == b);
+        }
+      }
+    }
+    PetscFunctionReturn(PETSC_SUCCESS);
+  });
+}
