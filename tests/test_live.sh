@@ -107,6 +107,10 @@ live_error "-live_on_bad_line never is not known; use fail (a malformed line sto
   'time_s,u_sup\n0,1.1\n' -live_on_bad_line never
 live_error "-live $work/bad.csv: the column u_sup cannot drive the switching: the state switching rule does not run the bed at a u_sup over time" \
   'time_s,u_sup\n0,1.1\n' -db_switch_type state -db_switch_quantity delta_z -db_switch_thresholds 1e-3
+expect_error "-ensemble 2 with -live: an ensemble's members run one after the other and cannot each follow the live file" \
+  run -db "$a" -live "$work/u.csv" -path_type random -ensemble 2 -output_dir "$work/refused"
+expect_error "-live is for rcfd run: a calibration replays its runs many times and follows no file" \
+  calibrate -db "$a" -live "$work/u.csv" -calibrate_from measured -output_dir "$work/refused"
 # Skipped on request: the run is the file without the line, and says so on stderr.
 printf 'time_s,u_sup\n0,1.1\n0.1,1.1\n0.15,oops\n0.2,1.3\n0.35,1.2\n0.5,1.2\n' >"$work/skip.csv"
 "$rcfd" run "${two[@]}" -live "$work/skip.csv" -live_end 0.5 -live_on_bad_line skip -output_dir "$work/l-skip" \

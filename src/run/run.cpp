@@ -78,6 +78,7 @@ void Run::setWriteFields(bool write) { impl->writeFields = write ? PETSC_TRUE : 
 void Run::useDatabase(std::shared_ptr<Database> database) { impl->db = std::move(database); }
 void Run::useSwitchRules(const SwitchRuleRegistry &rules) { impl->rules = &rules; }
 bool Run::switchesDatabases() const { return impl->switching != nullptr; }
+bool Run::followsLive() const { return impl->live.enabled(); }
 
 const Database &Run::database() const { return *impl->db; }
 std::shared_ptr<Database> Run::sharedDatabase() const { return impl->db; }
