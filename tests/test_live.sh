@@ -10,7 +10,8 @@
 # one sentence (with the line's number), a malformed line skipped on request;
 # a run stopped by its stop file and one stopped by SIGTERM while waiting,
 # both restarted from their checkpoints, give the uninterrupted run's files
-# (no row lost or repeated); 2 ranks give 1 rank's numbers.
+# (no row lost or repeated); 2 ranks give 1 rank's numbers.  Forecasts: the live state's bits
+# unchanged, the latest conditions held, 1 = 2 ranks, a restart across them.
 # usage: test_live.sh RCFD CSV_COMPARE DATA_DIR SOURCE_DIR
 set -eu
 rcfd=$1 compare=$2
@@ -154,6 +155,35 @@ grep -q "Live run stopped at t = 0.3 s (step 60): a signal" "$work/sig.txt" && o
 tail -n 2 "$work/u.csv" >>"$work/sig.csv"
 "$rcfd" run "${two[@]}" -live "$work/sig.csv" -live_end 0.5 -restart "$work/sig/checkpoint.h5" -output_dir "$work/sig"
 same_files "restarted after SIGTERM" "$work/l-schedule" "$work/sig" "${series[@]}"
+
+# Forecasts: members forked from the state change nothing in it (the live run's files, bits); they
+# hold the latest conditions (a drop of u_sup to 0.9 m/s at 0.3 s: the forecasts issued before it see
+# no de-fluidization within 0.15 s, those from it on see it at their first step); 2 ranks give 1
+# rank's forecast.csv; a restart across forecasts gives the uninterrupted forecast.csv byte for byte.
+fc=(-forecast_every 0.1 -forecast_horizon 0.15 -forecast_members 2)
+"$rcfd" run "${two[@]}" -live "$work/u.csv" -live_end 0.5 "${fc[@]}" -output_dir "$work/l-fc"
+same_files "a forecast changes nothing in the live state" "$work/l-schedule" "$work/l-fc" "${series[@]}"
+[ "$(rows "$work/l-fc/forecast.csv")" -eq 6 ] && ok || fail "forecast.csv of l-fc: $(cat "$work/l-fc/forecast.csv")"
+printf 'time_s,u_sup\n0,1.1\n0.3,0.9\n0.5,0.9\n' >"$work/drop.csv"
+for np in 1 2; do
+  mpiexec -n $np "$rcfd" run -db "$a" "${common[@]}" -live "$work/drop.csv" -live_end 0.5 "${fc[@]}" \
+    -output_dir "$work/drop$np" 2>/dev/null
+done
+warned=$(awk -F, 'NR > 1 { printf "%s:%s:%s ", $1, $10, $12 }' "$work/drop1/forecast.csv")
+same "forecast warnings (time:members warning:first warning in s)" "$warned" \
+  "0:0:nan 0.1:0:nan 0.2:0:nan 0.3:2:0.005 0.4:2:0.005 0.5:2:0.005" 1e-9
+same "bottom.csv: the live warning at 0.3 s" "$(awk -F, 'NR > 1 && $5 == 1 { print $1; exit }' "$work/drop1/bottom.csv")" 0.3
+if "$compare" "$work/drop1/forecast.csv" "$work/drop2/forecast.csv" 1e-10 1e-14 >/dev/null; then ok; else
+  fail "forecast.csv at 2 ranks: $("$compare" "$work/drop1/forecast.csv" "$work/drop2/forecast.csv" 1e-10 1e-14)"; fi
+head -n 2 "$work/drop.csv" >"$work/drop-part.csv"
+printf '0.25,1.1\n' >>"$work/drop-part.csv"
+touch "$work/stop-drop"
+"$rcfd" run -db "$a" "${common[@]}" -live "$work/drop-part.csv" -live_stop_file "$work/stop-drop" "${fc[@]}" \
+  -output_dir "$work/drop-r" 2>/dev/null
+tail -n 2 "$work/drop.csv" >>"$work/drop-part.csv"
+"$rcfd" run -db "$a" "${common[@]}" -live "$work/drop-part.csv" -live_end 0.5 "${fc[@]}" \
+  -restart "$work/drop-r/checkpoint.h5" -output_dir "$work/drop-r" 2>/dev/null
+same_files "forecasts across a restart" "$work/drop1" "$work/drop-r" forecast.csv cog.csv bottom.csv
 
 echo "$passed checks passed, $failures failed"
 [ "$failures" -eq 0 ]

@@ -209,6 +209,8 @@ PetscErrorCode Run::setFromOptions() {
   PetscCall(r.ledger.setFromOptions(r.comm));
   PetscCall(r.scalars.setFromOptions(r.comm));
   PetscCall(r.live.setFromOptions(r.comm));
+  r.forecast = std::make_unique<ForecastMonitor>(r.registry, r.paths, r.ops, names, r.answers.fluidization());
+  PetscCall(r.forecast->setFromOptions(r.comm));
   PetscCheck(r.scalars.size() == 0 || !r.switching, r.comm, PETSC_ERR_USER_INPUT,
              "-scalars cannot be carried across database switches yet; give one database with -db");
   PetscCall(r.cog->setFromOptions(r.comm));
@@ -315,6 +317,10 @@ PetscErrorCode Run::setUp() {
   std::vector<Answers::Named> asked; // none unless the case asks
   PetscCall(r.answers.createMonitors(ctx, r.steps * dt, r.quiet == PETSC_TRUE, &asked));
   for (auto &a : asked) r.monitors.push_back({std::move(a.monitor), a.every, a.name});
+  if (r.forecast && r.forecast->enabled()) { // forecasts from the state, after the answers of the same step
+    const long every = r.forecast->everySteps(dt);
+    r.monitors.push_back({std::move(r.forecast), every, "forecast.csv"});
+  }
   for (auto &m : r.registered) r.monitors.push_back(std::move(m)); // -monitors
   r.registered.clear();
   if (r.scalars.size() > 0) // scalars.csv, with the centres of gravity
@@ -476,7 +482,9 @@ PetscErrorCode Run::Impl::march() {
   bool liveEnded = false;
   PetscCall(r.liveAdvance(r.startStep, &liveEnded)); // the rows of the first step, or the input's end
   PetscCall(r.liveFollow(r.startStep * dt));
-  if (r.startStep == 0) PetscCall(r.callMonitors(0, 0.0, r.dbFrame(frame), r.steps == 0));
+  // A live run stopped by its stop file or a signal is interrupted, not finished: its monitors get
+  // no final call (no row off their schedule), so its files are the start of the uninterrupted run's.
+  if (r.startStep == 0) PetscCall(r.callMonitors(0, 0.0, r.dbFrame(frame), r.steps == 0 && !liveEnded));
   const long checkpointSteps =
       r.checkpointEvery > 0 ? std::max(1L, std::lround(r.checkpointEvery / dt)) : 0L;
   r.wallStart = r.lastProgress = MPI_Wtime();
@@ -553,7 +561,7 @@ PetscErrorCode Run::Impl::march() {
       r.ledgerSeconds += MPI_Wtime() - start;
     }
     if (r.switching) PetscCall(r.followSwitches(s + 1, t, frame));
-    PetscCall(r.callMonitors(s + 1, t, r.dbFrame(frame), s + 1 == r.steps || stop));
+    PetscCall(r.callMonitors(s + 1, t, r.dbFrame(frame), (s + 1 == r.steps && !liveEnded) || stop));
     const bool liveLast = r.live.enabled() && s + 1 == r.steps; // restartable where it stopped
     if ((checkpointSteps && ((s + 1) % checkpointSteps == 0 || stop)) || liveLast) { // the files first: the checkpoint records their lengths
       PetscCall(r.flushMonitors());

@@ -8,6 +8,7 @@
 #include "observable/cog_monitor.hpp"
 #include "operator/mass_account_monitor.hpp"
 #include "run/jumps_file.hpp"
+#include "run/forecast_monitor.hpp"
 #include "run/live_input.hpp"
 #include "state/scalars.hpp"
 #include "switching/database_switcher.hpp"
@@ -124,6 +125,7 @@ struct Run::Impl {
   OperatingConditions liveConditions;  // one database and a live u_sup: the conditions the monitors see
   bool liveVelocity = false;           // ... whether it is so
   std::size_t liveRowsScheduled = 0;   // rows handed to the switching rule
+  std::unique_ptr<ForecastMonitor> forecast; // -forecast_every: moved into `monitors` at setUp
   double ledgerSeconds = 0.0; // wall time of the mass ledger's checks while stepping
 };
 

@@ -6,6 +6,7 @@
 // exactly as a -db_switch_schedule entry: a live run fed a schedule's
 // conditions gives the schedule run's bits.
 #include "run/run_impl.hpp"
+#include "run/find_operator.hpp"
 #include "rcfd/granulation.hpp"
 #include "base/collective.hpp"
 #include "base/petsc_compat.hpp"
@@ -13,16 +14,6 @@
 #include <cmath>
 
 namespace rcfd {
-namespace {
-
-template <typename T> T *findOperator(Pipeline &ops) {
-  for (const auto &op : ops.operators())
-    if (auto *found = dynamic_cast<T *>(op.get())) return found;
-  return nullptr;
-}
-
-} // namespace
-
 PetscErrorCode Run::Impl::liveStart() {
   PetscFunctionBeginUser;
   PetscCall(live.start(comm, set, quiet == PETSC_TRUE));
