@@ -53,7 +53,9 @@ public:
   /// steps (default 1) and viewed by -NAME_view.  -path_view and
   /// -db_switch_view view the path and the switching rule once set up.
   /// -live FILE, -live_end, -live_stop_file, -live_on_bad_line, -live_pace,
-  /// -live_poll: follow measured conditions as a file grows (docs/live.md).
+  /// -live_poll: follow measured conditions as a file grows; -forecast_every,
+  /// -forecast_horizon, -forecast_members, -forecast_seed: forecasts from the
+  /// state, forecast.csv (docs/live.md).
   PetscErrorCode setFromOptions();
 
   /// Setters applied after setFromOptions and before setUp; they override the options.
