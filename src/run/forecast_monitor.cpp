@@ -44,8 +44,10 @@ void meanSpread(const std::vector<double> &v, double *mean, double *spread, int 
 } // namespace
 
 ForecastMonitor::ForecastMonitor(const OperatorRegistry &operators, const PathRegistry &paths, const Pipeline &live,
-                                 std::vector<std::string> pipeline, const FluidizationModel &fluidization)
-    : operators(operators), paths(paths), live(live), names(std::move(pipeline)), fluidization(fluidization) {}
+                                 std::vector<std::string> pipeline, const FluidizationModel &fluidization,
+                                 bool fixedDatabase)
+    : operators(operators), paths(paths), live(live), names(std::move(pipeline)), fluidization(fluidization),
+      fixedDatabase(fixedDatabase) {}
 
 PetscErrorCode ForecastMonitor::setFromOptions(MPI_Comm c) {
   PetscFunctionBeginUser;
@@ -96,15 +98,19 @@ PetscErrorCode ForecastMonitor::member(const MonitorContext &ctx, int m, double 
   const double dt = db.metadata().dtRec;
   const long steps = std::max(1L, std::lround(horizon / dt));
   PetscFunctionBeginUser;
-  // Operators of its own from the run's options, continuing the run's saved state at its rates.
-  Pipeline ops;
-  for (const auto &name : names) {
-    std::unique_ptr<Operator> op;
-    PetscCall(agreeOnStatus(comm, operators.create(name, &op)));
-    PetscCall(ops.add(std::move(op)));
+  // Operators of its own from the run's options, continuing the run's saved state at its rates:
+  // made once on one database; on a set, afresh for each member (the database in use may be another).
+  if (!memberOps || !fixedDatabase) {
+    memberOps = std::make_unique<Pipeline>();
+    for (const auto &name : names) {
+      std::unique_ptr<Operator> op;
+      PetscCall(agreeOnStatus(comm, operators.create(name, &op)));
+      PetscCall(memberOps->add(std::move(op)));
+    }
+    PetscCall(memberOps->setFromOptions(comm));
+    PetscCall(memberOps->setUp(run));
   }
-  PetscCall(ops.setFromOptions(comm));
-  PetscCall(ops.setUp(run));
+  Pipeline &ops = *memberOps;
   // The same options leave out the same operators at set-up: the run's and the member's lists match.
   PetscCheck(ops.operators().size() == live.operators().size(), comm, PETSC_ERR_PLIB,
              "A forecast member's pipeline has %zu operators, the run's %zu", ops.operators().size(),

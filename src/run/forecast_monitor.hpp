@@ -25,9 +25,10 @@ public:
   /// `operators` and `paths` make the members' operators (named by `pipeline`) and
   /// paths; `live` is the run's pipeline, whose saved state and rates the members
   /// start from; `fluidization` the bottom layer's u_mf correlation and gas.  All
-  /// must outlive the monitor.
+  /// must outlive the monitor.  `fixedDatabase`: the run stays on one database, so the
+  /// members' operators are set up once (else for each member, on the database in use).
   ForecastMonitor(const OperatorRegistry &operators, const PathRegistry &paths, const Pipeline &live,
-                  std::vector<std::string> pipeline, const FluidizationModel &fluidization);
+                  std::vector<std::string> pipeline, const FluidizationModel &fluidization, bool fixedDatabase);
   std::string type() const override { return "forecast"; }
   /// -forecast_every [s] (0: none), -forecast_horizon [s], -forecast_members,
   /// -forecast_seed; the members' stitching reads -forecast_path_* (docs/paths.md).
@@ -52,6 +53,8 @@ private:
   const Pipeline &live;
   std::vector<std::string> names;
   const FluidizationModel &fluidization;
+  bool fixedDatabase;
+  std::unique_ptr<Pipeline> memberOps; // the members' operators; each member restores the run's state into them
   MPI_Comm comm = MPI_COMM_NULL;
   double every = 0.0, horizon = 10.0;
   PetscInt members = 4, seed = 1;

@@ -209,7 +209,8 @@ PetscErrorCode Run::setFromOptions() {
   PetscCall(r.ledger.setFromOptions(r.comm));
   PetscCall(r.scalars.setFromOptions(r.comm));
   PetscCall(r.live.setFromOptions(r.comm));
-  r.forecast = std::make_unique<ForecastMonitor>(r.registry, r.paths, r.ops, names, r.answers.fluidization());
+  r.forecast = std::make_unique<ForecastMonitor>(r.registry, r.paths, r.ops, names, r.answers.fluidization(),
+                                                 r.switching == nullptr);
   PetscCall(r.forecast->setFromOptions(r.comm));
   PetscCheck(r.scalars.size() == 0 || !r.switching, r.comm, PETSC_ERR_USER_INPUT,
              "-scalars cannot be carried across database switches yet; give one database with -db");
