@@ -58,6 +58,10 @@ printf 'time_s,growth_rate,feed_rate,discharge_rate\n0,1,0.2,0.2\n0.5,1,0.2,0.2\
 "$rcfd" run "${gran[@]}" -growth_rate 1 -feed_rate 0.2 -discharge_rate 0.2 -t_end 0.5 -output_dir "$work/s-gran"
 "$rcfd" run "${gran[@]}" -live "$work/rates.csv" -live_end 0.5 -output_dir "$work/l-gran"
 same_files "live granulator rates" "$work/s-gran" "$work/l-gran" cog.csv mass_account.csv product.csv
+# Forecasts fork the granulator's operators (their held feed, owed discharge) without touching them.
+"$rcfd" run "${gran[@]}" -live "$work/rates.csv" -live_end 0.5 -forecast_every 0.25 -forecast_horizon 0.3 \
+  -forecast_members 2 -output_dir "$work/l-gran-fc"
+same_files "granulator with forecasts" "$work/s-gran" "$work/l-gran-fc" cog.csv mass_account.csv product.csv
 printf 'time_s,feed_rate,feed_share_d1.500mm,feed_share_d2.500mm,feed_share_d3.500mm\n0,0.2,1,0,0\n0.1,0.5,1,0,0\n0.3,0.1,0,0,1\n0.5,0.1,0,0,1\n' \
   >"$work/feed.csv"
 "$rcfd" run "${gran[@]}" -live "$work/feed.csv" -live_end 0.5 -output_dir "$work/l-feed"
