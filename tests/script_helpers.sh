@@ -66,6 +66,14 @@ run() { # run "label" args...: the command must succeed
   ok
 }
 
+# Two small synthetic beds of one mesh recorded at u_sup 1.1 and 1.3 m/s, $work/a.h5 and
+# $work/b.h5 (400 cells, 40 frames), for the runs on several databases; `bed`: their options.
+write_two_velocity_beds() {
+  bed=(-synth_cells 10,2,20 -synth_frames 40 -synth_warm_up 0.2 -quiet)
+  "$rcfd" synth -o "$work/a.h5" "${bed[@]}" -synth_nucleation_rate 1500 -synth_seed 1 -superficial_velocity 1.1
+  "$rcfd" synth -o "$work/b.h5" "${bed[@]}" -synth_nucleation_rate 4000 -synth_seed 2 -superficial_velocity 1.3
+}
+
 dump() { # dump FILE TIMESTEP PARTICLE_LINE PARTICLE_LINE
   {
     printf 'ITEM: TIMESTEP\n%s\nITEM: NUMBER OF ATOMS\n2\nITEM: BOX BOUNDS ff ff ff\n' "$2"

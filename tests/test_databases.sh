@@ -18,9 +18,7 @@
 set -eu
 rcfd=$1 compare=$2
 source "$4/tests/script_helpers.sh"
-bed=(-synth_cells 10,2,20 -synth_frames 40 -synth_warm_up 0.2 -quiet)
-"$rcfd" synth -o "$work/a.h5" "${bed[@]}" -synth_nucleation_rate 1500 -synth_seed 1 -superficial_velocity 1.1
-"$rcfd" synth -o "$work/b.h5" "${bed[@]}" -synth_nucleation_rate 4000 -synth_seed 2 -superficial_velocity 1.3
+write_two_velocity_beds
 "$rcfd" synth -o "$work/tall.h5" -synth_cells 10,2,30 -synth_frames 40 -synth_warm_up 0.2 -quiet
 "$rcfd" synth -o "$work/slow.h5" "${bed[@]}" -synth_dt 0.01
 a=$work/a.h5 b=$work/b.h5

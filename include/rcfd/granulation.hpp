@@ -201,6 +201,8 @@ public:
   PetscErrorCode restoreState(const std::vector<double> &state) override;
 
   void setRate(double kgPerSecond, double transferFraction) { rate = kgPerSecond, fraction = transferFraction; }
+  double growthRate() const { return rate; }
+  double transferFraction() const { return fraction; }
   void setMass(Mass m) { mass = m; }
   /// Open top: the largest class's growth leaves the bed (before setUp).
   void setOpenTop(bool open) { openTop = open; }
@@ -259,10 +261,12 @@ public:
   PetscErrorCode restoreState(const std::vector<double> &state) override;
   bool mayDeferRescale() const override { return keepBulk; }
 
-  /// Rate [kg/s] and shares (empty: the inventory's), before setUp.
+  /// Rate [kg/s] and shares (empty: the inventory's), before setUp; between steps
+  /// (a live run, docs/live.md) with one share per fraction, summing to 1.
   void setFeed(double kgPerSecond, std::vector<double> massShares = {}) {
     rate = kgPerSecond, shares = std::move(massShares);
   }
+  double feedRate() const { return rate; }
   const std::vector<double> &feedShares() const { return shares; }
   /// The feed's value of each scalar (-feed_scalar_NAME, read at setUp), or
   /// set here before setUp (one per scalar).

@@ -52,6 +52,10 @@ public:
   /// -monitors NAME,... registered monitors, each sampled every -NAME_every
   /// steps (default 1) and viewed by -NAME_view.  -path_view and
   /// -db_switch_view view the path and the switching rule once set up.
+  /// -live FILE, -live_end, -live_stop_file, -live_on_bad_line, -live_pace,
+  /// -live_poll: follow measured conditions as a file grows; -forecast_every,
+  /// -forecast_horizon, -forecast_members, -forecast_seed: forecasts from the
+  /// state, forecast.csv (docs/live.md).
   PetscErrorCode setFromOptions();
 
   /// Setters applied after setFromOptions and before setUp; they override the options.
@@ -88,6 +92,8 @@ public:
   /// reads and drops them as it switches, so it cannot share one loaded
   /// database (useDatabase) with other runs.
   bool switchesDatabases() const;
+  /// Whether the run follows a live file (-live FILE, docs/live.md; after setFromOptions).
+  bool followsLive() const;
   /// Loads the database (unless one was given), sets up the operators, the
   /// path, the monitors and the initial state (or the state of -restart
   /// FILE); views the run given -run_view.  Collective.  A restart refuses a

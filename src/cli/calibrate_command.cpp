@@ -22,6 +22,10 @@ PetscErrorCode calibrateCommand(MPI_Comm comm) {
     (void)run.setFromOptions();
     PetscFunctionReturn(PETSC_SUCCESS);
   }
+  PetscBool live = PETSC_FALSE; // the calibration's runs replay one database many times: nothing to follow
+  PetscCall(PetscOptionsHasName(nullptr, nullptr, "-live", &live));
+  PetscCheck(!live, comm, PETSC_ERR_USER_INPUT,
+             "-live is for rcfd run: a calibration replays its runs many times and follows no file (docs/live.md)");
   PetscCall(calibration.setUp());
   PetscCall(rejectUnusedOptions(comm, "calibrate")); // every option has been read by now
   PetscCall(calibration.solve());

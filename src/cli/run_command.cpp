@@ -67,6 +67,9 @@ PetscErrorCode runCommand(MPI_Comm comm) {
     PetscFunctionReturn(PETSC_SUCCESS);
   }
   PetscCheck(members >= 1, comm, PETSC_ERR_USER_INPUT, "-ensemble must be at least 1");
+  PetscCheck(members == 1 || !run.followsLive(), comm, PETSC_ERR_USER_INPUT,
+             "-ensemble %d with -live: an ensemble's members run one after the other and cannot each follow the "
+             "live file; follow it with one run (docs/live.md)", static_cast<int>(members));
   std::unique_ptr<Ensemble> ensemble; // `run` only read the options; the ensemble's members read them again
   if (members > 1) {
     ensemble = std::make_unique<Ensemble>(comm, registry);

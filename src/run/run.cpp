@@ -25,6 +25,9 @@ namespace {
 // Steps between looks at the wall clock for the periodic flush of the files
 // (one reduction each: the slowest rank's clock decides for all).
 constexpr long kFlushCheckSteps = 16;
+// A live run without an end (-live_end, -t_end) ends by its stop file or a
+// signal; its step count is this many, below the 1e12 any run may have.
+constexpr double kLiveStepsWithoutEnd = 1e11;
 
 std::vector<std::string> splitList(const std::string &text) {
   std::vector<std::string> out;
@@ -77,6 +80,7 @@ void Run::setWriteFields(bool write) { impl->writeFields = write ? PETSC_TRUE : 
 void Run::useDatabase(std::shared_ptr<Database> database) { impl->db = std::move(database); }
 void Run::useSwitchRules(const SwitchRuleRegistry &rules) { impl->rules = &rules; }
 bool Run::switchesDatabases() const { return impl->switching != nullptr; }
+bool Run::followsLive() const { return impl->live.enabled(); }
 
 const Database &Run::database() const { return *impl->db; }
 std::shared_ptr<Database> Run::sharedDatabase() const { return impl->db; }
@@ -207,6 +211,10 @@ PetscErrorCode Run::setFromOptions() {
   PetscCall(r.paths.createFromOptions(r.comm, &r.path));
   PetscCall(r.ledger.setFromOptions(r.comm));
   PetscCall(r.scalars.setFromOptions(r.comm));
+  PetscCall(r.live.setFromOptions(r.comm));
+  r.forecast = std::make_unique<ForecastMonitor>(r.registry, r.paths, r.ops, names, r.answers.fluidization(),
+                                                 r.switching == nullptr);
+  PetscCall(r.forecast->setFromOptions(r.comm));
   PetscCheck(r.scalars.size() == 0 || !r.switching, r.comm, PETSC_ERR_USER_INPUT,
              "-scalars cannot be carried across database switches yet; give one database with -db");
   // An operator's options per scalar, -<prefix>scalar_NAME (the feed's values), are read at its set-up,
@@ -271,6 +279,7 @@ PetscErrorCode Run::setUp() {
   Impl &r = *impl;
   PetscFunctionBeginUser;
   PetscCheck(r.path, r.comm, PETSC_ERR_ORDER, "Run::setUp() needs Run::setFromOptions() first");
+  if (r.live.enabled()) PetscCall(r.liveStart()); // a switching rule's u_sup comes from the file
   if (r.switching) { // one partition for all; the first database the rule chooses
     PetscCall(r.switching->open(r.comm, splitList(r.dbPath), r.loadOptions));
     PetscCall(r.switching->activate(r.switching->initial(), 0.0, &r.db));
@@ -283,6 +292,11 @@ PetscErrorCode Run::setUp() {
   }
   const double dt = r.dtRec = r.db->metadata().dtRec;
   if (r.solidDensity <= 0) r.solidDensity = r.db->metadata().solidDensity;
+  if (r.live.enabled()) { // -live_end, else the case's -t_end, else no end: the stop file or a signal
+    if (r.live.endTime() > 0) r.tEnd = r.live.endTime();
+    else if (r.tEnd < 0) r.tEnd = kLiveStepsWithoutEnd * dt;
+    PetscCall(r.liveFollow(0.0)); // the database's conditions with the file's u_sup
+  }
   if (r.tEnd < 0) r.tEnd = std::max(1, r.db->numFrames() - 1) * dt; // one pass inside the database
   if (r.checkpointFile.empty()) r.checkpointFile = r.outputDir + "/checkpoint.h5";
   PetscCheck(r.tEnd / dt >= 0.5 && r.tEnd / dt <= 1e12, r.comm, PETSC_ERR_USER_INPUT,
@@ -317,6 +331,10 @@ PetscErrorCode Run::setUp() {
   std::vector<Answers::Named> asked; // none unless the case asks
   PetscCall(r.answers.createMonitors(ctx, r.steps * dt, r.quiet == PETSC_TRUE, &asked));
   for (auto &a : asked) r.monitors.push_back({std::move(a.monitor), a.every, a.name});
+  if (r.forecast && r.forecast->enabled()) { // forecasts from the state, after the answers of the same step
+    const long every = r.forecast->everySteps(dt);
+    r.monitors.push_back({std::move(r.forecast), every, "forecast.csv"});
+  }
   for (auto &m : r.registered) r.monitors.push_back(std::move(m)); // -monitors
   r.registered.clear();
   if (r.scalars.size() > 0) // scalars.csv, with the centres of gravity
@@ -437,6 +455,12 @@ PetscErrorCode Run::Impl::progress(long step, double time, bool last) {
   lastProgress = now;
   const double elapsed = now - wallStart;
   const double rate = elapsed > 0 ? step / elapsed : 0.0;
+  if (live.enabled()) { // no end to count down to; how far the file goes instead
+    const double liveRate = elapsed > 0 ? (step - startStep) / elapsed : 0.0;
+    PetscCall(PetscPrintf(comm, "  t = %8.3f s  step %ld  live file to %.6g s  %8.0f steps/s  %6.1f s simulated per wall s\n",
+                          time, step, live.knownUntil(), liveRate, liveRate * db->metadata().dtRec));
+    PetscFunctionReturn(PETSC_SUCCESS);
+  }
   const double eta = rate > 0 ? (steps - step) / rate : 0.0;
   PetscCall(PetscPrintf(comm, "  t = %8.3f / %.3f s  step %ld/%ld  %8.0f steps/s  %6.1f s simulated per wall s  ETA %.1f s\n",
                         time, tEnd, step, steps, rate, rate * db->metadata().dtRec, eta));
@@ -485,7 +509,12 @@ PetscErrorCode Run::Impl::march() {
   // The frame of the next step; after a restart the path stands on it.
   int frame = r.startStep == 0 ? r.path->next() : r.path->frame();
   r.lastStep = r.startStep;
-  if (r.startStep == 0) PetscCall(r.callMonitors(0, 0.0, r.dbFrame(frame), r.steps == 0));
+  bool liveEnded = false;
+  PetscCall(r.liveAdvance(r.startStep, &liveEnded)); // the rows of the first step, or the input's end
+  PetscCall(r.liveFollow(r.startStep * dt));
+  // A live run stopped by its stop file or a signal is interrupted, not finished: its monitors get
+  // no final call (no row off their schedule), so its files are the start of the uninterrupted run's.
+  if (r.startStep == 0) PetscCall(r.callMonitors(0, 0.0, r.dbFrame(frame), r.steps == 0 && !liveEnded));
   const long checkpointSteps =
       r.checkpointEvery > 0 ? std::max(1L, std::lround(r.checkpointEvery / dt)) : 0L;
   r.wallStart = r.lastProgress = MPI_Wtime();
@@ -552,6 +581,10 @@ PetscErrorCode Run::Impl::march() {
     }
     frame = next;
     const double t = (s + 1) * dt;
+    if (r.live.enabled()) { // the conditions from t on; whether the input goes on past the next step
+      PetscCall(r.liveFollow(t));
+      PetscCall(r.liveAdvance(s + 1, &liveEnded));
+    }
     if (r.stopAtSteady) PetscCall(r.steadyAt(s + 1, t, r.dbFrame(frame), false, &stop));
     if (ledgerOn && !conservative) r.ops.addedMass(&added);
     if (ledgerOn) {
@@ -562,8 +595,9 @@ PetscErrorCode Run::Impl::march() {
       r.ledgerSeconds += MPI_Wtime() - start;
     }
     if (r.switching) PetscCall(r.followSwitches(s + 1, t, frame));
-    PetscCall(r.callMonitors(s + 1, t, r.dbFrame(frame), s + 1 == r.steps || stop));
-    if (checkpointSteps && ((s + 1) % checkpointSteps == 0 || stop)) { // the files first: the checkpoint records their lengths
+    PetscCall(r.callMonitors(s + 1, t, r.dbFrame(frame), (s + 1 == r.steps && !liveEnded) || stop));
+    const bool liveLast = r.live.enabled() && s + 1 == r.steps; // restartable where it stopped
+    if ((checkpointSteps && ((s + 1) % checkpointSteps == 0 || stop)) || liveLast) { // the files first: the checkpoint records their lengths
       PetscCall(r.flushMonitors());
       PetscCall(r.writeCheckpoint(s + 1));
       lastFlush = MPI_Wtime();

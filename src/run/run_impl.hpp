@@ -8,6 +8,8 @@
 #include "observable/cog_monitor.hpp"
 #include "operator/mass_account_monitor.hpp"
 #include "run/jumps_file.hpp"
+#include "run/forecast_monitor.hpp"
+#include "run/live_input.hpp"
 #include "state/scalars.hpp"
 #include "switching/database_switcher.hpp"
 
@@ -52,8 +54,17 @@ struct Run::Impl {
   /// onto its frame for the path's frame `nextFrame` (dbFrame) by the composition
   /// remap of a stitching jump.
   PetscErrorCode switchTo(const SwitchDecision &target, int nextFrame, double time, bool remap);
+  // A live run (-live FILE, src/run/run_live.cpp, docs/live.md).
+  /// In setUp, before the databases open: the file's header and first row, and the columns' users.
+  PetscErrorCode liveStart();
+  /// The file's conditions at `time` onto the operators' rates, the switching rule and the monitors.
+  PetscErrorCode liveFollow(double time);
+  /// Before the monitors of step k: the rows up to the end of step k + 1 (waiting for them), or the
+  /// input's end (*ended; the run's last step is then k).
+  PetscErrorCode liveAdvance(long k, bool *ended);
   RunContext context() const {
-    RunContext c{*db, set, solidDensity, switching ? &switching->operatingConditions() : nullptr};
+    RunContext c{*db, set, solidDensity,
+                 switching ? &switching->operatingConditions() : (liveVelocity ? &liveConditions : nullptr)};
     c.numScalars = scalars.size();
     if (c.numScalars > 0) c.scalarNames = &fstate.scalarNames();
     return c;
@@ -111,6 +122,11 @@ struct Run::Impl {
   PetscViewerFormat viewFormat = PETSC_VIEWER_DEFAULT;
   DatabaseLoadOptions loadOptions;
   double wallStart = 0.0, lastProgress = 0.0;
+  LiveInput live;                      // -live FILE
+  OperatingConditions liveConditions;  // one database and a live u_sup: the conditions the monitors see
+  bool liveVelocity = false;           // ... whether it is so
+  std::size_t liveRowsScheduled = 0;   // rows handed to the switching rule
+  std::unique_ptr<ForecastMonitor> forecast; // -forecast_every: moved into `monitors` at setUp
   double ledgerSeconds = 0.0; // wall time of the mass ledger's checks while stepping
 };
 

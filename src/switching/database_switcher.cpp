@@ -4,6 +4,7 @@
 #include "base/collective.hpp"
 #include "base/petsc_compat.hpp"
 #include "base/checked_options.hpp"
+#include "switching/measured_schedule.hpp"
 
 #include <cmath>
 #include <cstdio>
@@ -260,6 +261,16 @@ PetscErrorCode DatabaseSwitcher::record(double time, const SwitchDecision &from,
 SwitchDecision DatabaseSwitcher::savedChoice(const std::vector<double> &state) {
   if (state.size() < kSaved) return {};
   return {static_cast<int>(state[0]), state[3], static_cast<int>(state[1]), state[2]};
+}
+
+PetscErrorCode DatabaseSwitcher::appendSchedule(double t, double u) {
+  PetscFunctionBeginUser;
+  auto *measured = dynamic_cast<MeasuredSchedule *>(rule_.get());
+  PetscCheck(measured, PETSC_COMM_SELF, PETSC_ERR_SUP,
+             "the %s switching rule does not run the bed at a u_sup over time; -db_switch_type schedule or blend does",
+             rule_->type().c_str());
+  PetscCall(measured->appendSchedule(t, u));
+  PetscFunctionReturn(PETSC_SUCCESS);
 }
 
 std::vector<double> DatabaseSwitcher::saveState() const {

@@ -56,6 +56,10 @@ public:
   /// switch.  A reference that stays valid and follows them.
   const OperatingConditions &operatingConditions() const { return operating_; }
   SwitchDecision initial() const { return rule_->initial(); }
+  /// Not collective.  A live run's measured u_sup from time t on
+  /// (MeasuredSchedule::appendSchedule); refused by a rule that does not run
+  /// the bed at a u_sup over time.
+  PetscErrorCode appendSchedule(double t, double u);
   long numSwitches() const { return switches; }
   /// Time of the validity warning [s], NaN while the run stays inside.
   double extrapolatingSince() const { return warnedAt; }

@@ -4,6 +4,7 @@
 #include "base/petsc_compat.hpp"
 #include "base/random.hpp"
 #include "base/collective.hpp"
+#include "switching/measured_schedule.hpp"
 
 #include <algorithm>
 #include <array>
@@ -101,7 +102,7 @@ PetscErrorCode stringOption(MPI_Comm comm, const std::string &prefix, const char
 }
 
 // schedule: the operating condition over time; the database recorded nearest to it.
-class ScheduleRule : public SwitchRule {
+class ScheduleRule : public SwitchRule, public MeasuredSchedule {
 public:
   std::string type() const override { return "schedule"; }
   PetscErrorCode setFromOptions(MPI_Comm comm) override {
@@ -112,9 +113,14 @@ public:
                            "Superficial velocity over time, t0:u0,t1:u1,... [s:m/s] from t0 = 0, held until the next",
                            &text, &set));
     if (!set && helpAsked()) text = "0:1";
-    PetscCheck(set || helpAsked(), comm, PETSC_ERR_USER_INPUT,
-               "-%sschedule is needed by the schedule rule, e.g. -%sschedule 0:1.1,30:1.2 (s:m/s)",
-               optionsPrefix().c_str(), optionsPrefix().c_str());
+    // A live run appends its measured u_sup instead (appendSchedule); setUp
+    // checks that one of the two gave the schedule.
+    fromOptions = set || helpAsked();
+    if (!fromOptions) {
+      times.clear();
+      velocities.clear();
+      PetscFunctionReturn(PETSC_SUCCESS);
+    }
     const std::string option = "-" + optionsPrefix() + "schedule";
     PetscCall(collectively(comm, [&] {
       times.clear();
@@ -142,21 +148,41 @@ public:
     const std::vector<OperatingConditions> &databases = ctx.databases;
     PetscFunctionBeginUser;
     PetscCall(SwitchRule::setUp(ctx));
+    PetscCheck(!times.empty(), comm, PETSC_ERR_USER_INPUT,
+               "-%sschedule is needed by the %s rule, e.g. -%sschedule 0:1.1,30:1.2 (s:m/s), or a live file with a "
+               "u_sup column (-live FILE)", optionsPrefix().c_str(), type().c_str(), optionsPrefix().c_str());
     PetscCheck(nearestDatabase(databases, 1.0) >= 0, comm, PETSC_ERR_USER_INPUT,
                "The schedule rule needs the databases' superficial velocities: none records one; give them "
                "with -db_conditions u1,u2,... in the order of -db");
     PetscFunctionReturn(PETSC_SUCCESS);
   }
   double superficialVelocity(double t) const override {
-    std::size_t k = 0;
-    while (k + 1 < times.size() && times[k + 1] <= t * (1.0 + 1e-12)) ++k;
-    return velocities[k];
+    if (times.empty()) return std::numeric_limits<double>::quiet_NaN();
+    // The last entry at or before t (to round-off); a live schedule grows long.
+    const auto after = std::upper_bound(times.begin(), times.end(), t * (1.0 + 1e-12));
+    return velocities[after == times.begin() ? 0 : static_cast<std::size_t>(after - times.begin()) - 1];
+  }
+  PetscErrorCode appendSchedule(double t, double u) override { // a live run's u_sup
+    PetscFunctionBeginUser;
+    PetscCheck(!fromOptions, PETSC_COMM_SELF, PETSC_ERR_USER_INPUT,
+               "-%sschedule and the live file's u_sup column both give u_sup; give it once", optionsPrefix().c_str());
+    PetscCheck(times.empty() ? t == 0.0 : t > times.back(), PETSC_COMM_SELF, PETSC_ERR_ARG_OUTOFRANGE,
+               "the %s rule's schedule must start at time 0 and increase (got %g s after %g s)", type().c_str(), t,
+               times.empty() ? -1.0 : times.back());
+    PetscCheck(u > 0, PETSC_COMM_SELF, PETSC_ERR_ARG_OUTOFRANGE, "a superficial velocity must be positive (got %g m/s)", u);
+    if (!velocities.empty() && velocities.back() == u) PetscFunctionReturn(PETSC_SUCCESS); // held: the same schedule
+    times.push_back(t);
+    velocities.push_back(u);
+    PetscFunctionReturn(PETSC_SUCCESS);
   }
   SwitchDecision initial() const override { return choose(velocities.front()); }
   SwitchDecision decide(const SwitchDecision &, const SwitchSignals &s) override {
     return choose(superficialVelocity(s.time));
   }
   std::string describe() const override {
+    // A live schedule grows as the run goes: the rule is the same whatever of it has arrived
+    // (switches.csv's header, the checkpoint's record of the physics).
+    if (!fromOptions) return "schedule of u_sup: measured, from the live file (-live); the database recorded nearest";
     std::string text = "schedule of u_sup:";
     char item[64];
     for (std::size_t k = 0; k < times.size(); ++k) {
@@ -175,6 +201,7 @@ protected:
     return c;
   }
   std::vector<double> times, velocities;
+  bool fromOptions = false; // -db_switch_schedule gave it (else a live run appends it)
 };
 
 // blend: the schedule's condition between the two databases that bracket it,

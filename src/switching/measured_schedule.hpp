@@ -1,0 +1,21 @@
+// A switching rule whose u_sup over time can grow while the run goes: a live
+// run (rcfd run -live, docs/live.md) appends the measured u_sup to it.  Private
+// to the library (the built-in schedule and blend rules), so that the public
+// SwitchRule keeps its layout for plugins built against it.
+#pragma once
+
+#include "base/petsc_compat.hpp"
+
+#include <petscsys.h>
+
+namespace rcfd {
+
+class MeasuredSchedule {
+public:
+  virtual ~MeasuredSchedule() = default;
+  /// Not collective.  u [m/s] from time t [s] on, appended as the
+  /// measurements arrive, in increasing time from 0, before the run reaches t.
+  virtual PetscErrorCode appendSchedule(double t, double u) = 0;
+};
+
+} // namespace rcfd
