@@ -213,6 +213,10 @@ PetscErrorCode synthCommand(MPI_Comm comm) {
   PetscFunctionBeginUser;
   PetscCallMPI(MPI_Comm_rank(comm, &rank));
   PetscCall(readSynthOptions(comm, &options, &path, &point, &series, &quiet));
+  PetscCall(options.vessel.setFromOptions(comm, options.box)); // -vessel: the whole box unless given
+  PetscCall(collectively(comm, [&] { // shapes that hold every cell whole are the box: today's bed
+    if (!options.vessel.isWholeBox() && vesselMesh(options.vessel, options.box).isBox()) options.vessel = Vessel();
+  }, PETSC_ERR_USER_INPUT));
   OperatingConditions conditions; // recorded in the file when given (format version 2)
   PetscCall(OperatingConditions::fromOptions(comm, &conditions));
   if (helpRequested()) PetscFunctionReturn(PETSC_SUCCESS);
@@ -222,6 +226,7 @@ PetscErrorCode synthCommand(MPI_Comm comm) {
 
   // The generator is serial: rank 0 makes and writes the file, the others wait.
   SyntheticBedReport report;
+  int cells = options.box.numCells();
   PetscCall(collectively(comm, [&] {
     if (rank != 0) return;
     if (series.only) {
@@ -240,7 +245,9 @@ PetscErrorCode synthCommand(MPI_Comm comm) {
       std::snprintf(at, sizeof at, ", at u_sup = %g m/s", conditions.superficialVelocity);
       meta.source += at;
     }
-    DatabaseFileWriter writer(path, Mesh::box(options.box), meta);
+    const Mesh mesh = options.vessel.isWholeBox() ? Mesh::box(options.box) : vesselMesh(options.vessel, options.box);
+    cells = mesh.numCells();
+    DatabaseFileWriter writer(path, mesh, meta);
     if (!pointNote.empty()) writer.setNote("synth_operating_point", pointNote);
     report = generateSyntheticBed(options, [&](const FrameRecord &frame) {
       writer.append(frame);
@@ -258,7 +265,7 @@ PetscErrorCode synthCommand(MPI_Comm comm) {
     PetscCall(PetscPrintf(comm,
                           "Wrote %s: %d frames of %d cells every %g s; %ld parcels, largest alpha_s %.3f,"
                           " mean bed height %.3f m, %ld bubbles erupted, wrap mismatch %.2f %%\n",
-                          path.c_str(), options.numFrames, options.box.numCells(), options.dtRec,
+                          path.c_str(), options.numFrames, cells, options.dtRec,
                           report.parcels, report.maxAlpha, report.meanBedHeight,
                           report.bubblesErupted, 100 * report.wrapMismatchRelative));
   if (!quiet) printHalves(comm, report); // rank 0 made the report; PetscPrintf prints rank 0's

@@ -1,0 +1,75 @@
+#!/usr/bin/env bash
+# Vessels in the program (docs/vessels.md): -vessel box is today's database bit
+# for bit; the synthetic bed in a cylinder makes a database of the cylinder's
+# cells that rcfd info reports, on which a run keeps every fraction's mass,
+# never turns a cell negative, gives the same answers on 1 and 2 ranks and
+# writes field files of the cylinder's cells only; a set of databases of two
+# vessels is refused; bad vessel options are refused with one sentence.
+# usage: test_vessel_cli.sh RCFD CSV_COMPARE DATA_DIR SOURCE_DIR
+set -eu
+export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
+rcfd=$1 compare=$2 data=$3
+h5print=$(dirname "$compare")/h5_print
+work=$(mktemp -d)
+trap 'rm -rf "$work"' EXIT
+fail() { echo "FAIL: $*"; exit 1; }
+bed=(-synth_cells 12,12,24 -synth_length 0.12,0.12,0.24 -synth_bed_height 0.08 -synth_frames 30 -quiet)
+
+# The whole box, named or as a shape holding the box: the same frames, the same content hash.
+"$rcfd" synth -o "$work/box.h5" "${bed[@]}"
+"$rcfd" synth -o "$work/box2.h5" "${bed[@]}" -vessel box
+"$rcfd" synth -o "$work/box3.h5" "${bed[@]}" -vessel all -vessel_all_box -1,1,-1,1,-1,1
+hash() { "$h5print" "$1" / content_hash string; }
+[ "$(hash "$work/box.h5")" = "$(hash "$work/box2.h5")" ] || fail "-vessel box changed the database"
+[ "$(hash "$work/box.h5")" = "$(hash "$work/box3.h5")" ] || fail "a box shape holding the box changed the database"
+[ "$("$h5print" "$work/box2.h5" /mesh kind string)" = box ] || fail "-vessel box did not write a box mesh"
+
+# The bed in the inscribed cylinder: fewer cells, recorded, reported.
+"$rcfd" synth -o "$work/cyl.h5" "${bed[@]}" -vessel cylinder
+[ "$("$h5print" "$work/cyl.h5" /mesh kind string)" = masked_box ] || fail "the cylinder's mesh is not masked_box"
+"$h5print" "$work/cyl.h5" /mesh vessel string | grep -q '^+cylinder(0.06,0.06,0.06) samples 8$' ||
+  fail "the cylinder is not recorded: $("$h5print" "$work/cyl.h5" /mesh vessel string)"
+cells=$("$h5print" "$work/cyl.h5" /mesh/cell_volumes | wc -l)
+[ "$cells" -lt 3456 ] && [ "$cells" -gt 2500 ] || fail "the cylinder has $cells of the box's 3456 cells"
+"$rcfd" info -db "$work/cyl.h5" > "$work/info.txt"
+grep -q 'mesh: vessel +cylinder(0.06,0.06,0.06)' "$work/info.txt" || { cat "$work/info.txt"; fail "rcfd info does not report the vessel"; }
+grep -q "$cells cells inside" "$work/info.txt" || fail "rcfd info does not report the inside cells"
+
+# A run on the cylinder: masses kept, none negative, 1 rank == 2 ranks, fields of the cylinder's cells.
+run=(-db "$work/cyl.h5" -t_end 0.6 -quiet -fields_every 0.3 -plot false -profiles -halves -bottom_layer
+  -fractions_diameters 1.5e-3,3e-3 -fractions_mass_shares 0.5,0.5 -init layered -monitor_digits 17)
+mpiexec -n 1 "$rcfd" run "${run[@]}" -output_dir "$work/np1"
+mpiexec -n 2 "$rcfd" run "${run[@]}" -output_dir "$work/np2"
+"$compare" "$work/np1/cog.csv" "$work/np2/cog.csv" 1e-12 1e-15 bulk_mismatch=1e-12
+awk -F, 'NR == 1 { for (i = 1; i <= NF; ++i) { if ($i ~ /^mass_/) m[i] = 1; if ($i == "min_cell_mass_kg") low = i }; next }
+  NR == 2 { for (i in m) first[i] = $i }
+  { for (i in m) if (($i - first[i]) > 1e-12 * first[i] || (first[i] - $i) > 1e-12 * first[i]) { print "mass " $i " vs " first[i]; bad = 1 }
+    if ($low < 0) { print "negative cell mass " $low; bad = 1 } }
+  END { exit bad }' "$work/np1/cog.csv" || fail "the run on the cylinder lost mass or made a negative cell"
+# Answers on real volumes: the settled bottom layer holds the bed's packing (0.55), not
+# 0.55 x 79 % as it would over the box's volumes.
+awk -F, '/^[0-9]/ { print $NF; exit }' "$work/np1/profiles.csv" |
+  awk '{ exit !($1 > 0.52 && $1 < 0.56) }' || fail "the bottom layer's alpha_s is not the packing: $(sed -n 3p "$work/np1/profiles.csv")"
+"$compare" "$work/np1/halves.csv" "$work/np2/halves.csv" 1e-12 1e-15
+grep -q 'TopologyType="Hexahedron" NumberOfElements="'"$cells"'"' "$work/np2/fields.xmf" ||
+  fail "the field index does not list the cylinder's $cells cells"
+[ "$("$h5print" "$work/np2/fields_000001.h5" /alpha_s | wc -l)" -eq "$cells" ] || fail "a field file is not of the cylinder's cells"
+[ "$("$h5print" "$work/np2/fields_mesh.h5" /cells | wc -l)" -eq $((8 * cells)) ] || fail "fields_mesh.h5 has not 8 corners per cell"
+
+# Databases of two vessels in one run: refused, naming both.
+if "$rcfd" run -db "$work/cyl.h5,$work/box.h5" -db_switch_schedule 0:1.1 -t_end 0.1 -quiet -output_dir "$work/two" > "$work/two.txt" 2>&1; then
+  fail "a run on databases of two vessels was not refused"
+fi
+grep -q "are of different vessels (+cylinder(0.06,0.06,0.06) samples 8 and box)" "$work/two.txt" || { cat "$work/two.txt"; fail "the refusal does not name the vessel"; }
+
+# Bad vessel options: one sentence each.
+refused() { # expected text, then options
+  local text=$1; shift
+  if "$rcfd" synth -o "$work/bad.h5" "${bed[@]}" "$@" > "$work/bad.txt" 2>&1; then fail "synth $* was not refused"; fi
+  grep -q -- "$text" "$work/bad.txt" || { cat "$work/bad.txt"; fail "synth $*: no '$text'"; }
+}
+refused "has no shape" -vessel body
+refused "needs a positive radius" -vessel body -vessel_body_cylinder 0.06,0.06,-1
+refused "belong to -vessel cylinder" -vessel box -vessel_radius 0.05
+refused "one vertical cylinder" -vessel body -vessel_body_cone 0.06,0.06,0,0.02,0.24,0.06
+echo "vessel cli: passed"
