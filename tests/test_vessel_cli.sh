@@ -56,6 +56,19 @@ grep -q 'TopologyType="Hexahedron" NumberOfElements="'"$cells"'"' "$work/np2/fie
 [ "$("$h5print" "$work/np2/fields_000001.h5" /alpha_s | wc -l)" -eq "$cells" ] || fail "a field file is not of the cylinder's cells"
 [ "$("$h5print" "$work/np2/fields_mesh.h5" /cells | wc -l)" -eq $((8 * cells)) ] || fail "fields_mesh.h5 has not 8 corners per cell"
 
+# A stitched run on the cylinder restarted from its checkpoint: the same series, byte for byte,
+# on 2 ranks (the carry jumps between frames, so the column carry over the cylinder's columns runs).
+restart=(-db "$work/cyl.h5" -quiet -fields 0 -plot 0 -monitor_digits 17 -path_type random -path_seed 3
+  -fractions_diameters 1.5e-3,3e-3 -fractions_mass_shares 0.5,0.5 -bottom_layer)
+mpiexec -n 2 "$rcfd" run "${restart[@]}" -t_end 1 -output_dir "$work/full"
+mpiexec -n 2 "$rcfd" run "${restart[@]}" -t_end 0.8 -checkpoint_every 0.5 -output_dir "$work/first"
+mpiexec -n 2 "$rcfd" run "${restart[@]}" -t_end 1 -restart "$work/first/checkpoint.h5" -output_dir "$work/second"
+for f in cog.csv bottom.csv path.txt jumps.csv; do
+  cmp -s "$work/full/$f" "$work/second/$f" || fail "the restarted run's $f differs from the uninterrupted one's"
+done
+awk 'NR > 2 && $1 != prev + 1 { j++ } { prev = $1 } END { exit !(j >= 3) }' "$work/full/path.txt" ||
+  fail "the stitched path on the cylinder did not jump"
+
 # Databases of two vessels in one run: refused, naming both.
 if "$rcfd" run -db "$work/cyl.h5,$work/box.h5" -db_switch_schedule 0:1.1 -t_end 0.1 -quiet -output_dir "$work/two" > "$work/two.txt" 2>&1; then
   fail "a run on databases of two vessels was not refused"
