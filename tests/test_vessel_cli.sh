@@ -75,6 +75,29 @@ if "$rcfd" run -db "$work/cyl.h5,$work/box.h5" -db_switch_schedule 0:1.1 -t_end 
 fi
 grep -q "are of different vessels (+cylinder(0.06,0.06,0.06) samples 8 and box)" "$work/two.txt" || { cat "$work/two.txt"; fail "the refusal does not name the vessel"; }
 
+# rcfd build from particle dumps in a cylinder: a cloud turning about the axis, three snapshots;
+# the database is on the cylinder's cells and a run on it keeps its mass.
+mkdir -p "$work/dump"
+for k in 0 1 2; do
+  awk -v k=$k 'BEGIN {
+    printf "ITEM: TIMESTEP\n%d\nITEM: NUMBER OF ATOMS\n60\nITEM: BOX BOUNDS ff ff ff\n0 0.1\n0 0.1\n0 0.04\n", 1000 * k
+    print "ITEM: ATOMS id type x y z radius"
+    for (p = 1; p <= 60; ++p) { r = 0.045 * sqrt((p * 37 % 60 + 0.5) / 60); a = p * 2.39996 + 0.4 * k
+      printf "%d 1 %.9f %.9f %.9f 0.0015\n", p, 0.05 + r * cos(a), 0.05 + r * sin(a), 0.003 + 0.034 * ((p * 13) % 60) / 60 } }' \
+    >"$work/dump/dump.$k.txt"
+done
+printf '# index time\n0 0.1\n1 0.2\n2 0.3\n' >"$work/dump/times.txt"
+"$rcfd" build -dumps "$work/dump/dump.*.txt" -times "$work/dump/times.txt" -mesh_cells 10,10,4 -vessel cylinder \
+  -o "$work/built.h5" -quiet
+"$h5print" "$work/built.h5" /mesh vessel string | grep -q '^+cylinder(0.05,0.05,0.05) samples 8$' ||
+  fail "rcfd build did not record the cylinder: $("$h5print" "$work/built.h5" /mesh vessel string)"
+built=$("$h5print" "$work/built.h5" /mesh/cell_volumes | wc -l)
+[ "$built" -lt 400 ] && [ "$built" -gt 300 ] || fail "the built cylinder has $built of the box's 400 cells"
+mpiexec -n 2 "$rcfd" run -db "$work/built.h5" -t_end 0.4 -quiet -fields 0 -plot 0 -fractions_diameters 3e-3 \
+  -fractions_mass_shares 1 -monitor_digits 17 -output_dir "$work/builtrun"
+awk -F, 'NR == 2 { m = $5 } NR > 2 && ($5 - m > 1e-12 * m || m - $5 > 1e-12 * m) { bad = 1 } END { exit bad }' \
+  "$work/builtrun/cog.csv" || fail "the run on the built cylinder lost mass"
+
 # Bad vessel options: one sentence each.
 refused() { # expected text, then options
   local text=$1; shift

@@ -25,6 +25,7 @@
 
 #include <petscsys.h>
 
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -46,13 +47,19 @@ public:
   /// sentence naming the option, an unknown shape, wrong numbers or a vessel
   /// that holds no point of the box.
   PetscErrorCode setFromOptions(MPI_Comm comm, const BoxSpec &box);
+  /// The same before the box is known (rcfd build finds it from the particles):
+  /// `-vessel cylinder`'s defaults are left to in(box).
+  PetscErrorCode setFromOptions(MPI_Comm comm);
+  /// This vessel in `box`: `-vessel cylinder` gets its axis (the box's centre)
+  /// and radius (half the narrower side) where they were not given.
+  Vessel in(const BoxSpec &box) const;
 
   /// Adds a shape united with (or, with subtract, taken from) what is there.
   /// Throws std::invalid_argument with a sentence for wrong numbers.
   void add(Kind kind, std::vector<double> numbers, bool subtract = false);
   /// Shapes in the order they apply; none: the whole box.
   const std::vector<Shape> &shapes() const { return shapes_; }
-  bool isWholeBox() const { return shapes_.empty(); }
+  bool isWholeBox() const { return shapes_.empty() && !fitted_; }
   /// Sub-samples per cell edge for cells the wall cuts (n^3 per cell, n^2 per face).
   int samples() const { return samples_; }
   void setSamples(int n);
@@ -76,6 +83,9 @@ public:
 private:
   std::vector<Shape> shapes_;
   int samples_ = 8;
+  bool fitted_ = false;        // -vessel cylinder, its defaults still to take from a box (in())
+  double fitAxis_[2] = {kUnset, kUnset}, fitRadius_ = kUnset; // kUnset: not given
+  static constexpr double kUnset = std::numeric_limits<double>::quiet_NaN();
 };
 
 /// The vessel cut out of a box: the share of each box cell's volume inside it,

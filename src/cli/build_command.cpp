@@ -15,6 +15,7 @@
 #include "base/constants.hpp"
 #include "base/h5.hpp"
 #include "database/database_file_writer.hpp"
+#include "rcfd/vessel.hpp"
 
 #include <chrono>
 #include <cstdio>
@@ -112,6 +113,8 @@ PetscErrorCode buildCommand(MPI_Comm comm) {
   PetscCall(readParticleInputOptions(comm, &in));
   OperatingConditions conditions; // recorded in the file when given (format version 2)
   PetscCall(OperatingConditions::fromOptions(comm, &conditions));
+  Vessel vessel; // -vessel (docs/vessels.md): completed by the box once the particles give it
+  PetscCall(vessel.setFromOptions(comm));
   if (helpRequested()) PetscFunctionReturn(PETSC_SUCCESS);
   PetscCall(rejectUnusedOptions(comm, "build"));
 
@@ -137,6 +140,9 @@ PetscErrorCode buildCommand(MPI_Comm comm) {
     const ParticleSnapshot first = readParticleSnapshot(in.files[sel.front()], opt.read);
     opt.mesh = resolveMesh(in.mesh, first, opt.axes);
     const BoxSpec &box = opt.mesh;
+    const Vessel inBox = vessel.in(box);
+    const Mesh mesh = inBox.isWholeBox() ? Mesh::box(box) : vesselMesh(inBox, box);
+    if (mesh.isMasked()) opt.vessel = &mesh;
 
     DatabaseMetadata meta;
     meta.dtRec = dtRec;
@@ -168,8 +174,14 @@ PetscErrorCode buildCommand(MPI_Comm comm) {
     if (!out.initOut.empty()) {
       const SizeClasses classes = SizeClasses::cluster(first.diameter, in.classTolerance);
       std::size_t outside = 0;
-      const auto masses = classMassesPerCell(first, opt.axes, box, classes, opt.volume, &outside);
+      auto masses = classMassesPerCell(first, opt.axes, box, classes, opt.volume, &outside);
       const std::size_t nc = classes.diameter.size();
+      if (mesh.isMasked()) { // the vessel's cells; what lies in box cells outside it is left out
+        std::vector<double> inside(static_cast<std::size_t>(mesh.numCells()) * nc);
+        for (int c = 0; c < mesh.numCells(); ++c)
+          std::copy_n(&masses[static_cast<std::size_t>(mesh.boxCell(c)) * nc], nc, &inside[c * nc]);
+        masses.swap(inside);
+      }
       std::vector<double> total(nc, 0.0);
       for (std::size_t k = 0; k < masses.size(); ++k) total[k % nc] += masses[k];
       const double sum = std::accumulate(total.begin(), total.end(), 0.0);
@@ -191,7 +203,7 @@ PetscErrorCode buildCommand(MPI_Comm comm) {
                     "%s; use: rcfd run -init file -init_file %s -fractions_diameters %s "
                     "-fractions_mass_shares %s\n",
                     out.initOut.c_str(), nc, join(classes.diameter, 1e3, "%.4g").c_str(),
-                    join(shares, 1.0, "%.4f").c_str(), box.numCells(),
+                    join(shares, 1.0, "%.4f").c_str(), mesh.numCells(),
                     outside ? (" (" + std::to_string(outside) + " particles outside left out)").c_str()
                             : "",
                     out.initOut.c_str(), join(classes.diameter, 1.0, "%.9g").c_str(),
@@ -204,7 +216,7 @@ PetscErrorCode buildCommand(MPI_Comm comm) {
       };
     }
 
-    DatabaseFileWriter writer(out.database, Mesh::box(box), meta);
+    DatabaseFileWriter writer(out.database, mesh, meta);
     ParticleFrameBuilder builder(opt, [&](const FrameRecord &f) { writer.append(f); });
     using Clock = std::chrono::steady_clock;
     const auto start = Clock::now();

@@ -135,6 +135,7 @@ double Vessel::level(const Vec3 &x) const {
 }
 
 std::string Vessel::describe() const {
+  if (fitted_) return "cylinder (its box not given yet)";
   if (shapes_.empty()) return "box";
   std::string out;
   for (const auto &s : shapes_)
@@ -180,11 +181,29 @@ Vessel Vessel::parse(const std::string &text) {
   return v;
 }
 
+Vessel Vessel::in(const BoxSpec &box) const {
+  if (!fitted_) return *this;
+  Vessel v = *this;
+  v.fitted_ = false;
+  const double x = std::isnan(fitAxis_[0]) ? box.origin[0] + 0.5 * box.length[0] : fitAxis_[0];
+  const double y = std::isnan(fitAxis_[1]) ? box.origin[1] + 0.5 * box.length[1] : fitAxis_[1];
+  const double r = std::isnan(fitRadius_) ? 0.5 * std::min(box.length[0], box.length[1]) : fitRadius_;
+  v.add(Kind::Cylinder, {x, y, r});
+  return v;
+}
+
 PetscErrorCode Vessel::setFromOptions(MPI_Comm comm, const BoxSpec &box) {
+  PetscFunctionBeginUser;
+  PetscCall(setFromOptions(comm));
+  PetscCall(collectively(comm, [&] { *this = in(box); }, PETSC_ERR_USER_INPUT));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode Vessel::setFromOptions(MPI_Comm comm) {
   std::vector<std::string> names, minus;
   PetscBool given = PETSC_FALSE, minusGiven = PETSC_FALSE, axisGiven = PETSC_FALSE, radiusGiven = PETSC_FALSE;
-  PetscReal axis[2] = {box.origin[0] + 0.5 * box.length[0], box.origin[1] + 0.5 * box.length[1]};
-  PetscReal radius = 0.5 * std::min(box.length[0], box.length[1]);
+  PetscReal axis[2] = {NAN, NAN};
+  PetscReal radius = NAN;
   PetscInt nAxis = 2, samples = samples_;
   PetscFunctionBeginUser;
   PetscOptionsBegin(comm, nullptr, "Vessel (docs/vessels.md)", nullptr);
@@ -209,10 +228,14 @@ PetscErrorCode Vessel::setFromOptions(MPI_Comm comm, const BoxSpec &box) {
   PetscCheck(!minusGiven || (given && !(shortcut && names[0] == "box")), comm, PETSC_ERR_USER_INPUT,
              "-vessel_minus takes shapes away from a -vessel: name the shapes to take them from");
   shapes_.clear();
+  fitted_ = false;
   samples_ = static_cast<int>(samples);
   if (!given || (shortcut && names[0] == "box")) PetscFunctionReturn(PETSC_SUCCESS);
-  if (shortcut) {
-    PetscCall(collectively(comm, [&] { add(Kind::Cylinder, {axis[0], axis[1], radius}); }, PETSC_ERR_USER_INPUT));
+  if (shortcut) { // the box is not known yet: in(box) completes it
+    fitted_ = true;
+    fitAxis_[0] = axis[0];
+    fitAxis_[1] = axis[1];
+    fitRadius_ = radius;
   } else {
     auto readShape = [&](const std::string &name, bool subtract) -> PetscErrorCode {
       PetscFunctionBeginUser;
