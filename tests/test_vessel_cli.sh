@@ -94,9 +94,11 @@ printf '# index time\n0 0.1\n1 0.2\n2 0.3\n' >"$work/dump/times.txt"
 built=$("$h5print" "$work/built.h5" /mesh/cell_volumes | wc -l)
 [ "$built" -lt 400 ] && [ "$built" -gt 300 ] || fail "the built cylinder has $built of the box's 400 cells"
 mpiexec -n 2 "$rcfd" run -db "$work/built.h5" -t_end 0.4 -quiet -fields 0 -plot 0 -fractions_diameters 3e-3 \
-  -fractions_mass_shares 1 -monitor_digits 17 -output_dir "$work/builtrun"
+  -fractions_mass_shares 1 -monitor_digits 17 -output_dir "$work/builtrun" -drift_model measured -snapshots_times 0.2
 awk -F, 'NR == 2 { m = $5 } NR > 2 && ($5 - m > 1e-12 * m || m - $5 > 1e-12 * m) { bad = 1 } END { exit bad }' \
   "$work/builtrun/cog.csv" || fail "the run on the built cylinder lost mass"
+# The mid-plane snapshot holds the plane's cells of the cylinder (10 across, 4 layers; its row lies inside).
+[ "$(grep -c '^[0-9]' "$work/builtrun/snapshot_0.2000s.csv")" -eq 40 ] || fail "the snapshot is not the cylinder's mid-plane"
 
 # Bad vessel options: one sentence each.
 refused() { # expected text, then options
