@@ -100,6 +100,26 @@ awk -F, 'NR == 2 { m = $5 } NR > 2 && ($5 - m > 1e-12 * m || m - $5 > 1e-12 * m)
 # The mid-plane snapshot holds the plane's cells of the cylinder (10 across, 4 layers; its row lies inside).
 [ "$(grep -c '^[0-9]' "$work/builtrun/snapshot_0.2000s.csv")" -eq 40 ] || fail "the snapshot is not the cylinder's mid-plane"
 
+# The same cloud in a cone standing on a plinth (from 1 cm up): the box's lowest cell layer has no
+# cell of the vessel, so the profiles start at the cone's first layer and the bottom layer is its.
+"$rcfd" build -dumps "$work/dump/dump.*.txt" -times "$work/dump/times.txt" -mesh_cells 10,10,4 -vessel cone \
+  -vessel_cone_cone 0.05,0.05,0.01,0.02,0.04,0.05 -o "$work/cone.h5" -quiet
+"$rcfd" run -db "$work/cone.h5" -t_end 0.2 -quiet -fields 0 -plot 0 -fractions_diameters 3e-3 -fractions_mass_shares 1 \
+  -profiles -bottom_layer -output_dir "$work/conerun"
+[ "$(awk -F, '/^[0-9]/ { print $1; exit }' "$work/conerun/profiles.csv")" = 0.015 ] ||
+  fail "the cone's profiles do not start at its first layer: $(sed -n 3p "$work/conerun/profiles.csv")"
+[ "$(grep -c '^[0-9]' "$work/conerun/profiles.csv")" -eq 3 ] || fail "the cone's profiles have not its 3 layers"
+grep -q '^0,' "$work/conerun/bottom.csv" && ! grep -q nan "$work/conerun/bottom.csv" ||
+  fail "the cone's bottom layer is empty: $(sed -n 2p "$work/conerun/bottom.csv")"
+
+# A broken vessel mesh is refused with a sentence naming the file and what is wrong.
+h5edit=$(dirname "$compare")/h5_edit
+cp "$work/cyl.h5" "$work/short.h5"
+"$h5edit" "$work/short.h5" keep /mesh/cell_volumes 100
+if "$rcfd" info -db "$work/short.h5" > "$work/short.txt" 2>&1; then fail "a vessel mesh with too few volumes was read"; fi
+grep -q "short.h5': /mesh cell_centres and cell_volumes must have one row per cell of box_cell ($cells)" "$work/short.txt" ||
+  { cat "$work/short.txt"; fail "the short vessel mesh's refusal does not say what is wrong"; }
+
 # Bad vessel options: one sentence each.
 refused() { # expected text, then options
   local text=$1; shift

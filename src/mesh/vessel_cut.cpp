@@ -20,15 +20,24 @@ double subCellShare(const Vessel &v, const Vec3 &x, const Vec3 &hs, double halfD
   if (level >= halfDiagonal) return 1.0;
   if (level <= -halfDiagonal) return 0.0;
   double width = 0.0;
+  Vec3 far = x; // the sub-cell's corner furthest along the gradient (into the vessel), or against it
   for (int a = 0; a < 3; ++a) {
     if (!(hs[a] > 0)) continue;
     const double e = 1e-3 * hs[a];
     Vec3 up = x, down = x;
     up[a] += e;
     down[a] -= e;
-    width += std::fabs(v.level(up) - v.level(down)) / (2 * e) * hs[a];
+    const double g = (v.level(up) - v.level(down)) / (2 * e);
+    width += std::fabs(g) * hs[a];
+    far[a] += ((g >= 0) == (level <= 0) ? 0.5 : -0.5) * hs[a];
   }
   if (!(width > 0)) return level > 0 ? 1.0 : 0.0;
+  // On a plane wall that corner is inside exactly when part of an outside
+  // sub-cell is (and outside when part of an inside one is not); where two
+  // walls meet (a cone's rim) the plane is wrong and the corner tells.
+  const double farLevel = v.level(far);
+  if (level <= 0 && farLevel <= 0) return 0.0;
+  if (level > 0 && farLevel >= 0) return 1.0;
   const double share = 0.5 + level / width;
   // Round-off of a wall on a sub-cell's face (a box's own walls): whole or nothing.
   return share >= 1.0 - 1e-9 ? 1.0 : share <= 1e-9 ? 0.0 : share;

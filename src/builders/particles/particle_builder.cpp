@@ -60,6 +60,7 @@ ParticleFrameBuilder::ParticleFrameBuilder(const ParticleBuildOptions &options, 
   if (n <= 0) throw std::invalid_argument("particle build: the mesh has no cells");
   if (opt.vessel && (!opt.vessel->onBoxLattice() || opt.vessel->boxSpec().numCells() != opt.mesh.numCells()))
     throw std::invalid_argument("particle build: the vessel's mesh is not cut from the build's box");
+  if (opt.vessel) vesselShape = Vessel::parse(opt.vessel->vessel());
   const Vec3 h = opt.mesh.spacing();
   cellVolume = h[0] * h[1] * h[2];
   if (!(cellVolume > 0.0))
@@ -81,7 +82,7 @@ void ParticleFrameBuilder::place(const ParticleSnapshot &snap) {
     const double d = snap.diameter[p];
     const Vec3 x = opt.axes.apply(snap.position[p]);
     cellShares(opt.mesh, x, d, opt.volume, scratch);
-    if (opt.vessel && !scratch.empty()) toVesselCells(opt.mesh.locate(x));
+    if (opt.vessel && !scratch.empty()) toVesselCells(vesselShape.contains(x) ? opt.mesh.locate(x) : -1);
     cur.particles[p] = {snap.id[p], snap.mass[p], cur.shares.size(), scratch.size()};
     if (scratch.empty()) ++outside;
     const double volume = kPi / 6.0 * d * d * d;
@@ -113,7 +114,9 @@ void ParticleFrameBuilder::place(const ParticleSnapshot &snap) {
 
 // The shares of a particle (box cells) as the vessel's cells: the parts in box
 // cells outside the vessel go to the cell of its centre; a centre outside the
-// vessel puts the particle outside the mesh (no share).  Equal cells merged.
+// vessel (its shapes, not only its cells: a particle beyond the wall of a cut
+// cell would crowd that cell's small volume) puts the particle outside the
+// mesh (no share).  Equal cells merged.
 void ParticleFrameBuilder::toVesselCells(int centreBoxCell) {
   const Mesh &v = *opt.vessel;
   const int centre = centreBoxCell >= 0 ? v.cellOfBoxCell(centreBoxCell) : -1;

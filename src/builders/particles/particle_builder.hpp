@@ -47,6 +47,7 @@
 #include "particles/particle_dump.hpp"
 #include "rcfd/frames.hpp"
 #include "rcfd/mesh.hpp"
+#include "rcfd/vessel.hpp"
 
 #include <cstddef>
 #include <cstdint>
@@ -66,7 +67,7 @@ struct ParticleBuildOptions {
   ParticleVolume volume = ParticleVolume::Centre; // cells a particle's volume is counted in
   /// A vessel cut out of `mesh` (vesselMesh; not owned, outlives the builder), or
   /// none: the frames are then on its cells, alpha_s over their inside volumes.
-  /// A particle whose centre is in a box cell outside it is outside the mesh; under
+  /// A particle whose centre is outside it (its shapes) is outside the mesh; under
   /// the overlap rule the parts of a sphere in outside cells go to its centre's cell.
   const Mesh *vessel = nullptr;
 };
@@ -139,6 +140,7 @@ private:
   FrameSink sink;
   double cellVolume = 0.0;
   int numCells = 0;
+  Vessel vesselShape; // of opt.vessel, for which particles are inside it
   ParticleBuildReport rep;
   int64_t prevTimestep = -1;
   std::size_t nnzTotal = 0, nnzOccupied = 0, occupiedColumns = 0;
