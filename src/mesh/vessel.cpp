@@ -173,7 +173,8 @@ Vessel Vessel::parse(const std::string &text) {
     while (std::getline(list, number, ',')) {
       char *end = nullptr;
       p.push_back(std::strtod(number.c_str(), &end));
-      if (end == number.c_str() || *end) throw std::invalid_argument("'" + text + "' has a bad number '" + number + "'");
+      if (end == number.c_str() || *end)
+        throw std::invalid_argument("'" + text + "' has a bad number '" + number + "'");
     }
     v.add(info->kind, std::move(p), token[0] == '-');
   }
@@ -214,9 +215,11 @@ PetscErrorCode Vessel::setFromOptions(MPI_Comm comm) {
                                &minusGiven));
   PetscCall(checkedInt(PetscOptionsObject, "-vessel_samples", "sub-samples per cell edge of a cut cell", &samples,
                        1, 64));
-  PetscCall(checkedRealArray(PetscOptionsObject, "-vessel_axis", "x,y of the cylinder's axis [m]", axis, &nAxis,
+  PetscCall(checkedRealArray(PetscOptionsObject, "-vessel_axis",
+                             "x,y of -vessel cylinder's axis [m] (nan: the box's centre)", axis, &nAxis,
                              &axisGiven));
-  PetscCall(checkedReal(PetscOptionsObject, "-vessel_radius", "radius of the cylinder [m]", &radius, kPositive,
+  PetscCall(checkedReal(PetscOptionsObject, "-vessel_radius",
+                        "radius of -vessel cylinder [m] (nan: half the narrower side of the box)", &radius, kPositive,
                         &radiusGiven));
   PetscOptionsEnd();
   const bool shortcut = names.size() == 1 && (names[0] == "box" || names[0] == "cylinder");

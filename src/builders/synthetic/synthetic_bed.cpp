@@ -220,7 +220,7 @@ void validateSyntheticBedOptions(const SyntheticBedOptions &o) {
           "cross-section (-vessel cylinder).");
   SyntheticBedOptions square = o; // the square the bed runs in must hold a bed too
   square.vessel = Vessel();
-  square.box.length[0] = square.box.length[1] = p[2] * std::sqrt(3.14159265358979323846);
+  square.box.length[0] = square.box.length[1] = p[2] * std::sqrt(kPi);
   validateSyntheticBedOptions(square);
 }
 
@@ -236,7 +236,7 @@ SyntheticBedReport runSyntheticBed(const SyntheticBedOptions &options, const Fra
   const bool inVessel = !options.vessel.isWholeBox();
   const Mesh mesh = inVessel ? vesselMesh(options.vessel, box) : Mesh();
   SyntheticBedOptions square = options;
-  if (inVessel) square.box.length[0] = square.box.length[1] = options.vessel.shapes()[0].p[2] * std::sqrt(3.14159265358979323846);
+  if (inVessel) square.box.length[0] = square.box.length[1] = options.vessel.shapes()[0].p[2] * std::sqrt(kPi);
   const int numCells = inVessel ? mesh.numCells() : box.numCells();
   const Vec3 h = square.box.spacing();
   const double cellVolume = h[0] * h[1] * h[2]; // of the bed's own cells
