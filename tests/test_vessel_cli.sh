@@ -103,12 +103,19 @@ awk -F, 'NR == 2 { m = $5 } NR > 2 && ($5 - m > 1e-12 * m || m - $5 > 1e-12 * m)
 # The same cloud in a cone standing on a plinth (from 1 cm up): the box's lowest cell layer has no
 # cell of the vessel, so the profiles start at the cone's first layer and the bottom layer is its.
 "$rcfd" build -dumps "$work/dump/dump.*.txt" -times "$work/dump/times.txt" -mesh_cells 10,10,4 -vessel cone \
-  -vessel_cone_cone 0.05,0.05,0.01,0.02,0.04,0.05 -o "$work/cone.h5" -quiet
+  -vessel_cone_cone 0.05,0.05,0.01,0.02,0.04,0.05 -o "$work/cone.h5" -quiet -init_out "$work/cone-init.h5"
 "$rcfd" run -db "$work/cone.h5" -t_end 0.2 -quiet -fields 0 -plot 0 -fractions_diameters 3e-3 -fractions_mass_shares 1 \
   -profiles -bottom_layer -output_dir "$work/conerun"
 [ "$(awk -F, '/^[0-9]/ { print $1; exit }' "$work/conerun/profiles.csv")" = 0.015 ] ||
   fail "the cone's profiles do not start at its first layer: $(sed -n 3p "$work/conerun/profiles.csv")"
 [ "$(grep -c '^[0-9]' "$work/conerun/profiles.csv")" -eq 3 ] || fail "the cone's profiles have not its 3 layers"
+# -init_out counts the particles frame 0 counts: the same mass as the start from frame 0's alpha_s.
+"$rcfd" run -db "$work/cone.h5" -t_end 0.1 -quiet -fields 0 -plot 0 -fractions_diameters 3e-3 -fractions_mass_shares 1 \
+  -init file -init_file "$work/cone-init.h5" -monitor_digits 17 -output_dir "$work/coneinit"
+"$rcfd" run -db "$work/cone.h5" -t_end 0.1 -quiet -fields 0 -plot 0 -fractions_diameters 3e-3 -fractions_mass_shares 1 \
+  -monitor_digits 17 -output_dir "$work/conemixed"
+awk -F, -v b="$(sed -n 2p "$work/conemixed/cog.csv" | cut -d, -f5)" 'NR == 2 { exit !($5 - b < 1e-12 * b && b - $5 < 1e-12 * b) }' \
+  "$work/coneinit/cog.csv" || fail "the cone's -init_out holds another mass than its frame 0"
 grep -q '^0,' "$work/conerun/bottom.csv" && ! grep -q nan "$work/conerun/bottom.csv" ||
   fail "the cone's bottom layer is empty: $(sed -n 2p "$work/conerun/bottom.csv")"
 

@@ -174,7 +174,28 @@ PetscErrorCode buildCommand(MPI_Comm comm) {
     if (!out.initOut.empty()) {
       const SizeClasses classes = SizeClasses::cluster(first.diameter, in.classTolerance);
       std::size_t outside = 0;
-      auto masses = classMassesPerCell(first, opt.axes, box, classes, opt.volume, &outside);
+      // In a vessel, the particles the frames count: those centred inside its shapes.
+      const ParticleSnapshot *counting = &first;
+      ParticleSnapshot counted;
+      std::size_t beyond = 0;
+      if (mesh.isMasked()) {
+        counted = first;
+        counting = &counted;
+        std::size_t kept = 0;
+        for (std::size_t p = 0; p < first.size(); ++p) {
+          if (!inBox.contains(opt.axes.apply(first.position[p]))) continue;
+          counted.id[kept] = first.id[p];
+          counted.type[kept] = first.type[p];
+          counted.position[kept] = first.position[p];
+          counted.diameter[kept] = first.diameter[p];
+          counted.mass[kept++] = first.mass[p];
+        }
+        counted.id.resize(kept), counted.type.resize(kept), counted.position.resize(kept);
+        counted.diameter.resize(kept), counted.mass.resize(kept);
+        beyond = first.size() - kept;
+      }
+      auto masses = classMassesPerCell(*counting, opt.axes, box, classes, opt.volume, &outside);
+      outside += beyond;
       const std::size_t nc = classes.diameter.size();
       if (mesh.isMasked()) { // the vessel's cells; what lies in box cells outside it is left out
         std::vector<double> inside(static_cast<std::size_t>(mesh.numCells()) * nc);
