@@ -56,6 +56,20 @@ grep -q 'TopologyType="Hexahedron" NumberOfElements="'"$cells"'"' "$work/np2/fie
 [ "$("$h5print" "$work/np2/fields_000001.h5" /alpha_s | wc -l)" -eq "$cells" ] || fail "a field file is not of the cylinder's cells"
 [ "$("$h5print" "$work/np2/fields_mesh.h5" /cells | wc -l)" -eq $((8 * cells)) ] || fail "fields_mesh.h5 has not 8 corners per cell"
 
+# rcfd coarsen on the cylinder: the same vessel and volume on 6 x 6 x 12 coarse cells, a run on it
+# keeps its mass.
+"$rcfd" coarsen -db "$work/cyl.h5" -factor 2,2,2 -o "$work/coarse.h5" -quiet
+"$rcfd" info -db "$work/coarse.h5" > "$work/coarse.txt"
+volume() { grep -o 'inside ([0-9.]* % of the box.s), [0-9.e+-]* m^3' "$1" | awk '{ print $(NF - 1) }'; }
+grep -q 'mesh: vessel +cylinder(0.06,0.06,0.06) samples 8' "$work/coarse.txt" &&
+  grep -q 'cut from the box 6 x 6 x 12 cells' "$work/coarse.txt" || { cat "$work/coarse.txt"; fail "the coarse cylinder"; }
+[ "$(volume "$work/coarse.txt")" = "$(volume "$work/info.txt")" ] && [ -n "$(volume "$work/info.txt")" ] ||
+  fail "coarsening changed the cylinder's volume: $(volume "$work/info.txt") -> $(volume "$work/coarse.txt")"
+mpiexec -n 2 "$rcfd" run -db "$work/coarse.h5" -t_end 0.3 -quiet -fields 0 -plot 0 -fractions_diameters 1.5e-3,3e-3 \
+  -fractions_mass_shares 0.5,0.5 -init layered -monitor_digits 17 -output_dir "$work/coarserun"
+awk -F, 'NR == 2 { a = $6; b = $7 } NR > 2 && (($6 - a) ^ 2 > (1e-12 * a) ^ 2 || ($7 - b) ^ 2 > (1e-12 * b) ^ 2) { bad = 1 }
+  END { exit bad }' "$work/coarserun/cog.csv" || fail "the run on the coarse cylinder lost mass"
+
 # A stitched run on the cylinder restarted from its checkpoint: the same series, byte for byte,
 # on 2 ranks (the carry jumps between frames, so the column carry over the cylinder's columns runs).
 restart=(-db "$work/cyl.h5" -quiet -fields 0 -plot 0 -monitor_digits 17 -path_type random -path_seed 3
