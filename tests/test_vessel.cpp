@@ -213,6 +213,17 @@ int main() {
   RCFD_CHECK_CLOSE(bankMesh.totalVolume() / bankExact, 1.0, 5e-4);
   RCFD_CHECK(bankMesh.numCells() < box.numCells());
 
+  // A box minus a vertical tube (a draft tube's wall, an internal): the box's volume less the tube's,
+  // and no face across the tube (its inside cells are gone).
+  Vessel drafted;
+  drafted.add(Vessel::Kind::Box, {-1, 1, -1, 1, -1, 1});
+  drafted.add(Vessel::Kind::Cylinder, {0.0, 0.0, 0.035, 0.02, 0.1}, true);
+  const Mesh draftedMesh = vesselMesh(drafted, box);
+  const double draftedExact = 0.2 * 0.2 * 0.12 - kPi * 0.035 * 0.035 * 0.08;
+  std::printf("box minus a vertical tube: volume error %.2e\n", std::fabs(draftedMesh.totalVolume() / draftedExact - 1));
+  RCFD_CHECK_CLOSE(draftedMesh.totalVolume() / draftedExact, 1.0, 5e-4);
+  RCFD_CHECK(draftedMesh.cellOfBoxCell(box.cellIndex(10, 10, 2)) < 0); // the tube's axis at z = 0.05 m
+
   // The whole box, as no shape or as a shape holding the box: today's mesh, bit for bit.
   RCFD_CHECK(sameMesh(vesselMesh(Vessel(), box), Mesh::box(box)));
   Vessel around;
