@@ -55,6 +55,8 @@ grep -q 'TopologyType="Hexahedron" NumberOfElements="'"$cells"'"' "$work/np2/fie
   fail "the field index does not list the cylinder's $cells cells"
 [ "$("$h5print" "$work/np2/fields_000001.h5" /alpha_s | wc -l)" -eq "$cells" ] || fail "a field file is not of the cylinder's cells"
 [ "$("$h5print" "$work/np2/fields_mesh.h5" /cells | wc -l)" -eq $((8 * cells)) ] || fail "fields_mesh.h5 has not 8 corners per cell"
+awk '$1 <= 0 || $1 > 1 { bad = 1 } $1 < 1 { cut++ } END { exit bad || !cut }' <("$h5print" "$work/np2/fields_mesh.h5" /inside_share) ||
+  fail "fields_mesh.h5's inside_share is not in (0, 1] with cut cells below 1"
 
 # rcfd coarsen on the cylinder: the same vessel and volume on 6 x 6 x 12 coarse cells, a run on it
 # keeps its mass.

@@ -196,6 +196,10 @@ PetscErrorCode FieldWriter::writeVesselCells() const {
   h5::File out = h5::File::create(target);
   out.write("/points", points, 3);
   out.write("/cells", cells, 8);
+  // The share of each cell inside the vessel: its volume over its box cell's.
+  std::vector<double> share(cellVolume.size());
+  for (std::size_t c = 0; c < share.size(); ++c) share[c] = cellVolume[c] / (h[0] * h[1] * h[2]);
+  out.write("/inside_share", share);
   out.close();
   target.commit();
   PetscFunctionReturn(PETSC_SUCCESS);
@@ -255,6 +259,14 @@ PetscErrorCode FieldWriter::writeIndex() const {
                     "<DataItem Dimensions=\"%s\" NumberType=\"Float\" Precision=\"8\" "
                     "Format=\"HDF\">%s:/%s</DataItem>\n</Attribute>\n",
                     name.c_str(), dims, fieldFileName(static_cast<int>(t)).c_str(), name.c_str());
+      x += line;
+    }
+    if (n > 0) {
+      std::snprintf(line, sizeof line,
+                    "<Attribute Name=\"inside_share\" AttributeType=\"Scalar\" Center=\"Cell\">\n"
+                    "<DataItem Dimensions=\"%d\" NumberType=\"Float\" Precision=\"8\" "
+                    "Format=\"HDF\">fields_mesh.h5:/inside_share</DataItem>\n</Attribute>\n",
+                    n);
       x += line;
     }
     x += "</Grid>\n";
