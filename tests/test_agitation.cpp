@@ -2,6 +2,7 @@
 // and the local dispersion rate, their solid-weighted mean and maximum, by
 // hand, on 1 and 2 ranks.
 #include "check.hpp"
+#include "box_meshes.hpp"
 #include "base/petsc_compat.hpp"
 #include "scoped_options.hpp"
 #include "state_access.hpp"
@@ -27,7 +28,7 @@ PetscErrorCode run(const std::string &dir) {
     s.ny = 1;
     s.nz = 3;
     s.length = {0.1, 0.1, 0.3};
-    DatabaseFileWriter w(path, Mesh::box(s), DatabaseMetadata{}); // dt_rec 5 ms
+    DatabaseFileWriter w(path, rcfd::test::boxMesh(s), DatabaseMetadata{}); // dt_rec 5 ms
     FrameRecord f0, f1;
     f0.alphaS = {0.4, 0.4, 0.1};
     f0.shift = shiftFromTransfers(3, {0, 1, 1, 2, 2}, {0, 0, 1, 1, 2}, {1, 1, 1, 3, 1});

@@ -5,6 +5,7 @@
 // and profiles and halves equal to rcfd reference's counting of particles
 // standing for the same state.
 #include "check.hpp"
+#include "box_meshes.hpp"
 #include "fraction_sets.hpp"
 #include "base/petsc_compat.hpp"
 #include "state_access.hpp"
@@ -73,7 +74,7 @@ PetscErrorCode makeBed(const std::string &dir, const std::string &name, Bed *bed
   int size;
   MPI_Comm_size(PETSC_COMM_WORLD, &size);
   const std::string path = dir + "/answers_np" + std::to_string(size) + ".h5";
-  test::writeIdentityDatabase(path, Mesh::box(s), std::vector<double>(8, 0.5), DatabaseMetadata{});
+  test::writeIdentityDatabase(path, rcfd::test::boxMesh(s), std::vector<double>(8, 0.5), DatabaseMetadata{});
   PetscCall(Database::load(PETSC_COMM_WORLD, path, DatabaseLoadOptions{}, &bed->db));
   PetscCall(bed->state.create(bed->db->layout(), 2));
   const double share[4] = {0.0, 0.5, 1.0, 1.0};
@@ -340,9 +341,9 @@ PetscErrorCode formatVersions(const std::string &dir) {
   meta.conditions.superficialVelocity = 1.2;
   meta.conditions.gasKinematicViscosity = 1.5e-5;
   const std::string stem = dir + "/answers_version_np" + std::to_string(size);
-  test::writeIdentityDatabase(stem + "_2.h5", Mesh::box(s), {0.5, 0.5}, meta);
-  test::writeIdentityDatabase(stem + "_1.h5", Mesh::box(s), {0.5, 0.5}, meta, 1, 2); // full CSR, as version 1
-  test::writeIdentityDatabase(stem + "_bad.h5", Mesh::box(s), {0.5, 0.5}, meta);
+  test::writeIdentityDatabase(stem + "_2.h5", rcfd::test::boxMesh(s), {0.5, 0.5}, meta);
+  test::writeIdentityDatabase(stem + "_1.h5", rcfd::test::boxMesh(s), {0.5, 0.5}, meta, 1, 2); // full CSR, as version 1
+  test::writeIdentityDatabase(stem + "_bad.h5", rcfd::test::boxMesh(s), {0.5, 0.5}, meta);
   if (rank == 0) { // as rcfd 1 wrote it: version 1, no conditions
     h5::File one = h5::File::openReadWrite(stem + "_1.h5");
     one.writeAttr("/", "format_version", 1LL);

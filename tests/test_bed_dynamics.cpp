@@ -2,6 +2,7 @@
 // centre of gravity is known per frame gives Delta z_CoG by hand, on 1 and 2
 // ranks.
 #include "check.hpp"
+#include "box_meshes.hpp"
 #include "state_access.hpp"
 #include "base/petsc_compat.hpp"
 
@@ -31,7 +32,7 @@ PetscErrorCode run(const std::string &dir) {
     s.ny = 1;
     s.nz = 3;
     s.length = {0.1, 0.1, 0.3};
-    DatabaseFileWriter w(path, Mesh::box(s), DatabaseMetadata{});
+    DatabaseFileWriter w(path, rcfd::test::boxMesh(s), DatabaseMetadata{});
     const std::vector<std::vector<double>> alphas = {{0.5, 0, 0}, {0.25, 0.25, 0}, {0, 0.2, 0.2}};
     for (const auto &a : alphas) {
       FrameRecord f;

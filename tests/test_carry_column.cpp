@@ -16,6 +16,7 @@
 //  - gravity along no axis of the mesh is refused with one sentence.
 // Runs at 1 and 2 ranks.
 #include "check.hpp"
+#include "box_meshes.hpp"
 #include "fraction_sets.hpp"
 #include "registry_helpers.hpp"
 #include "rcfd/run.hpp"
@@ -64,7 +65,7 @@ const std::vector<std::vector<double>> frames(const Mesh &mesh) {
 
 std::unique_ptr<Database> load(MPI_Comm comm, const std::string &name, const Vec3 &gravity) {
   const std::string path = dir + "/" + name + ".h5";
-  const Mesh mesh = Mesh::box(kBox);
+  const Mesh mesh = rcfd::test::boxMesh(kBox);
   int rank;
   MPI_Comm_rank(PETSC_COMM_WORLD, &rank);
   if (rank == 0 && comm == PETSC_COMM_WORLD) {

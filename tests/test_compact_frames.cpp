@@ -14,6 +14,7 @@
 //    weight_bits on weights that are not quantised, a writer given such frames.
 // Runs at 1 and 2 ranks; argv[1] is the test-data directory with small.h5.
 #include "base/h5.hpp"
+#include "box_meshes.hpp"
 #include "base/petsc_compat.hpp"
 #include "check.hpp"
 #include "database/quantise.hpp"
@@ -231,7 +232,7 @@ PetscErrorCode badQuantisationRefused(const std::string &dir, const std::string 
     try {
       DatabaseMetadata meta;
       meta.weightBits = 16;
-      DatabaseFileWriter w(dir + "/unwritten.h5", Mesh::box(BoxSpec{2, 1, 1, {0, 0, 0}, {1, 1, 1}}), meta);
+      DatabaseFileWriter w(dir + "/unwritten.h5", rcfd::test::boxMesh(BoxSpec{2, 1, 1, {0, 0, 0}, {1, 1, 1}}), meta);
       FrameRecord f;
       f.alphaS = {0.5, 0.5};
       f.shift.n = 2;

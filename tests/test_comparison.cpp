@@ -2,13 +2,15 @@
 // Delta z (Eq. 7) over two windows and the RMS over the reference's peak, an
 // ensemble scored by its mean, the bottom layer's d32 with a gap, profiles,
 // the halves' size distributions, the database distance, window labels that
-// read back exactly, and bad input refused naming the file.
+// read back exactly, and bad input refused naming the file; the same classes
+// and poly-disperse number through the public rcfd::Comparison (rcfd/study.hpp).
 #include "observable/bed_dynamics.hpp"
 #include "analysis/class_scores.hpp"
 #include "analysis/comparison.hpp"
 #include "analysis/halves_comparison.hpp"
 #include "analysis/profile_comparison.hpp"
 #include "check.hpp"
+#include "rcfd/study.hpp"
 
 #include <cmath>
 #include <cstdlib>
@@ -303,9 +305,93 @@ void distance(const std::string &dir) {
   RCFD_CHECK(throwsWith([&] { bedDynamicsOfFile(table(dir + "/ref-profiles.csv")); }, "has no z_cog_bed_m column"));
 }
 
+// The files of classes() through rcfd::Comparison, as rcfd compare and a
+// study program see them: every class's z_CoG,i - z_CoG,bed against the
+// reference's (RMS sqrt(1/2), 2 and 1.5 mm over peaks 8, 1 and 10 mm; over
+// [0, 1.5] s d1's means -3 and -2.5 mm of 2 samples each), the poly-disperse
+// number of each run (sqrt(2.425) mm over 10 mm; without d2
+// sqrt((0.2 * 0.5 + 0.5 * 2.25) / 0.7) mm), the rows of the scores CSV and
+// the classes' curves CSV; a run of another kind refused in one sentence.
+void comparisonObject(const std::string &dir) {
+  const MPI_Comm comm = PETSC_COMM_WORLD;
+  const std::string ref = dir + "/ref-classes.csv", run = dir + "/run-classes.csv", lacking = dir + "/lacking.csv";
+  Comparison c(comm);
+  RCFD_CHECK(c.setReference(ref) == 0 && c.addRun(run, "run") == 0 && c.addRun(lacking, "lacking") == 0);
+  RCFD_CHECK(c.setWindows({0.0, 1.5, 0.0, 3.0}) == 0);
+  RCFD_CHECK(c.solve() == 0);
+  RCFD_CHECK(c.kind() == Comparison::Kind::centresOfGravity);
+  RCFD_CHECK(c.scores().size() == 4 && c.scores()[0].curve == "delta_z"); // 2 runs x 2 windows
+  const std::vector<Comparison::Score> &s = c.classScores();
+  RCFD_CHECK(s.size() == 10); // run: 3 classes x 2 windows; lacking: d1 and d3
+  const char *names[3] = {"class_d1.000mm", "class_d2.000mm", "class_d3.000mm"};
+  const double rms[3] = {std::sqrt(0.5), 2.0, 1.5}, peak[3] = {8.0, 1.0, 10.0};
+  for (int i = 0; s.size() == 10 && i < 3; ++i)
+    for (int w = 0; w < 2; ++w) {
+      const Comparison::Score &k = s[2 * i + w];
+      RCFD_CHECK(k.run == "run" && k.curve == names[i]);
+      RCFD_CHECK_CLOSE(k.agreement.rms, 1e-3 * rms[i], 1e-14);
+      RCFD_CHECK_CLOSE(k.agreement.peakReference, 1e-3 * peak[i], 1e-14);
+      RCFD_CHECK_CLOSE(k.agreement.rmsRelative, rms[i] / peak[i], 1e-12);
+      RCFD_CHECK(k.agreement.overlapSamples == 4 && k.agreement.overlapBegin == 0.0 && k.agreement.overlapEnd == 3.0);
+    }
+  if (s.size() == 10) {
+    const CurveAgreement &d1 = s[0].agreement;
+    RCFD_CHECK(d1.windowBegin == 0.0 && d1.windowEnd == 1.5 && d1.samplesReference == 2 && d1.samplesRun == 2);
+    RCFD_CHECK_CLOSE(d1.meanReference, -3e-3, 1e-14);
+    RCFD_CHECK_CLOSE(d1.meanRun, -2.5e-3, 1e-14);
+    RCFD_CHECK(s[1].agreement.samplesRun == 4); // [0, 3] s
+    RCFD_CHECK(s[6].run == "lacking" && s[6].curve == names[0] && s[9].curve == names[2]);
+    RCFD_CHECK_CLOSE(s[8].agreement.rms, 1.5e-3, 1e-14);
+  }
+  const std::vector<Comparison::Polydisperse> &p = c.polydisperse();
+  RCFD_CHECK(p.size() == 2);
+  if (p.size() == 2) {
+    RCFD_CHECK(p[0].run == "run" && p[0].runIndex == 0 && p[1].run == "lacking" && p[1].runIndex == 1);
+    RCFD_CHECK(p[0].weightsFrom == run && p[0].largestClass == "class_d3.000mm" && p[0].weights.size() == 3);
+    RCFD_CHECK_CLOSE(p[0].weights[1], 0.3, 1e-14);
+    RCFD_CHECK_CLOSE(p[0].rms, 1e-3 * std::sqrt(2.425), 1e-14);
+    RCFD_CHECK_CLOSE(p[0].peakLargest, 10e-3, 1e-14);
+    RCFD_CHECK_CLOSE(p[0].rmsRelative, std::sqrt(2.425) / 10.0, 1e-12);
+    RCFD_CHECK(p[0].overlapSamples == 4);
+    RCFD_CHECK_CLOSE(p[1].rms, 1e-3 * std::sqrt((0.2 * 0.5 + 0.5 * 2.25) / 0.7), 1e-14);
+    RCFD_CHECK(p[1].weights.size() == 2);
+    if (p[1].weights.size() == 2) RCFD_CHECK_CLOSE(p[1].weights[0], 0.2 / 0.7, 1e-14);
+  }
+  RCFD_CHECK(c.notes().size() == 2 && c.notes()[0].find("has no class d2.000mm") != std::string::npos);
+  // The scores CSV: the curves' rows, the classes', then a poly-disperse row per run.
+  const std::string scores = dir + "/object-scores.csv", curves = dir + "/object.csv";
+  RCFD_CHECK(c.writeScores(scores) == 0 && c.writeCurves(curves) == 0);
+  RCFD_CHECK(field(scores, 3, "curve") == "delta_z" && field(scores, 4, "curve") == names[0]);
+  RCFD_CHECK(field(scores, 14, "curve") == "polydisperse" && field(scores, 15, "run") == "lacking");
+  RCFD_CHECK_CLOSE(std::strtod(field(scores, 14, "rms_over_peak").c_str(), nullptr), std::sqrt(2.425) / 10.0, 1e-8);
+  RCFD_CHECK_CLOSE(std::strtod(field(scores, 8, "rms_over_peak").c_str(), nullptr), 0.15, 1e-8);
+  RCFD_CHECK(Comparison::classCurvesFile(curves) == dir + "/object-classes.csv");
+  RCFD_CHECK(field(Comparison::classCurvesFile(curves), 3, "class_d3.000mm_run_m") == csvNumber(7e-3));
+  RCFD_CHECK(c.view(PETSC_VIEWER_STDOUT_SELF) == 0);
+
+  // A run's file of another kind: one sentence naming both files.
+  Comparison other(comm);
+  RCFD_CHECK(other.setReference(ref) == 0 && other.addRun(dir + "/ref-profiles.csv") == 0);
+  const PetscErrorCode refused = other.solve();
+  char *why = nullptr;
+  PetscErrorMessage(refused, nullptr, &why);
+  RCFD_CHECK(refused == PETSC_ERR_USER_INPUT && why &&
+             std::string(why) == "'" + dir + "/ref-profiles.csv' is a profiles file but the reference '" + ref +
+                                     "' is a centre-of-gravity file: compare files of one kind.");
+  RCFD_CHECK(other.writeScores(dir + "/unsolved.csv") == PETSC_ERR_ORDER && !std::filesystem::exists(dir + "/unsolved.csv"));
+  // The database distance of two files (distance(): 0.25).
+  Comparison::DatabaseDistance d;
+  RCFD_CHECK(Comparison::databaseDistance(comm, dir + "/bed-cog.csv", dir + "/bed_dynamics.csv", &d) == 0);
+  RCFD_CHECK_CLOSE(d.dynamicsA, 0.01, 1e-15);
+  RCFD_CHECK_CLOSE(d.distance, 0.25, 1e-12);
+  RCFD_CHECK(d.framesA == 0 && d.framesB == 0);
+}
+
 } // namespace
 
-int main() {
+int main(int argc, char **argv) {
+  if (PetscInitialize(&argc, &argv, nullptr, nullptr)) return 1;
+  PetscPushErrorHandler(PetscReturnErrorHandler, nullptr); // refusals print no traceback
   char tmpl[] = "/tmp/rcfd_test_comparison_XXXXXX";
   const char *dir = mkdtemp(tmpl);
   if (!dir) return 1;
@@ -315,6 +401,10 @@ int main() {
   classes(dir);
   halves(dir);
   distance(dir);
+  comparisonObject(dir);
   std::filesystem::remove_all(dir);
-  return RCFD_TEST_RESULT();
+  PetscPopErrorHandler();
+  const int result = RCFD_TEST_RESULT();
+  if (PetscFinalize()) return 1;
+  return result;
 }

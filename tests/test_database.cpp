@@ -2,6 +2,7 @@
 // shift operator, a permutation moves mass exactly, and every broken file is
 // refused with its sentence.  Runs at 1 and 2 ranks.
 #include "check.hpp"
+#include "box_meshes.hpp"
 #include "fraction_sets.hpp"
 #include "rcfd/database.hpp"
 #include "rcfd/operator.hpp"
@@ -29,7 +30,7 @@ Mesh column3() {
   s.ny = 1;
   s.nz = 3;
   s.length = {0.1, 0.1, 0.3};
-  return Mesh::box(s);
+  return rcfd::test::boxMesh(s);
 }
 
 // A 3-cell column with two frames.  Frame 0 sends half of cell 0 up, 3/4 of
@@ -107,7 +108,7 @@ void permutation() {
   s.nx = 4;
   s.ny = 3;
   s.nz = 5;
-  const Mesh mesh = Mesh::box(s);
+  const Mesh mesh = rcfd::test::boxMesh(s);
   const int n = mesh.numCells();
   // pi(c) = (7 c + 3) mod 60 is a bijection since gcd(7, 60) = 1.
   auto pi = [n](int c) { return (7 * c + 3) % n; };

@@ -12,6 +12,7 @@
 //    one broken in a row or column that only one of 2 ranks reads (no hang).
 // Runs at 1 and 2 ranks; argv[1] is the test-data directory with small.h5.
 #include "base/h5.hpp"
+#include "box_meshes.hpp"
 #include "base/petsc_compat.hpp"
 #include "check.hpp"
 #include "database_copies.hpp"
@@ -105,7 +106,7 @@ PetscErrorCode roundOffColumn() {
     f.shift.col = {0, 0, 1, 1, 2, 3};
     f.shift.val = {1.0, 1e-12, 0.5, 0.5, 1.0, 1.0};
     for (const auto &[path, version] : {std::pair{v2, 2LL}, std::pair{v3, 3LL}}) {
-      DatabaseFileWriter w(path, Mesh::box(s), DatabaseMetadata{}, version);
+      DatabaseFileWriter w(path, rcfd::test::boxMesh(s), DatabaseMetadata{}, version);
       w.append(f);
       w.finish();
     }

@@ -19,6 +19,7 @@
 // an error (a database that does not load, a set-up or step that fails)
 // stops the test with PETSc's message and a non-zero exit, never a silent pass.
 #include "check.hpp"
+#include "box_meshes.hpp"
 #include "fraction_sets.hpp"
 #include "registry_helpers.hpp"
 #include "scoped_options.hpp"
@@ -55,7 +56,7 @@ std::unique_ptr<Database> identityDb(const BoxSpec &spec, const std::vector<doub
   const std::string path = dir + "/drift_" + std::to_string(counter++) + ".h5";
   DatabaseMetadata meta;
   meta.gravity = gravity;
-  const Mesh mesh = Mesh::box(spec);
+  const Mesh mesh = rcfd::test::boxMesh(spec);
   rcfd::test::writeIdentityDatabase(path, mesh, alpha, meta);
   std::unique_ptr<Database> db;
   PetscCallAbort(PETSC_COMM_WORLD, Database::load(PETSC_COMM_WORLD, path, DatabaseLoadOptions{}, &db));
@@ -254,7 +255,7 @@ void otherAxis() {
   double worst = 0.0, moved = 0.0;
   for (size_t k = 0; k < result[0].size(); ++k)
     worst = std::fmax(worst, std::fabs(result[0][k] - result[1][k]) / result[0][k]);
-  const auto start = uniformState(Mesh::box(column(2, n, 0.16)), alpha, set);
+  const auto start = uniformState(rcfd::test::boxMesh(column(2, n, 0.16)), alpha, set);
   for (size_t k = 0; k < start.size(); ++k)
     moved = std::fmax(moved, std::fabs(result[0][k] - start[k]) / start[k]);
   PetscPrintf(PETSC_COMM_WORLD, "x column vs z column: largest relative difference %.2e (change %.2f)\n",
@@ -411,7 +412,7 @@ void agitationOfTheFrame() {
   const std::vector<double> alpha(10, 0.5);
   const std::string path = dir + "/drift_" + std::to_string(counter++) + ".h5";
   DatabaseMetadata meta;
-  rcfd::test::writeIdentityDatabase(path, Mesh::box(spec), alpha, meta, 2);
+  rcfd::test::writeIdentityDatabase(path, rcfd::test::boxMesh(spec), alpha, meta, 2);
   std::unique_ptr<Database> db;
   PetscCallAbort(PETSC_COMM_WORLD, Database::load(PETSC_COMM_WORLD, path, DatabaseLoadOptions{}, &db));
   FractionSet set = rcfd::test::fractionSet({1e-3, 3e-3}, {0.5, 0.5});
@@ -449,7 +450,7 @@ void agitationOfTheSendingCell() {
   const BoxSpec spec = column(2, 2, 0.02);
   const std::vector<double> alpha(2, 0.5);
   const std::string path = dir + "/drift_" + std::to_string(counter++) + ".h5";
-  rcfd::test::writeIdentityDatabase(path, Mesh::box(spec), alpha, DatabaseMetadata{}, 2);
+  rcfd::test::writeIdentityDatabase(path, rcfd::test::boxMesh(spec), alpha, DatabaseMetadata{}, 2);
   std::unique_ptr<Database> db;
   PetscCallAbort(PETSC_COMM_WORLD, Database::load(PETSC_COMM_WORLD, path, DatabaseLoadOptions{}, &db));
   FractionSet set = rcfd::test::fractionSet({1e-3, 3e-3}, {0.5, 0.5});
@@ -829,7 +830,7 @@ void leftOutWhenNotNeeded() {
 // A two-cell column (identity shifts, alpha 0.5, 1 cm cells) for one face.
 std::unique_ptr<Database> twoCells(int frames = 1) {
   const std::string path = dir + "/drift_" + std::to_string(counter++) + ".h5";
-  rcfd::test::writeIdentityDatabase(path, Mesh::box(column(2, 2, 0.02)), {0.5, 0.5}, DatabaseMetadata{}, frames);
+  rcfd::test::writeIdentityDatabase(path, rcfd::test::boxMesh(column(2, 2, 0.02)), {0.5, 0.5}, DatabaseMetadata{}, frames);
   std::unique_ptr<Database> db;
   PetscCallAbort(PETSC_COMM_WORLD, Database::load(PETSC_COMM_WORLD, path, DatabaseLoadOptions{}, &db));
   return db;

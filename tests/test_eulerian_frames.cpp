@@ -4,6 +4,7 @@
 // tracer ending in an empty cell, a cell no tracer reaches), the velocity a
 // shift implies, and proportional scaling to a feasible target.
 #include "check.hpp"
+#include "box_meshes.hpp"
 #include "builders/eulerian/eulerian_frames.hpp"
 #include "database/csr.hpp"
 
@@ -88,7 +89,7 @@ void fileRoundTrip(const std::string &dir) {
   b.nx = 2, b.ny = 3, b.nz = 4;
   b.origin = {1.0, -0.5, 0.25};
   b.length = {0.02, 0.03, 0.04};
-  const Mesh mesh = Mesh::box(b);
+  const Mesh mesh = rcfd::test::boxMesh(b);
   EulerianFrame f;
   for (int c = 0; c < b.numCells(); ++c) {
     f.alphaS.push_back(0.6 * std::fmod(0.37 * c + 0.11, 1.0));
@@ -205,7 +206,7 @@ void uniformField() {
       RCFD_CHECK(st.residualBefore < 1e-15 && st.iterations == 0 && st.slowCells == 0);
       RCFD_CHECK(st.tracers == static_cast<std::size_t>(8 * n) && st.redirected == 0);
       // The velocity this shift implies is the field's, except at the top.
-      const auto u = impliedSolidVelocity(Mesh::box(b), T, o.dtRec);
+      const auto u = impliedSolidVelocity(rcfd::test::boxMesh(b), T, o.dtRec);
       for (int c = 0; c < b.numCells(); ++c) {
         RCFD_CHECK_CLOSE(u[c][2], c >= 6 ? 0.0 : 0.5, 1e-12);
         RCFD_CHECK(u[c][0] == 0.0 && u[c][1] == 0.0);

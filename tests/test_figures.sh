@@ -7,6 +7,7 @@
 set -u
 rcfd=$1
 source "$(dirname "${BASH_SOURCE[0]}")/script_helpers.sh"
+unset RCFD_PLOT # the suite turns figures off by default (tests/CMakeLists.txt); here they are the subject
 skipped="figures skipped: python3 with matplotlib not found (every number is still in the CSV files)"
 python=${RCFD_PYTHON:-/usr/bin/python3}
 [ -x "$python" ] || python=python3
@@ -71,6 +72,11 @@ run "run" "$rcfd" run "${small[@]}" -output_dir "$work/drawn" && png_ok "$work/d
   png_ok "$work/drawn/cog-delta.png"
 run "run -plot 0" "$rcfd" run "${small[@]}" -output_dir "$work/bare" -plot 0
 [ ! -e "$work/bare/cog.png" ] && ok || fail "-plot 0 drew cog.png"
+# RCFD_PLOT=0 makes -plot 0 the default; -plot 1 still draws.
+run "RCFD_PLOT=0" env RCFD_PLOT=0 "$rcfd" run "${small[@]}" -output_dir "$work/env0"
+[ ! -e "$work/env0/cog.png" ] && ok || fail "RCFD_PLOT=0 drew cog.png"
+run "RCFD_PLOT=0 -plot 1" env RCFD_PLOT=0 "$rcfd" run "${small[@]}" -output_dir "$work/env1" -plot 1 &&
+  png_ok "$work/env1/cog.png"
 run "ensemble" "$rcfd" run "${small[@]}" -output_dir "$work/ens" -ensemble 2 -path_type random &&
   png_ok "$work/ens/ensemble.png" && png_ok "$work/ens/ensemble-delta.png"
 # The recurrence matrix: K x K numbers in the CSV, the heat map from them.

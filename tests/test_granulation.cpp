@@ -19,6 +19,7 @@
 //  - the steady-state criterion on a constructed product series.
 // Runs at 1 and 2 ranks.  usage: test_granulation DATA_DIR SMALL_DB
 #include "check.hpp"
+#include "box_meshes.hpp"
 #include "fraction_sets.hpp"
 #include "rcfd/granulation.hpp"
 #include "rcfd/run.hpp"
@@ -65,7 +66,7 @@ Bed makeBed() {
   int size;
   MPI_Comm_size(PETSC_COMM_WORLD, &size);
   const std::string path = dir + "/granulation_np" + std::to_string(size) + ".h5";
-  test::writeIdentityDatabase(path, Mesh::box(s), {0.5, 0.5, 0.5, 0.0}, DatabaseMetadata{});
+  test::writeIdentityDatabase(path, rcfd::test::boxMesh(s), {0.5, 0.5, 0.5, 0.0}, DatabaseMetadata{});
   Bed bed;
   PetscCallAbort(PETSC_COMM_WORLD, Database::load(PETSC_COMM_WORLD, path, DatabaseLoadOptions{}, &bed.db));
   PetscCallAbort(PETSC_COMM_WORLD, bed.state.create(bed.db->layout(), 3));

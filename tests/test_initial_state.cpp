@@ -2,6 +2,7 @@
 // (NaN, inf, negative, no mass at all, wrong size) or warned about (mass in
 // cells that frame 0 says are empty), on 1 and 2 ranks.
 #include "base/petsc_compat.hpp"
+#include "box_meshes.hpp"
 #include "check.hpp"
 #include "fraction_sets.hpp"
 #include "state_access.hpp"
@@ -27,7 +28,7 @@ PetscErrorCode run(const std::string &dir) {
   s.nz = 4;
   s.length = {0.1, 0.1, 0.4};
   const std::string path = dir + "/column.h5";
-  test::writeIdentityDatabase(path, Mesh::box(s), {0.5, 0.5, 0.25, 0.0}, DatabaseMetadata{});
+  test::writeIdentityDatabase(path, rcfd::test::boxMesh(s), {0.5, 0.5, 0.25, 0.0}, DatabaseMetadata{});
   std::unique_ptr<Database> db;
   PetscCall(Database::load(PETSC_COMM_WORLD, path, DatabaseLoadOptions{}, &db));
   const FractionSet set = rcfd::test::fractionSet({1e-3, 3e-3}, {0.25, 0.75});

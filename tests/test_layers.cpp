@@ -2,6 +2,7 @@
 // layer's Sauter diameter, the mass-median layer and the halves' size
 // distributions against hand-computed numbers, on 1 and 2 ranks.
 #include "check.hpp"
+#include "box_meshes.hpp"
 #include "fraction_sets.hpp"
 #include "base/petsc_compat.hpp"
 #include "state_access.hpp"
@@ -22,7 +23,7 @@ PetscErrorCode run(const std::string &dir) {
   s.ny = 1;
   s.nz = 4;
   s.length = {0.2, 0.1, 0.4};
-  const Mesh mesh = Mesh::box(s);
+  const Mesh mesh = rcfd::test::boxMesh(s);
   const std::string path = dir + "/layers.h5";
   test::writeIdentityDatabase(path, mesh, std::vector<double>(8, 0.5), DatabaseMetadata{});
   std::unique_ptr<Database> db;

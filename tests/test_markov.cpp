@@ -5,6 +5,7 @@
 // left is 1; frames that do not conserve mass are refused.  Runs at 1 and 2
 // ranks with the same numbers.
 #include "check.hpp"
+#include "box_meshes.hpp"
 #include "database/database_file_writer.hpp"
 #include "database_copies.hpp"
 #include "markov/frame_chain.hpp"
@@ -34,7 +35,7 @@ Mesh row(int n) {
   s.ny = 1;
   s.nz = 1;
   s.length = {static_cast<double>(n), 1.0, 1.0};
-  return Mesh::box(s);
+  return rcfd::test::boxMesh(s);
 }
 
 // Frames with the shifts `shifts` and alpha_s `alpha` on row(n); rank 0 writes.

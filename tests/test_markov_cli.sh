@@ -12,7 +12,7 @@ db=$data/small.h5
 common=(-zones low -zone_low_layers 0,4 -markov_mix_starts all -markov_mix_alpha_min 0.3 -markov_mix_horizon 60
   -markov_mix_tolerance 0.3
   -markov_departures 6 -markov_passage_horizon 5 -quiet)
-mpiexec -n 1 "$rcfd" markov "$db" "${common[@]}" -o "$work/np1" && ok || fail "rcfd markov on 1 rank failed"
+mpiexec -n 1 "$rcfd" markov "$db" "${common[@]}" -plot 1 -o "$work/np1" && ok || fail "rcfd markov on 1 rank failed"
 mpiexec -n 2 "$rcfd" markov "$db" "${common[@]}" -o "$work/np2" && ok || fail "rcfd markov on 2 ranks failed"
 # Propagations: the sums over cells differ in order only (1e-12).  lambda2_decay
 # comes from SLEPc's eigenvalue (1e-8 absolute on numbers below 1).
@@ -36,6 +36,7 @@ if /usr/bin/python3 -c "import matplotlib, numpy" 2>/dev/null; then
   for png in relaxation zone_low; do
     [ "$(head -c 4 "$work/np1/$png.png" | tail -c 3)" = PNG ] && ok || fail "$work/np1/$png.png is not a PNG"
   done
+  [ ! -e "$work/np2/relaxation.png" ] && ok || fail "RCFD_PLOT=0 drew $work/np2/relaxation.png"
 fi
 # Refusals: one sentence, nothing written.
 expect_error "Unknown option -markov_mix_tolerence" markov "$db" -markov_mix_tolerence 0.1 -o "$work/bad"

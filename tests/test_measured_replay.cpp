@@ -17,6 +17,7 @@
 // - refusals in one sentence: a database without the field, a fraction no
 //   stored class matches within 1 %, -drift_agitation with it.
 #include "check.hpp"
+#include "box_meshes.hpp"
 #include "fraction_sets.hpp"
 #include "analysis/regional_drift.hpp"
 #include "rcfd/measured_drift_field.hpp"
@@ -51,7 +52,7 @@ std::unique_ptr<Database> fieldDb(const BoxSpec &spec, int frames, const std::ve
   const std::string path = dir + "/measured_" + std::to_string(counter++) + ".h5";
   int rank;
   MPI_Comm_rank(PETSC_COMM_WORLD, &rank);
-  const Mesh mesh = Mesh::box(spec);
+  const Mesh mesh = rcfd::test::boxMesh(spec);
   if (rank == 0) {
     DatabaseFileWriter w(path, mesh, DatabaseMetadata{});
     FrameRecord f;

@@ -1,21 +1,47 @@
-// Box mesh connectivity and the shift-from-transfers builder.
+// Box mesh connectivity, its refusals, and the shift-from-transfers builder.
 #include "check.hpp"
+#include "box_meshes.hpp"
 #include "rcfd/frames.hpp"
 #include "rcfd/mesh.hpp"
 
+#include <climits>
 #include <cmath>
 #include <stdexcept>
+#include <string>
 
 using namespace rcfd;
 
-int main() {
+namespace {
+
+/// Mesh::createBox refuses nx x ny x nz with PETSC_ERR_ARG_OUTOFRANGE and the
+/// sentence `expected`, leaving the mesh it was given as it was.
+void expectRefusal(int nx, int ny, int nz, const std::string &expected) {
+  BoxSpec spec;
+  spec.nx = nx, spec.ny = ny, spec.nz = nz;
+  BoxSpec small;
+  small.nx = 2, small.ny = 1, small.nz = 1;
+  Mesh mesh = rcfd::test::boxMesh(small);
+  const PetscErrorCode ierr = Mesh::createBox(spec, &mesh);
+  char *why = nullptr;
+  PetscErrorMessage(ierr, nullptr, &why);
+  RCFD_CHECK(ierr == PETSC_ERR_ARG_OUTOFRANGE);
+  RCFD_CHECK(why && std::string(why) == expected);
+  if (why && std::string(why) != expected) std::printf("got '%s'\n", why);
+  RCFD_CHECK(mesh.numCells() == 2 && mesh.boxSpec().nx == 2);
+}
+
+} // namespace
+
+int main(int argc, char **argv) {
+  if (PetscInitialize(&argc, &argv, nullptr, nullptr)) return 1;
+  PetscPushErrorHandler(PetscReturnErrorHandler, nullptr); // the refusals print no traceback
   BoxSpec spec;
   spec.nx = 4;
   spec.ny = 3;
   spec.nz = 5;
   spec.origin = {-1.0, 0.0, 2.0};
   spec.length = {0.4, 0.3, 1.0};
-  const Mesh m = Mesh::box(spec);
+  const Mesh m = rcfd::test::boxMesh(spec);
   RCFD_CHECK(m.numCells() == 60);
   // Internal faces: (nx-1) ny nz + nx (ny-1) nz + nx ny (nz-1).
   RCFD_CHECK(m.numFaces() == 3 * 3 * 5 + 4 * 2 * 5 + 4 * 3 * 4);
@@ -64,5 +90,18 @@ int main() {
     threw = true;
   }
   RCFD_CHECK(threw);
-  return RCFD_TEST_RESULT();
+
+  // A box of no cell along an axis, or of more cells than an int numbers, is
+  // refused in one sentence (no exception leaves the public API).
+  expectRefusal(0, 2, 2, "a box mesh of 0 x 2 x 2 cells needs at least one cell along each axis");
+  expectRefusal(4, -1, 2, "a box mesh of 4 x -1 x 2 cells needs at least one cell along each axis");
+  char tooMany[200];
+  std::snprintf(tooMany, sizeof tooMany,
+                "a box mesh of 2000 x 2000 x 2000 cells asks for 8e+09 cells, more than the %d a mesh can number",
+                INT_MAX);
+  expectRefusal(2000, 2000, 2000, tooMany);
+  PetscPopErrorHandler();
+  const int result = RCFD_TEST_RESULT();
+  if (PetscFinalize()) return 1;
+  return result;
 }

@@ -12,6 +12,7 @@
 //    declares its loss, runs through.
 // Runs at 1 and 2 ranks.  PETSc calls that must succeed use PetscCallAbort.
 #include "check.hpp"
+#include "box_meshes.hpp"
 #include "fraction_sets.hpp"
 #include "registry_helpers.hpp"
 #include "rcfd/run.hpp"
@@ -70,7 +71,7 @@ std::vector<double> bedWithBubble(const Mesh &mesh, int bubble) {
 // Frames 0 and 1 of identity shifts whose bubble rises by one cell.
 std::unique_ptr<Database> risingBubbleDb(const std::string &name) {
   const std::string path = dir + "/" + name + ".h5";
-  const Mesh mesh = Mesh::box(kBox);
+  const Mesh mesh = rcfd::test::boxMesh(kBox);
   int rank;
   MPI_Comm_rank(PETSC_COMM_WORLD, &rank);
   if (rank == 0) {

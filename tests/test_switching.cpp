@@ -9,6 +9,7 @@
 // monitors following a switch; the umf_usup signal the same number as
 // bottom.csv's u_mf/u_sup.
 #include "check.hpp"
+#include "box_meshes.hpp"
 #include "registry_helpers.hpp"
 #include "base/petsc_compat.hpp"
 #include "scoped_options.hpp"
@@ -45,7 +46,7 @@ void writeBed(const std::string &path, int nz, double rate, std::uint64_t seed, 
     o.seed = seed;
     DatabaseMetadata metadata;
     metadata.conditions = recorded;
-    DatabaseFileWriter w(path, Mesh::box(o.box), metadata);
+    DatabaseFileWriter w(path, rcfd::test::boxMesh(o.box), metadata);
     generateSyntheticBed(o, [&](const FrameRecord &f) { w.append(f); });
     w.finish();
   }

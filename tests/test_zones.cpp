@@ -3,6 +3,7 @@
 // along another axis moves "bottom" with it, and bad zones are refused with a
 // sentence naming them.  Runs at 1 and 2 ranks.
 #include "check.hpp"
+#include "box_meshes.hpp"
 #include "base/petsc_compat.hpp"
 #include "rcfd/zone.hpp"
 
@@ -19,7 +20,7 @@ Mesh column() {
   s.ny = 2;
   s.nz = 10;
   s.length = {0.4, 0.2, 1.0};
-  return Mesh::box(s);
+  return rcfd::test::boxMesh(s);
 }
 
 PetscInt cellsOf(Zone zone, const Mesh &mesh, const Layout &layout, const Vec3 &g, PetscErrorCode *ierr) {

@@ -3,6 +3,8 @@
 // (a few MB for the paper's 56,000 cells); only the state is distributed.
 #pragma once
 
+#include <petscsys.h>
+
 #include <array>
 #include <cstdint>
 #include <string>
@@ -32,9 +34,13 @@ struct BoxSpec {
 
 class Mesh {
 public:
-  /// Box mesh with internal faces and the six boundary patches
-  /// (0: x-, 1: x+, 2: y-, 3: y+, 4: z-, 5: z+).
-  static Mesh box(const BoxSpec &spec);
+  /// Not collective.  Builds in `*mesh` the box mesh of `spec` with internal
+  /// faces and the six boundary patches (0: x-, 1: x+, 2: y-, 3: y+, 4: z-,
+  /// 5: z+).  Refuses (PETSC_ERR_ARG_OUTOFRANGE, one sentence: "a box mesh of
+  /// nx x ny x nz cells ..." and BoxSpec::sizeProblem()'s reason) a box with
+  /// no cell along an axis, more cells than an int numbers, or a mesh larger
+  /// than this machine's memory; `*mesh` is then left as it was.
+  static PetscErrorCode createBox(const BoxSpec &spec, Mesh *mesh);
 
   int numCells() const { return static_cast<int>(cellVolume.size()); }
   int numFaces() const { return static_cast<int>(faceOwner.size()); }

@@ -50,19 +50,20 @@ public:
   /// The same before the box is known (rcfd build finds it from the particles):
   /// `-vessel cylinder`'s defaults are left to in(box).
   PetscErrorCode setFromOptions(MPI_Comm comm);
-  /// This vessel in `box`: `-vessel cylinder` gets its axis (the box's centre)
-  /// and radius (half the narrower side) where they were not given.
-  Vessel in(const BoxSpec &box) const;
+  /// Not collective.  This vessel in `box`, in `*out`: `-vessel cylinder` gets its
+  /// axis (the box's centre) and radius (half the narrower side) where not given.
+  PetscErrorCode in(const BoxSpec &box, Vessel *out) const;
 
-  /// Adds a shape united with (or, with subtract, taken from) what is there.
-  /// Throws std::invalid_argument with a sentence for wrong numbers.
-  void add(Kind kind, std::vector<double> numbers, bool subtract = false);
+  /// Not collective.  Adds a shape united with (or, with subtract, taken from)
+  /// what is there; refuses (PETSC_ERR_USER_INPUT, one sentence) wrong numbers.
+  PetscErrorCode add(Kind kind, std::vector<double> numbers, bool subtract = false);
   /// Shapes in the order they apply; none: the whole box.
   const std::vector<Shape> &shapes() const { return shapes_; }
   bool isWholeBox() const { return shapes_.empty() && !fitted_; }
   /// Sub-samples per cell edge for cells the wall cuts (n^3 per cell, n^2 per face).
   int samples() const { return samples_; }
-  void setSamples(int n);
+  /// Not collective; refuses n outside 1..64.
+  PetscErrorCode setSamples(int n);
 
   /// A lower bound of the distance from p to the wall, positive inside and
   /// negative outside (1-Lipschitz), so that a cell whose centre is further
@@ -73,9 +74,9 @@ public:
   /// One line that names this vessel exactly (each number in the fewest digits that read back to it), recorded
   /// in databases; "box" for the whole box.  parse(describe()) == *this.
   std::string describe() const;
-  /// The vessel a describe() line names; throws std::invalid_argument when the
-  /// text is not one.
-  static Vessel parse(const std::string &text);
+  /// Not collective.  The vessel a describe() line names, in `*out`; refuses
+  /// (PETSC_ERR_USER_INPUT, one sentence) a text that names none.
+  static PetscErrorCode parse(const std::string &text, Vessel *out);
 
   bool operator==(const Vessel &o) const { return describe() == o.describe(); }
   bool operator!=(const Vessel &o) const { return !(*this == o); }
@@ -95,24 +96,24 @@ private:
 /// sub-cells the wall crosses, docs/vessels.md).
 struct VesselCut {
   std::vector<double> cellShare; ///< per box cell (natural index), in [0, 1]
-  /// Per internal face of the box in Mesh::box's order (owner cell, then axis x, y, z),
+  /// Per internal face of the box in the box mesh's order (owner cell, then axis x, y, z),
   /// the share of its area inside the vessel; 0 where either cell is outside.
   std::vector<double> faceShare;
-  /// Per boundary face of the box in Mesh::box's order, the share inside.
+  /// Per boundary face of the box in the box mesh's order, the share inside.
   std::vector<double> boundaryShare;
   /// Centroid of each box cell's inside part (its centre when wholly inside).
   std::vector<Vec3> centroid;
 };
 
-/// The cut of `vessel` out of `box`.  Serial; deterministic.
-VesselCut cutVessel(const Vessel &vessel, const BoxSpec &box);
+/// Not collective; deterministic.  The cut of `vessel` out of `box`.
+PetscErrorCode cutVessel(const Vessel &vessel, const BoxSpec &box, VesselCut *cut);
 
 /// The mesh of the vessel: the box cells with a share inside, numbered
 /// compactly in the box's order (Mesh::boxCell maps back), each with its
 /// inside volume; internal faces only where open, with their open area;
 /// boundary faces of the box where open.  A vessel that holds every box cell
-/// whole (the whole box) gives Mesh::box(box) itself, bit for bit.
-/// Throws std::invalid_argument when no cell is inside.
-Mesh vesselMesh(const Vessel &vessel, const BoxSpec &box);
+/// whole (the whole box) gives Mesh::createBox's mesh itself, bit for bit.
+/// Not collective; refuses (PETSC_ERR_USER_INPUT) a vessel that holds no cell.
+PetscErrorCode vesselMesh(const Vessel &vessel, const BoxSpec &box, Mesh *mesh);
 
 } // namespace rcfd

@@ -1,33 +1,26 @@
-// The public study API (include/rcfd/study.hpp): calibration, ensembles and
-// curve comparisons as objects with PETSc's life cycle, over the analysis
-// room's DriftCalibration, writeEnsembleSummary and scoreCurves.
+// The public study API (include/rcfd/study.hpp): calibration and ensembles
+// as objects with PETSc's life cycle, over the analysis room's
+// DriftCalibration and writeEnsembleSummary (the comparison:
+// study_comparison.cpp).
 #include "rcfd/study.hpp"
 #include "base/petsc_compat.hpp"
 
 #include "analysis/calibration.hpp"
-#include "analysis/comparison.hpp"
+#include "analysis/study_agreement.hpp"
 #include "analysis/ensemble.hpp"
 #include "base/collective.hpp"
 #include "rcfd/handle.hpp"
+#include "rcfd/drift.hpp"
 #include "rcfd/run.hpp"
+#include "rcfd/size_law.hpp"
 
+#include <cmath>
+#include <cstdio>
 #include <numeric>
 
 namespace rcfd {
 
 namespace {
-CurveAgreement agreementOf(const DeltaZScore &s) {
-  CurveAgreement a;
-  a.windowBegin = s.windowBegin;
-  a.windowEnd = s.windowEnd;
-  a.meanReference = s.meanRef;
-  a.meanRun = s.meanModel;
-  a.segregationError = s.segregationError;
-  a.rms = s.rms;
-  a.rmsRelative = s.rmsRelative;
-  return a;
-}
-
 // A viewer asked for with -<prefix>NAME (e.g. -calibrate_view ascii:FILE).
 struct AskedViewer {
   OwnedViewer viewer;
@@ -48,14 +41,6 @@ struct AskedViewer {
   }
 };
 
-PetscErrorCode viewAgreement(PetscViewer viewer, const CurveAgreement &a) {
-  PetscFunctionBeginUser;
-  PetscCall(PetscViewerASCIIPrintf(viewer,
-                                   "mean %.4g mm (reference %.4g mm) over [%g, %g] s: Delta_seg %.1f %%, RMS/peak %.3f\n",
-                                   1e3 * a.meanRun, 1e3 * a.meanReference, a.windowBegin, a.windowEnd,
-                                   a.segregationError, a.rmsRelative));
-  PetscFunctionReturn(PETSC_SUCCESS);
-}
 } // namespace
 
 // ---------------------------------------------------------------------------
@@ -131,6 +116,9 @@ struct Ensemble::Impl {
   std::shared_ptr<Database> db;
   std::uint64_t seed = 0;
   AskedViewer asked; // -ensemble_view
+  std::string driftLaw; // setDriftLaw(): its size law (empty: the options'), k_d and its unit
+  double driftKd = 0.0;
+  std::string driftUnit;
 };
 
 Ensemble::Ensemble(MPI_Comm comm, const Registries &registries) : impl(std::make_unique<Impl>(comm, registries)) {}
@@ -155,6 +143,38 @@ PetscErrorCode Ensemble::setFromOptions() {
 
 void Ensemble::useDatabase(std::shared_ptr<Database> database) { impl->db = std::move(database); }
 
+namespace {
+// %g as C prints it (PETSc's own %g writes 0 as "0.").
+std::string shortNumber(double x) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%g", x);
+  return text;
+}
+
+// The drift operator of a run's -pipeline, or null.
+DriftOperator *driftOf(Run &run) {
+  DriftOperator *drift = nullptr;
+  for (const auto &op : run.pipeline().operators())
+    if (auto *d = dynamic_cast<DriftOperator *>(op.get())) drift = d;
+  return drift;
+}
+} // namespace
+
+PetscErrorCode Ensemble::setDriftLaw(const std::string &sizeLaw, double kd) {
+  std::unique_ptr<SizeLaw> law;
+  PetscFunctionBeginUser;
+  PetscCall(impl->registries.operators.sizeLaws().create(sizeLaw, &law));
+  PetscCheck(std::isfinite(kd) && kd > 0.0, impl->comm, PETSC_ERR_ARG_OUTOFRANGE,
+             "Ensemble::setDriftLaw: k_d of the size law %s must be positive and finite, not %s", sizeLaw.c_str(),
+             shortNumber(kd).c_str());
+  impl->driftLaw = sizeLaw;
+  impl->driftKd = kd;
+  impl->driftUnit = law->unitOfK();
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode Ensemble::setDriftLaw(const Calibration::Result &fit) { return setDriftLaw(fit.model, fit.kd); }
+
 PetscErrorCode Ensemble::setUp() {
   PetscFunctionBeginUser;
   PetscCheck(impl->first, impl->comm, PETSC_ERR_ORDER, "Ensemble: call setFromOptions() before setUp()");
@@ -166,6 +186,9 @@ PetscErrorCode Ensemble::setUp() {
   PetscCheck(run.path().hasSeed(), impl->comm, PETSC_ERR_USER_INPUT,
              "-ensemble %d needs a stochastic -path_type (random, markov or quarter), not %s", count,
              run.path().type().c_str());
+  PetscCheck(impl->driftLaw.empty() || driftOf(*impl->first), impl->comm, PETSC_ERR_USER_INPUT,
+             "Ensemble::setDriftLaw(%s, %s): -pipeline has no drift operator to run it (add drift)",
+             impl->driftLaw.c_str(), shortNumber(impl->driftKd).c_str());
   impl->seed = run.path().seed();
   PetscFunctionReturn(PETSC_SUCCESS);
 }
@@ -198,6 +221,11 @@ PetscErrorCode Ensemble::solve() {
     if (db) member.useDatabase(db);
     PetscCall(member.setFromOptions());
     PetscCall(member.setPathSeed(seed));
+    if (!impl->driftLaw.empty()) { // as the calibration's replays set it (DriftCalibration::configureDrift)
+      DriftOperator *drift = driftOf(member);
+      PetscCall(drift->setSizeLaw(impl->driftLaw));
+      drift->setKd(impl->driftKd);
+    }
     member.setOutputDirectory(dir);
     member.setWriteFields(false);
     PetscCall(member.setUp());
@@ -222,65 +250,9 @@ PetscErrorCode Ensemble::view(PetscViewer viewer) const {
   PetscCall(PetscViewerASCIIPrintf(viewer, "Ensemble: %d members, path seeds %llu to %llu, summary %s\n", count,
                                    static_cast<unsigned long long>(impl->seed),
                                    static_cast<unsigned long long>(impl->seed + count - 1), summaryFile().c_str()));
-  PetscFunctionReturn(PETSC_SUCCESS);
-}
-
-// ---------------------------------------------------------------------------
-// Comparison
-
-Comparison::Comparison(MPI_Comm c) : comm(c) {}
-Comparison::~Comparison() = default;
-
-PetscErrorCode Comparison::setReference(const std::string &file) {
-  reference = file;
-  return PETSC_SUCCESS;
-}
-
-PetscErrorCode Comparison::addRun(const std::string &file, const std::string &label) {
-  files.push_back(file);
-  labels.push_back(label.empty() ? file : label);
-  return PETSC_SUCCESS;
-}
-
-PetscErrorCode Comparison::setWindows(const std::vector<double> &pairs) {
-  PetscFunctionBeginUser;
-  PetscCheck(!pairs.empty() && pairs.size() % 2 == 0, comm, PETSC_ERR_ARG_WRONG,
-             "Comparison: give the windows as pairs t0,t1 [s]");
-  for (std::size_t i = 0; i < pairs.size(); i += 2)
-    PetscCheck(pairs[i] < pairs[i + 1], comm, PETSC_ERR_ARG_OUTOFRANGE,
-               "Comparison: window %d, [%g, %g] s, does not have t0 < t1", static_cast<int>(i / 2 + 1), pairs[i],
-               pairs[i + 1]);
-  windows = pairs;
-  PetscFunctionReturn(PETSC_SUCCESS);
-}
-
-PetscErrorCode Comparison::solve() {
-  PetscFunctionBeginUser;
-  PetscCheck(!reference.empty() && !files.empty(), comm, PETSC_ERR_ORDER,
-             "Comparison: give a reference and at least one run before solve()");
-  std::vector<TimeSpan> spans;
-  for (std::size_t i = 0; i < windows.size(); i += 2) spans.push_back({windows[i], windows[i + 1]});
-  std::vector<Score> out;
-  PetscCall(collectively(comm, [&] {
-    const CurveSet ref = readCurves(CsvTable::read(reference, "reference file"), 0.0);
-    for (std::size_t i = 0; i < files.size(); ++i)
-      for (const CurveScore &c : scoreCurves(ref, readCurves(CsvTable::read(files[i], "run's file"), offset),
-                                             labels[i], spans))
-        out.push_back({c.run, c.curve, agreementOf(c.score)});
-  }, PETSC_ERR_USER_INPUT));
-  scored = std::move(out);
-  PetscFunctionReturn(PETSC_SUCCESS);
-}
-
-PetscErrorCode Comparison::view(PetscViewer viewer) const {
-  PetscFunctionBeginUser;
-  PetscCall(PetscViewerASCIIPrintf(viewer, "Comparison against %s:\n", reference.c_str()));
-  for (const Score &s : scored) {
-    PetscCall(PetscViewerASCIIPrintf(viewer, "  %s, %s: ", s.run.c_str(), s.curve.c_str()));
-    PetscCall(PetscViewerASCIIUseTabs(viewer, PETSC_FALSE));
-    PetscCall(viewAgreement(viewer, s.agreement));
-    PetscCall(PetscViewerASCIIUseTabs(viewer, PETSC_TRUE));
-  }
+  if (!impl->driftLaw.empty())
+    PetscCall(PetscViewerASCIIPrintf(viewer, "  drift: size law %s, k_d = %s %s\n", impl->driftLaw.c_str(),
+                                     shortNumber(impl->driftKd).c_str(), impl->driftUnit.c_str()));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 

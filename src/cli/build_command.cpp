@@ -4,12 +4,14 @@
 #include "cli/commands.hpp"
 #include "base/checked_options.hpp"
 #include "base/petsc_compat.hpp"
+#include "mesh/box_mesh.hpp"
 
 #include "cli/particle_input.hpp"
 #include "analysis/measured_drift.hpp"
 #include "analysis/particle_reference.hpp"
 #include "analysis/regional_drift.hpp"
 #include "rcfd/database.hpp"
+#include "mesh/vessel_mesh.hpp"
 #include "base/atomic_file.hpp"
 #include "base/collective.hpp"
 #include "base/constants.hpp"
@@ -140,8 +142,8 @@ PetscErrorCode buildCommand(MPI_Comm comm) {
     const ParticleSnapshot first = readParticleSnapshot(in.files[sel.front()], opt.read);
     opt.mesh = resolveMesh(in.mesh, first, opt.axes);
     const BoxSpec &box = opt.mesh;
-    const Vessel inBox = vessel.in(box);
-    const Mesh mesh = inBox.isWholeBox() ? Mesh::box(box) : vesselMesh(inBox, box);
+    const Vessel inBox = vesselInBox(vessel, box);
+    const Mesh mesh = inBox.isWholeBox() ? boxMesh(box) : cutVesselMesh(inBox, box);
     if (mesh.isMasked()) opt.vessel = &mesh;
 
     DatabaseMetadata meta;

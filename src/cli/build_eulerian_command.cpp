@@ -3,6 +3,7 @@
 // solid velocity and proportional scaling (src/database/eulerian_frames.hpp).
 #include "cli/commands.hpp"
 #include "base/petsc_compat.hpp"
+#include "mesh/box_mesh.hpp"
 
 #include "base/checked_options.hpp"
 #include "builders/eulerian/eulerian_frames.hpp"
@@ -193,7 +194,7 @@ PetscErrorCode buildEulerianCommand(MPI_Comm comm) {
                   box.origin[2] + box.length[2]),
           std::fflush(stdout);
 
-    DatabaseFileWriter writer(in.database, Mesh::box(box), meta);
+    DatabaseFileWriter writer(in.database, boxMesh(box), meta);
     EulerianFrameBuilder builder(opt, [&](const FrameRecord &f) { writer.append(f); });
     using Clock = std::chrono::steady_clock;
     const auto start = Clock::now();

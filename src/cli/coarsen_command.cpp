@@ -1,6 +1,7 @@
 // rcfd coarsen: an exactly coarsened copy of a database (src/database/coarsen.hpp).
 #include "cli/commands.hpp"
 #include "base/petsc_compat.hpp"
+#include "mesh/box_mesh.hpp"
 #include "base/checked_options.hpp"
 
 #include "base/atomic_file.hpp"
@@ -110,7 +111,7 @@ PetscErrorCode coarsenCommand(MPI_Comm comm, const char *positional) {
   PetscCheck(K >= 1, comm, PETSC_ERR_USER_INPUT, "Database '%s' has too few frames for -time_factor %d",
              file.c_str(), (int)timeFactor);
   CoarseBox coarse;
-  Mesh coarseMesh; // a vessel's (docs/vessels.md); a box's is Mesh::box(coarse.box)
+  Mesh coarseMesh; // a vessel's (docs/vessels.md); a box's is boxMesh(coarse.box)
   PetscCall(collectively(comm, [&] {
     const std::array<int, 3> f{(int)factor[0], (int)factor[1], (int)factor[2]};
     if (db->mesh().isMasked()) coarseMesh = coarsenVesselMesh(db->mesh(), f, &coarse);
@@ -131,7 +132,7 @@ PetscErrorCode coarsenCommand(MPI_Comm comm, const char *positional) {
   meta.weightBits = weightBits;
   std::unique_ptr<DatabaseFileWriter> writer;
   PetscCall(collectively(comm, [&] {
-    writer = std::make_unique<DatabaseFileWriter>(out, coarse.cells > 0 ? coarseMesh : Mesh::box(coarse.box), meta);
+    writer = std::make_unique<DatabaseFileWriter>(out, coarse.cells > 0 ? coarseMesh : boxMesh(coarse.box), meta);
   }));
   const std::vector<double> &volume = db->mesh().cellVolume;
   int64_t nnz = 0;

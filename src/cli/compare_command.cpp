@@ -3,20 +3,17 @@
 // one or more windows and the RMS of the whole curve over the reference's
 // peak; the bottom layer's d32(t); vertical profiles; the halves' size
 // distributions; and the database distance between two bed dynamics.  The
-// scoring is in src/analysis (comparison.hpp, profile_comparison.hpp,
-// halves_comparison.hpp); this file reads options, prints and draws.
+// scoring and the files it writes are rcfd::Comparison's (rcfd/study.hpp);
+// this file reads options, prints and draws.
 #include "cli/commands.hpp"
 #include "base/petsc_compat.hpp"
 
+#include "analysis/segregation_score.hpp"
 #include "base/checked_options.hpp"
-#include "observable/bed_dynamics.hpp"
-#include "analysis/class_scores.hpp"
-#include "analysis/comparison.hpp"
-#include "analysis/halves_comparison.hpp"
-#include "analysis/profile_comparison.hpp"
 #include "base/collective.hpp"
+#include "base/atomic_file.hpp"
 #include "cli/figures.hpp"
-#include "rcfd/database.hpp"
+#include "rcfd/study.hpp"
 
 #include <cmath>
 #include <cstdio>
@@ -29,10 +26,14 @@ namespace {
 
 constexpr int kMaxSeries = 1024; // runs, labels and windows compared at once
 
+struct Window {
+  double begin = 0.0, end = 0.0; // s
+};
+
 struct CompareOptions {
   std::string reference, output, scores, png, title;
   std::vector<std::string> runs, labels, distance;
-  std::vector<TimeSpan> windows{{0.5, 1.5}};
+  std::vector<Window> windows{{0.5, 1.5}};
   double offset = 0.0;
 };
 
@@ -41,9 +42,6 @@ std::string sibling(const std::string &path, const std::string &suffix) {
   std::filesystem::path p(path);
   return (p.parent_path() / (p.stem().string() + suffix)).string();
 }
-
-/// The classes' curves beside the -o CSV: delta_z.csv -> delta_z-classes.csv.
-std::string classesFile(const std::string &output) { return sibling(output, "-classes.csv"); }
 
 PetscErrorCode readCompareOptions(MPI_Comm comm, CompareOptions *o) {
   char ref[PETSC_MAX_PATH_LEN] = "", out[PETSC_MAX_PATH_LEN] = "", scores[PETSC_MAX_PATH_LEN] = "",
@@ -116,36 +114,36 @@ PetscErrorCode readCompareOptions(MPI_Comm comm, CompareOptions *o) {
 
 /// Delta z in the table rcfd compare has always printed (scripts read its
 /// columns 2-5: mean Delta z, Delta_seg, RMS, RMS/peak), one line per window.
-void printDeltaZScores(const std::string &reference, const std::vector<CurveScore> &scores) {
+void printDeltaZScores(const std::string &reference, const std::vector<Comparison::Score> &scores) {
   std::printf("Delta z = z_cog(smallest) - z_cog(largest) against %s: mean", reference.c_str());
-  for (const CurveScore &c : scores) // the reference's mean over each window, once
+  for (const Comparison::Score &c : scores) // the reference's mean over each window, once
     if (c.run == scores.front().run)
-      std::printf("%s %.4g mm over [%s, %s] s (%zu samples)", &c == &scores.front() ? "" : ",", 1e3 * c.score.meanRef,
-                  exactNumber(c.score.windowBegin).c_str(), exactNumber(c.score.windowEnd).c_str(),
-                  c.score.windowSamplesRef);
-  std::printf(", peak |Delta z| %.4g mm\n", 1e3 * scores.front().score.peakRef);
+      std::printf("%s %.4g mm over [%s, %s] s (%zu samples)", &c == &scores.front() ? "" : ",",
+                  1e3 * c.agreement.meanReference, exactNumber(c.agreement.windowBegin).c_str(),
+                  exactNumber(c.agreement.windowEnd).c_str(), c.agreement.samplesReference);
+  std::printf(", peak |Delta z| %.4g mm\n", 1e3 * scores.front().agreement.peakReference);
   std::printf("%-28s %14s %14s %10s %10s %-16s %s\n", "run", "mean dz [mm]", "Delta_seg [%]", "RMS [mm]",
               "RMS/peak", "window [s]", "curve");
-  for (const CurveScore &c : scores) {
-    const DeltaZScore &s = c.score;
-    std::printf("%-28s %14.4f %14.1f %10.4f %10.3f %-16s %s-%s s, %zu samples\n", c.run.c_str(), 1e3 * s.meanModel,
+  for (const Comparison::Score &c : scores) {
+    const CurveAgreement &s = c.agreement;
+    std::printf("%-28s %14.4f %14.1f %10.4f %10.3f %-16s %s-%s s, %zu samples\n", c.run.c_str(), 1e3 * s.meanRun,
                 s.segregationError, 1e3 * s.rms, s.rmsRelative,
                 (exactNumber(s.windowBegin) + "-" + exactNumber(s.windowEnd)).c_str(),
-                exactNumber(s.overlapBegin).c_str(), exactNumber(s.overlapEnd).c_str(), s.curveSamples);
+                exactNumber(s.overlapBegin).c_str(), exactNumber(s.overlapEnd).c_str(), s.overlapSamples);
   }
 }
 
 /// Any other curve (d32 of the bottom layer and of zones), in mm.
-void printCurveScores(const std::string &reference, const std::vector<CurveScore> &scores) {
+void printCurveScores(const std::string &reference, const std::vector<Comparison::Score> &scores) {
   std::printf("Against %s (values in mm):\n", reference.c_str());
   std::printf("%-24s %-14s %-14s %11s %11s %11s %10s %10s  %s\n", "run", "curve", "window [s]", "mean ref",
               "mean run", "diff [%]", "RMS", "RMS/peak", "curve");
-  for (const CurveScore &c : scores) {
-    const DeltaZScore &s = c.score;
+  for (const Comparison::Score &c : scores) {
+    const CurveAgreement &s = c.agreement;
     std::printf("%-24s %-14s %-14s %11.5f %11.5f %11.2f %10.5f %10.4f  %s-%s s, %zu samples\n", c.run.c_str(),
                 c.curve.c_str(), (exactNumber(s.windowBegin) + "-" + exactNumber(s.windowEnd)).c_str(),
-                1e3 * s.meanRef, 1e3 * s.meanModel, s.segregationError, 1e3 * s.rms, s.rmsRelative,
-                exactNumber(s.overlapBegin).c_str(), exactNumber(s.overlapEnd).c_str(), s.curveSamples);
+                1e3 * s.meanReference, 1e3 * s.meanRun, s.segregationError, 1e3 * s.rms, s.rmsRelative,
+                exactNumber(s.overlapBegin).c_str(), exactNumber(s.overlapEnd).c_str(), s.overlapSamples);
   }
 }
 
@@ -154,46 +152,65 @@ void printCurveScores(const std::string &reference, const std::vector<CurveScore
 /// Printed before the Delta z table, and no line starts with a run's label:
 /// scripts read the Delta z row as the last line, or as the line starting
 /// with the label.
-void printClassScores(const std::vector<CurveScore> &scores, const std::vector<PolydisperseScore> &polys,
-                      const std::vector<std::string> &notes) {
-  if (!scores.empty()) {
+void printClassScores(const Comparison &comparison) {
+  if (!comparison.classScores().empty()) {
     std::printf("Each class: z_cog,i - z_cog,bed against the reference (RMS over the run / the reference's peak "
                 "|z_cog,i - z_cog,bed|; means over the window, in mm):\n");
     std::printf("%-16s %-28s %-12s %10s %10s %10s %10s %10s %10s\n", "class", "run", "window [s]", "mean ref",
                 "mean run", "diff", "RMS", "peak ref", "RMS/peak");
-    for (const CurveScore &c : scores) {
-      const DeltaZScore &s = c.score;
+    for (const Comparison::Score &c : comparison.classScores()) {
+      const CurveAgreement &s = c.agreement;
       std::printf("%-16s %-28s %-12s %10.4f %10.4f %10.4f %10.4f %10.4f %10.3f\n", c.curve.c_str(), c.run.c_str(),
-                  (exactNumber(s.windowBegin) + "-" + exactNumber(s.windowEnd)).c_str(), 1e3 * s.meanRef,
-                  1e3 * s.meanModel, 1e3 * (s.meanModel - s.meanRef), 1e3 * s.rms, 1e3 * s.peakRef, s.rmsRelative);
+                  (exactNumber(s.windowBegin) + "-" + exactNumber(s.windowEnd)).c_str(), 1e3 * s.meanReference,
+                  1e3 * s.meanRun, 1e3 * (s.meanRun - s.meanReference), 1e3 * s.rms, 1e3 * s.peakReference,
+                  s.rmsRelative);
     }
   }
-  for (const PolydisperseScore &p : polys) {
+  for (const Comparison::Polydisperse &p : comparison.polydisperse()) {
     std::printf("Poly-disperse, %s: sqrt(sum w_i RMS_i^2) = %.4f mm = %.3f of the peak %.4f mm of %s; w_i",
                 p.run.c_str(), 1e3 * p.rms, p.rmsRelative, 1e3 * p.peakLargest, p.largestClass.c_str());
     for (double w : p.weights) std::printf(" %.4g", w);
     std::printf(" (mass shares of %s)\n", p.weightsFrom.c_str());
   }
-  for (const std::string &note : notes) std::printf("Note: %s\n", note.c_str());
+  for (const std::string &note : comparison.notes()) std::printf("Note: %s\n", note.c_str());
+}
+
+/// A legend for each run's class curves (with its poly-disperse number),
+/// when the classes CSV was written; else none.
+std::vector<std::string> classLegends(const CompareOptions &o, const Comparison &comparison) {
+  std::vector<std::string> legends;
+  if (comparison.classScores().empty() || o.output.empty()) return legends; // no classes CSV, no class panel
+  for (std::size_t i = 0; i < o.labels.size(); ++i) {
+    legends.push_back(o.labels[i]);
+    for (const Comparison::Polydisperse &p : comparison.polydisperse())
+      if (p.runIndex == i) {
+        char text[200];
+        std::snprintf(text, sizeof text, "%s: poly-disperse %.2f of the largest class's peak", o.labels[i].c_str(),
+                      p.rmsRelative);
+        legends.back() = text;
+      }
+  }
+  return legends;
 }
 
 /// Delta z(t) of the reference and every run from the curves CSV, each run's
 /// legend carrying its scores over the first window; beside it each class's
 /// z_CoG,i - z_CoG,bed when the classes CSV was written.
-PetscErrorCode drawDeltaZ(MPI_Comm comm, const CompareOptions &o, const std::vector<CurveScore> &scores,
-                          const std::vector<std::string> &classLegends) {
+PetscErrorCode drawDeltaZ(MPI_Comm comm, const CompareOptions &o, const Comparison &comparison) {
   PetscFunctionBeginUser;
-  const TimeSpan &w = o.windows.front();
+  const Window &w = o.windows.front();
   std::vector<std::string> args{o.output, "-o", o.png, "--title", o.title, "--window",
                                 exactNumber(w.begin) + "," + exactNumber(w.end)};
-  if (!classLegends.empty()) args.insert(args.end(), {"--classes", classesFile(o.output)});
-  for (const auto &text : classLegends) args.insert(args.end(), {"--class-legend", text});
+  const std::vector<std::string> legends = classLegends(o, comparison);
+  if (!legends.empty()) args.insert(args.end(), {"--classes", Comparison::classCurvesFile(o.output)});
+  for (const auto &text : legends) args.insert(args.end(), {"--class-legend", text});
   for (const auto &label : o.labels) {
     char text[200] = "";
-    for (const CurveScore &c : scores)
-      if (c.run == label && c.curve == "delta_z" && c.score.windowBegin == w.begin && c.score.windowEnd == w.end)
+    for (const Comparison::Score &c : comparison.scores())
+      if (c.run == label && c.curve == "delta_z" && c.agreement.windowBegin == w.begin &&
+          c.agreement.windowEnd == w.end)
         std::snprintf(text, sizeof text, "%s: $\\Delta_\\mathrm{seg}$ = %.0f %%, RMS/peak = %.2f", label.c_str(),
-                      c.score.segregationError, c.score.rmsRelative);
+                      c.agreement.segregationError, c.agreement.rmsRelative);
     args.insert(args.end(), {"--legend", text});
   }
   PetscCall(drawFigure(comm, "compare.py", args));
@@ -211,139 +228,69 @@ PetscErrorCode drawFiles(MPI_Comm comm, const CompareOptions &o, const char *scr
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
-/// Rank 0: Delta z or d32 curves over time; of centre-of-gravity files also
-/// every class.  *classLegends: when the classes CSV was written, a legend
-/// for each run's class curves (with its poly-disperse number).
-void compareCurves(const CompareOptions &o, const CsvTable &refTable, std::vector<CurveScore> *scores,
-                   std::vector<std::string> *classLegends) {
-  const CurveSet ref = readCurves(refTable, 0.0);
-  const bool cog = answerFileKind(refTable) == AnswerFile::centresOfGravity;
-  const ClassCurveSet refClasses = cog ? readClassCurves(refTable, 0.0) : ClassCurveSet{};
-  std::vector<CurveSet> runs, runClasses;
-  std::vector<CurveScore> classScores;
-  std::vector<PolydisperseScore> polys;
-  std::vector<std::string> notes;
-  for (std::size_t i = 0; i < o.runs.size(); ++i) {
-    const CsvTable table = CsvTable::read(o.runs[i], "run's file");
-    runs.push_back(readCurves(table, o.offset));
-    const auto s = scoreCurves(ref, runs.back(), o.labels[i], o.windows);
-    scores->insert(scores->end(), s.begin(), s.end());
-    if (!cog) continue;
-    const ClassComparison c = compareClasses(refClasses, readClassCurves(table, o.offset), o.labels[i], o.windows);
-    runClasses.push_back(c.matched);
-    classScores.insert(classScores.end(), c.scores.begin(), c.scores.end());
-    notes.insert(notes.end(), c.notes.begin(), c.notes.end());
-    if (c.hasPolydisperse) polys.push_back(c.polydisperse);
-    char text[200];
-    std::snprintf(text, sizeof text, "%s: poly-disperse %.2f of the largest class's peak", o.labels[i].c_str(),
-                  c.polydisperse.rmsRelative);
-    classLegends->push_back(c.hasPolydisperse ? text : o.labels[i]);
-  }
-  printClassScores(classScores, polys, notes);
-  if (ref.names == std::vector<std::string>{"delta_z"}) printDeltaZScores(o.reference, *scores);
-  else printCurveScores(o.reference, *scores);
-  if (classScores.empty() || o.output.empty()) classLegends->clear(); // no classes CSV, no class panel
-  if (!o.output.empty()) {
-    writeCurvesSideBySide(o.output, ref, runs, o.labels);
-    std::printf("Wrote %s\n", o.output.c_str());
-    if (!classLegends->empty()) {
-      writeCurvesSideBySide(classesFile(o.output), refClasses.curves, runClasses, o.labels);
-      std::printf("Wrote %s\n", classesFile(o.output).c_str());
-    }
-  }
-  scores->insert(scores->end(), classScores.begin(), classScores.end()); // after the curves' rows, as written
-  if (!o.scores.empty()) writeCurveScores(o.scores, o.reference, *scores, polydisperseRows(polys));
-}
-
-/// Rank 0: vertical profiles.
-void compareProfileFiles(const CompareOptions &o, const CsvTable &refTable) {
-  const ProfileTable ref = readProfiles(refTable);
-  std::vector<ProfileDifference> rows;
-  for (std::size_t i = 0; i < o.runs.size(); ++i) {
-    const auto d = compareProfiles(ref, readProfiles(CsvTable::read(o.runs[i], "run's file")), o.labels[i]);
-    rows.insert(rows.end(), d.begin(), d.end());
-  }
+/// Rank 0: the tables of vertical profiles.
+void printProfileScores(const std::string &reference, const std::vector<Comparison::ProfileScore> &rows) {
   std::printf("Vertical profiles against %s (alpha: volume fraction, over the layers holding solid):\n",
-              o.reference.c_str());
+              reference.c_str());
   std::printf("%-24s %-18s %7s %12s %12s %12s %10s\n", "run", "curve", "layers", "RMS diff", "max |diff|",
               "peak ref", "RMS/peak");
   for (const auto &d : rows)
     std::printf("%-24s %-18s %7zu %12.4g %12.4g %12.4g %10.3f\n", d.run.c_str(), d.curve.c_str(), d.layers, d.rms,
-                d.maxAbs, d.peakRef, d.rmsRelative);
-  if (!o.scores.empty()) writeProfileScores(o.scores, o.reference, rows);
+                d.maxAbs, d.peakReference, d.rmsRelative);
 }
 
-/// Rank 0: the halves' size distributions.
-void compareHalvesFiles(const CompareOptions &o, const CsvTable &refTable) {
-  const HalvesTable ref = readHalves(refTable);
-  std::vector<HalvesDifference> rows;
-  for (std::size_t i = 0; i < o.runs.size(); ++i) {
-    const auto d = compareHalves(ref, readHalves(CsvTable::read(o.runs[i], "run's file")), o.labels[i]);
-    rows.insert(rows.end(), d.begin(), d.end());
-  }
+/// Rank 0: the table of the halves' size distributions.
+void printHalvesScores(const std::string &reference, const std::vector<Comparison::HalvesScore> &rows) {
   std::printf("Size distributions of the bottom and top halves against %s (mass fractions; d32 in mm):\n",
-              o.reference.c_str());
+              reference.c_str());
   std::printf("%-24s %-10s %10s %10s %10s %10s %10s %10s\n", "run", "class", "bottom ref", "bottom run", "diff",
               "top ref", "top run", "diff");
   for (const auto &d : rows) {
     const double f = d.diameter == 0.0 ? 1e3 : 1.0; // the d32 row in mm
     std::printf("%-24s %-10s %10.4f %10.4f %10.4f %10.4f %10.4f %10.4f\n", d.run.c_str(), d.label.c_str(),
-                f * d.bottomRef, f * d.bottomRun, f * (d.bottomRun - d.bottomRef), f * d.topRef, f * d.topRun,
-                f * (d.topRun - d.topRef));
+                f * d.bottomReference, f * d.bottomRun, f * (d.bottomRun - d.bottomReference), f * d.topReference,
+                f * d.topRun, f * (d.topRun - d.topReference));
   }
-  if (!o.scores.empty()) writeHalvesScores(o.scores, o.reference, rows);
-}
-
-bool isDatabase(const std::string &path) {
-  const std::string ext = std::filesystem::path(path).extension().string();
-  return ext == ".h5" || ext == ".hdf5";
 }
 
 /// Collective: Delta DB between two bed dynamics.
 PetscErrorCode databaseDistanceCommand(MPI_Comm comm, const CompareOptions &o) {
   PetscMPIInt rank;
-  double dyn[2] = {0.0, 0.0};
-  std::size_t samples[2] = {0, 0};
+  Comparison::DatabaseDistance d;
   PetscFunctionBeginUser;
   PetscCallMPI(MPI_Comm_rank(comm, &rank));
-  for (int i = 0; i < 2; ++i) {
-    const std::string &path = o.distance[i];
-    if (isDatabase(path)) {
-      DatabaseLoadOptions load;
-      load.loadShifts = false;
-      std::unique_ptr<Database> db;
-      PetscCall(Database::load(comm, path, load, &db));
-      std::vector<double> zCog;
-      PetscCall(databaseBedCentres(*db, &zCog));
-      dyn[i] = bedDynamics(zCog);
-      samples[i] = zCog.size();
-    } else {
-      PetscCall(collectively(comm, [&] {
-        if (rank == 0) dyn[i] = bedDynamicsOfFile(CsvTable::read(path, "bed-dynamics file"));
-      }, PETSC_ERR_USER_INPUT));
-      PetscCallMPI(MPI_Bcast(&dyn[i], 1, MPI_DOUBLE, 0, comm));
-    }
-  }
+  PetscCall(Comparison::databaseDistance(comm, o.distance[0], o.distance[1], &d));
+  const double dyn[2] = {d.dynamicsA, d.dynamicsB};
+  const std::size_t frames[2] = {d.framesA, d.framesB};
   PetscCall(collectively(comm, [&] {
     if (rank != 0) return;
-    double distance = 0.0;
-    try {
-      distance = databaseDistance(dyn[0], dyn[1]);
-    } catch (const std::invalid_argument &) {
-      throw std::runtime_error("'" + o.distance[1] + "' has no bed dynamics (Delta z_CoG = 0), so it cannot be "
-                               "the denominator of the database distance.");
-    }
     for (int i = 0; i < 2; ++i)
       std::printf("Delta z_CoG %c = %.6g mm  (%s%s)\n", 'A' + i, 1e3 * dyn[i], o.distance[i].c_str(),
-                  samples[i] ? (", " + std::to_string(samples[i]) + " frames").c_str() : "");
-    std::printf("Delta DB = |A - B| / B = %.6g (%.4g %%)\n", distance, 100.0 * distance);
-    if (!o.scores.empty())
-      writeTextFile(o.scores, "# database distance: |Delta z_CoG,a - Delta z_CoG,b| / Delta z_CoG,b, b the "
-                              "second named\na,b,delta_z_cog_a_m,delta_z_cog_b_m,database_distance\n" +
-                                  o.distance[0] + "," + o.distance[1] + "," + csvNumber(dyn[0]) + "," +
-                                  csvNumber(dyn[1]) + "," + csvNumber(distance) + "\n");
+                  frames[i] ? (", " + std::to_string(frames[i]) + " frames").c_str() : "");
+    std::printf("Delta DB = |A - B| / B = %.6g (%.4g %%)\n", d.distance, 100.0 * d.distance);
+    if (!o.scores.empty()) {
+      const std::filesystem::path p(o.scores);
+      if (p.has_parent_path()) std::filesystem::create_directories(p.parent_path());
+      writeTextAtomically(o.scores, "# database distance: |Delta z_CoG,a - Delta z_CoG,b| / Delta z_CoG,b, b the "
+                                    "second named\na,b,delta_z_cog_a_m,delta_z_cog_b_m,database_distance\n" +
+                                        o.distance[0] + "," + o.distance[1] + "," + csvNumber(dyn[0]) + "," +
+                                        csvNumber(dyn[1]) + "," + csvNumber(d.distance) + "\n");
+    }
   }, PETSC_ERR_USER_INPUT));
   PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/// Why this command cannot do what its options ask with files of this kind,
+/// or "".
+std::string refusal(const CompareOptions &o, Comparison::Kind kind) {
+  const char *what = kind == Comparison::Kind::profiles ? "profiles file" : "halves file";
+  if ((kind == Comparison::Kind::profiles || kind == Comparison::Kind::halves) && !o.output.empty())
+    return "-o writes curves over time, which the " + std::string(what) + " '" + o.reference +
+           "' does not hold: use -scores.";
+  if (kind == Comparison::Kind::bottomLayer && !o.png.empty())
+    return "-png draws Delta z, profiles and halves, not the bottom-layer file '" + o.reference +
+           "': plot the -o CSV.";
+  return "";
 }
 
 } // namespace
@@ -360,44 +307,45 @@ PetscErrorCode compareCommand(MPI_Comm comm) {
     PetscCall(databaseDistanceCommand(comm, o));
     PetscFunctionReturn(PETSC_SUCCESS);
   }
-  int kind = 0; // AnswerFile, broadcast from rank 0
-  PetscCall(collectively(comm, [&] {
-    if (rank != 0) return;
-    const AnswerFile k = answerFileKind(CsvTable::read(o.reference, "reference file"));
-    kind = static_cast<int>(k);
-    for (const auto &run : o.runs) { // one kind throughout
-      const AnswerFile r = answerFileKind(CsvTable::read(run, "run's file"));
-      if (r != k)
-        throw std::runtime_error("'" + run + "' is a " + describe(r) + " but the reference '" + o.reference +
-                                 "' is a " + describe(k) + ": compare files of one kind.");
-    }
-    if (k == AnswerFile::bedDynamics)
-      throw std::runtime_error("'" + o.reference + "' holds a bed dynamics: compare it with -db_distance A,B.");
-    if ((k == AnswerFile::profiles || k == AnswerFile::halves) && !o.output.empty())
-      throw std::runtime_error("-o writes curves over time, which the " + describe(k) + " '" + o.reference +
-                               "' does not hold: use -scores.");
-    if (k == AnswerFile::bottomLayer && !o.png.empty())
-      throw std::runtime_error("-png draws Delta z, profiles and halves, not the bottom-layer file '" +
-                               o.reference + "': plot the -o CSV.");
-  }, PETSC_ERR_USER_INPUT));
-  PetscCallMPI(MPI_Bcast(&kind, 1, MPI_INT, 0, comm));
-  const AnswerFile k = static_cast<AnswerFile>(kind);
+  Comparison comparison(comm);
+  PetscCall(comparison.setReference(o.reference));
+  for (std::size_t i = 0; i < o.runs.size(); ++i) PetscCall(comparison.addRun(o.runs[i], o.labels[i]));
+  std::vector<double> windows;
+  for (const Window &w : o.windows) windows.insert(windows.end(), {w.begin, w.end});
+  PetscCall(comparison.setWindows(windows));
+  comparison.setTimeOffset(o.offset);
+  PetscCall(comparison.setUp());
+  const Comparison::Kind k = comparison.kind();
+  const std::string refused = refusal(o, k);
+  PetscCheck(refused.empty(), comm, PETSC_ERR_USER_INPUT, "%s", refused.c_str());
   // The Delta z figure is drawn from the curves CSV: by default the PNG's name with .csv.
-  if (k == AnswerFile::centresOfGravity && o.output.empty() && !o.png.empty()) o.output = sibling(o.png, ".csv");
-  std::vector<CurveScore> scores; // rank 0's
-  std::vector<std::string> classLegends; // rank 0's
-  PetscCall(collectively(comm, [&] {
-    if (rank != 0) return;
-    const CsvTable ref = CsvTable::read(o.reference, "reference file");
-    if (k == AnswerFile::centresOfGravity || k == AnswerFile::bottomLayer) compareCurves(o, ref, &scores, &classLegends);
-    if (k == AnswerFile::profiles) compareProfileFiles(o, ref);
-    if (k == AnswerFile::halves) compareHalvesFiles(o, ref);
-    if (!o.scores.empty()) std::printf("Wrote %s\n", o.scores.c_str());
-  }, PETSC_ERR_USER_INPUT));
+  if (k == Comparison::Kind::centresOfGravity && o.output.empty() && !o.png.empty())
+    o.output = sibling(o.png, ".csv");
+  PetscCall(comparison.solve());
+  const bool curves = k == Comparison::Kind::centresOfGravity || k == Comparison::Kind::bottomLayer;
+  if (rank == 0) {
+    if (curves) {
+      printClassScores(comparison);
+      if (k == Comparison::Kind::centresOfGravity) printDeltaZScores(o.reference, comparison.scores());
+      else printCurveScores(o.reference, comparison.scores());
+    }
+    if (k == Comparison::Kind::profiles) printProfileScores(o.reference, comparison.profileScores());
+    if (k == Comparison::Kind::halves) printHalvesScores(o.reference, comparison.halvesScores());
+  }
+  if (curves && !o.output.empty()) {
+    PetscCall(comparison.writeCurves(o.output));
+    if (rank == 0) std::printf("Wrote %s\n", o.output.c_str());
+    if (rank == 0 && !comparison.classScores().empty())
+      std::printf("Wrote %s\n", Comparison::classCurvesFile(o.output).c_str());
+  }
+  if (!o.scores.empty()) {
+    PetscCall(comparison.writeScores(o.scores));
+    if (rank == 0) std::printf("Wrote %s\n", o.scores.c_str());
+  }
   if (o.png.empty()) PetscFunctionReturn(PETSC_SUCCESS);
-  if (k == AnswerFile::centresOfGravity) PetscCall(drawDeltaZ(comm, o, scores, classLegends));
-  if (k == AnswerFile::profiles) PetscCall(drawFiles(comm, o, "compare_profiles.py"));
-  if (k == AnswerFile::halves) PetscCall(drawFiles(comm, o, "compare_halves.py"));
+  if (k == Comparison::Kind::centresOfGravity) PetscCall(drawDeltaZ(comm, o, comparison));
+  if (k == Comparison::Kind::profiles) PetscCall(drawFiles(comm, o, "compare_profiles.py"));
+  if (k == Comparison::Kind::halves) PetscCall(drawFiles(comm, o, "compare_halves.py"));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 

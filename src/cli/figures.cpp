@@ -108,6 +108,8 @@ std::string runScript(const std::string &script, const std::vector<std::string> 
 
 } // namespace
 
+bool figuresByDefault() { return environment("RCFD_PLOT") != "0"; }
+
 PetscErrorCode drawFigure(MPI_Comm comm, const std::string &script, const std::vector<std::string> &args) {
   PetscMPIInt rank;
   PetscFunctionBeginUser;

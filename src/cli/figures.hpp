@@ -20,6 +20,11 @@ namespace rcfd::cli {
 /// fails is an error on every rank naming the command.
 PetscErrorCode drawFigure(MPI_Comm comm, const std::string &script, const std::vector<std::string> &args);
 
+/// The default of `rcfd run -plot`: false when $RCFD_PLOT is 0 (a cluster's batch
+/// jobs, the test suite: starting python and matplotlib costs about a second
+/// per run), true otherwise.
+bool figuresByDefault();
+
 /// Collective.  The centre-of-gravity figures of a cog.csv (or ensemble.csv):
 /// png (cog.py) and png's name with -delta.png (delta_z.py).
 PetscErrorCode drawCogFigures(MPI_Comm comm, const std::string &csv, const std::string &png,

@@ -34,7 +34,7 @@ struct MarkovOptions {
   PetscInt stride = 4;
   PassageSettings passages;
   PetscInt departures = 16;
-  bool quiet = false;
+  bool quiet = false, plot = true;
 };
 
 PetscErrorCode readOptions(MPI_Comm comm, const char *positional, MarkovOptions *o) {
@@ -42,7 +42,7 @@ PetscErrorCode readOptions(MPI_Comm comm, const char *positional, MarkovOptions 
   const char *averages[] = {"mass", "plain"};
   const char *startKinds[] = {"layers", "all"};
   PetscInt average = 0, starts = 0;
-  PetscBool mix = PETSC_TRUE, quiet = PETSC_FALSE;
+  PetscBool mix = PETSC_TRUE, quiet = PETSC_FALSE, plot = figuresByDefault() ? PETSC_TRUE : PETSC_FALSE;
   PetscFunctionBeginUser;
   PetscOptionsBegin(comm, nullptr, "rcfd markov: the database's frames as the solid's Markov chain", "rcfd");
   PetscCall(PetscOptionsString("-db", "Database file (or give it as the first argument)", "", "", text, sizeof text,
@@ -76,12 +76,14 @@ PetscErrorCode readOptions(MPI_Comm comm, const char *positional, MarkovOptions 
   PetscCall(checkedReal(PetscOptionsObject, "-markov_passage_tail",
                         "Stop following a crossing when less than this is left", &o->passages.tail, kOpenUnit));
   PetscCall(PetscOptionsBool("-quiet", "No report", "", quiet, &quiet, nullptr));
+  PetscCall(PetscOptionsBool("-plot", "Draw the figures (default: $RCFD_PLOT, else true)", "", plot, &plot, nullptr));
   PetscOptionsEnd();
   o->file = positional ? positional : text;
   o->average = static_cast<FrameChain::Average>(average);
   o->allStarts = starts == 1;
   o->mix = mix;
   o->quiet = quiet;
+  o->plot = plot;
   o->directory = *dir ? dir : o->file.substr(0, o->file.rfind('.')) + "-markov";
   PetscFunctionReturn(PETSC_SUCCESS);
 }
@@ -224,13 +226,13 @@ PetscErrorCode markovCommand(MPI_Comm comm, const char *positional) {
           << number(std::max(p.residence.conservation, p.away.conservation)) << '\n';
     writeTextAtomically(dir + "summary.csv", sum.str());
   }));
-  if (o.mix)
+  if (o.mix && o.plot)
     PetscCall(drawFigure(comm, "markov_relaxation.py",
                          {dir + "relaxation.csv", "-o", dir + "relaxation.png", "--relaxation_time",
                           number(spectrum.relaxationTime), "--tolerance", number(o.mixing.tolerance), "--title",
                           "tracer mixing, " + o.file}));
   for (const ZonePassages &p : passages)
-    if (!p.residence.probability.empty() || !p.away.probability.empty())
+    if (o.plot && (!p.residence.probability.empty() || !p.away.probability.empty()))
       PetscCall(drawFigure(comm, "markov_zone.py",
                            {dir + "zone_" + p.zone + ".csv", "-o", dir + "zone_" + p.zone + ".png", "--title",
                             "zone " + p.zone + ", " + o.file}));

@@ -47,7 +47,7 @@ PetscErrorCode listExtensions(MPI_Comm comm) {
 
 PetscErrorCode runCommand(MPI_Comm comm) {
   PetscInt members = 1;
-  PetscBool plot = PETSC_TRUE;
+  PetscBool plot = figuresByDefault() ? PETSC_TRUE : PETSC_FALSE;
   PetscFunctionBeginUser;
   Registries registry = Registries::withBuiltins();
   PetscCall(loadPlugins(comm, &registry)); // -plugin, $RCFD_PLUGINS: before the options name what they add
@@ -58,7 +58,7 @@ PetscErrorCode runCommand(MPI_Comm comm) {
   PetscCall(checkedInt(PetscOptionsObject, "-ensemble",
                        "Run this many stitched paths (seeds path_seed, path_seed+1, ...)",
                        &members, 1, 100000));
-  PetscCall(PetscOptionsBool("-plot", "Draw figures of the results at the end", "", plot, &plot, nullptr));
+  PetscCall(PetscOptionsBool("-plot", "Draw figures of the results at the end (default: $RCFD_PLOT, else true)", "", plot, &plot, nullptr));
   PetscCall(PetscOptionsString("-plot_reference", "Directory of rcfd reference whose profiles.csv and halves.csv "
                                "the figures show alongside the run's", "", reference, reference, sizeof reference, nullptr));
   PetscOptionsEnd();

@@ -1,12 +1,14 @@
 #include "cli/commands.hpp"
 #include "base/checked_options.hpp"
 #include "base/petsc_compat.hpp"
+#include "mesh/box_mesh.hpp"
 
 #include "analysis/span_statistics.hpp"
 #include "builders/synthetic/synthetic_bed.hpp"
 #include "builders/synthetic/two_phase_scaling.hpp"
 #include "database/min_fluidization.hpp"
 #include "rcfd/database.hpp"
+#include "mesh/vessel_mesh.hpp"
 #include "base/collective.hpp"
 #include "base/atomic_file.hpp"
 #include "database/database_file_writer.hpp"
@@ -215,7 +217,7 @@ PetscErrorCode synthCommand(MPI_Comm comm) {
   PetscCall(readSynthOptions(comm, &options, &path, &point, &series, &quiet));
   PetscCall(options.vessel.setFromOptions(comm, options.box)); // -vessel: the whole box unless given
   PetscCall(collectively(comm, [&] { // shapes that hold every cell whole are the box: today's bed
-    if (!options.vessel.isWholeBox() && vesselMesh(options.vessel, options.box).isBox()) options.vessel = Vessel();
+    if (!options.vessel.isWholeBox() && cutVesselMesh(options.vessel, options.box).isBox()) options.vessel = Vessel();
   }, PETSC_ERR_USER_INPUT));
   OperatingConditions conditions; // recorded in the file when given (format version 2)
   PetscCall(OperatingConditions::fromOptions(comm, &conditions));
@@ -245,7 +247,8 @@ PetscErrorCode synthCommand(MPI_Comm comm) {
       std::snprintf(at, sizeof at, ", at u_sup = %g m/s", conditions.superficialVelocity);
       meta.source += at;
     }
-    const Mesh mesh = options.vessel.isWholeBox() ? Mesh::box(options.box) : vesselMesh(options.vessel, options.box);
+    const Mesh mesh =
+        options.vessel.isWholeBox() ? boxMesh(options.box) : cutVesselMesh(options.vessel, options.box);
     cells = mesh.numCells();
     DatabaseFileWriter writer(path, mesh, meta);
     if (!pointNote.empty()) writer.setNote("synth_operating_point", pointNote);

@@ -3,6 +3,7 @@
 #include "database/database_header.hpp"
 
 #include "database/content_hash.hpp"
+#include "mesh/box_mesh.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -136,7 +137,7 @@ Mesh readMesh(const h5::File &f) {
   std::copy(origin.begin(), origin.end(), spec.origin.begin());
   std::copy(length.begin(), length.end(), spec.length.begin());
   if (kind == "masked_box") return readMaskedMesh(f, spec);
-  Mesh mesh = Mesh::box(spec);
+  Mesh mesh = boxMesh(spec);
   // The stored arrays must describe the same mesh as the box attributes.
   const auto volumes = f.read<double>("/mesh/cell_volumes");
   if (volumes.size() != static_cast<size_t>(mesh.numCells()))

@@ -1,9 +1,12 @@
-#include "rcfd/mesh.hpp"
+#include "mesh/box_mesh.hpp"
+#include "base/petsc_compat.hpp"
+
+#include "base/collective.hpp"
 
 #include <climits>
 #include <cmath>
 #include <numeric>
-#include <stdexcept>
+#include <utility>
 #include <unistd.h>
 
 namespace rcfd {
@@ -39,14 +42,9 @@ std::string BoxSpec::sizeProblem(double nx, double ny, double nz) {
   return "";
 }
 
-Mesh Mesh::box(const BoxSpec &spec) {
-  const std::string problem = BoxSpec::sizeProblem(spec.nx, spec.ny, spec.nz);
-  if (!problem.empty())
-    throw std::invalid_argument("a box mesh of " + std::to_string(spec.nx) + " x " + std::to_string(spec.ny) +
-                                " x " + std::to_string(spec.nz) + " cells " + problem);
-  Mesh m;
-  m.hasBox = true;
-  m.spec = spec;
+namespace {
+// The cells, faces and boundary faces of the box into m's (empty) arrays.
+void fillBox(const BoxSpec &spec, Mesh &m) {
   const Vec3 h = spec.spacing();
   const int N = spec.numCells();
   m.cellCentre.resize(N);
@@ -89,7 +87,28 @@ Mesh Mesh::box(const BoxSpec &spec) {
             m.boundaryPatch.push_back(2 * a + side);
             m.boundaryArea.push_back(s);
           }
-  return m;
+}
+} // namespace
+
+PetscErrorCode Mesh::createBox(const BoxSpec &spec, Mesh *mesh) {
+  PetscFunctionBeginUser;
+  const std::string problem = BoxSpec::sizeProblem(spec.nx, spec.ny, spec.nz);
+  PetscCheck(problem.empty(), PETSC_COMM_SELF, PETSC_ERR_ARG_OUTOFRANGE, "a box mesh of %d x %d x %d cells %s",
+             spec.nx, spec.ny, spec.nz, problem.c_str());
+  // Built aside and moved in, so that *mesh keeps its old value on an error
+  // (a std::bad_alloc of a mesh that passed the memory check included).
+  Mesh m;
+  PetscCallCXX(fillBox(spec, m));
+  m.hasBox = true;
+  m.spec = spec;
+  *mesh = std::move(m);
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+Mesh boxMesh(const BoxSpec &spec) {
+  Mesh mesh;
+  throwOnError([&] { return Mesh::createBox(spec, &mesh); });
+  return mesh;
 }
 
 double Mesh::totalVolume() const {

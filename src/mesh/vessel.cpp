@@ -5,14 +5,12 @@
 #include "base/petsc_compat.hpp"
 
 #include "base/checked_options.hpp"
-#include "base/collective.hpp"
 
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <sstream>
-#include <stdexcept>
 
 namespace rcfd {
 namespace {
@@ -111,17 +109,23 @@ std::string numbers(const std::vector<double> &p) {
 
 } // namespace
 
-void Vessel::add(Kind kind, std::vector<double> p, bool subtract) {
+PetscErrorCode Vessel::add(Kind kind, std::vector<double> p, bool subtract) {
+  PetscFunctionBeginUser;
   const std::string why = problemOf(kind, p);
-  if (!why.empty()) throw std::invalid_argument(std::string("vessel shape ") + infoOf(kind).name + " " + why);
-  if (shapes_.empty() && subtract)
-    throw std::invalid_argument("a vessel cannot start with a shape taken away: give a shape to take it from first");
-  shapes_.push_back({kind, std::move(p), subtract});
+  PetscCheck(why.empty(), PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "vessel shape %s %s", infoOf(kind).name,
+             why.c_str());
+  PetscCheck(!shapes_.empty() || !subtract, PETSC_COMM_SELF, PETSC_ERR_USER_INPUT,
+             "a vessel cannot start with a shape taken away: give a shape to take it from first");
+  PetscCallCXX(shapes_.push_back({kind, std::move(p), subtract}));
+  PetscFunctionReturn(PETSC_SUCCESS);
 }
 
-void Vessel::setSamples(int n) {
-  if (n < 1 || n > 64) throw std::invalid_argument("vessel samples must be between 1 and 64 per cell edge");
+PetscErrorCode Vessel::setSamples(int n) {
+  PetscFunctionBeginUser;
+  PetscCheck(n >= 1 && n <= 64, PETSC_COMM_SELF, PETSC_ERR_USER_INPUT,
+             "vessel samples must be between 1 and 64 per cell edge, not %d", n);
   samples_ = n;
+  PetscFunctionReturn(PETSC_SUCCESS);
 }
 
 double Vessel::level(const Vec3 &x) const {
@@ -144,9 +148,13 @@ std::string Vessel::describe() const {
   return out + " samples " + std::to_string(samples_);
 }
 
-Vessel Vessel::parse(const std::string &text) {
+PetscErrorCode Vessel::parse(const std::string &text, Vessel *out) {
   Vessel v;
-  if (text == "box") return v;
+  PetscFunctionBeginUser;
+  if (text == "box") {
+    *out = v;
+    PetscFunctionReturn(PETSC_SUCCESS);
+  }
   std::istringstream in(text);
   std::string token;
   bool sampled = false;
@@ -154,49 +162,56 @@ Vessel Vessel::parse(const std::string &text) {
     if (token == "samples") {
       int n = 0;
       if (!(in >> n)) break;
-      v.setSamples(n);
+      PetscCall(v.setSamples(n));
       sampled = true;
       continue;
     }
     const std::size_t open = token.find('(');
-    if (token.size() < 4 || (token[0] != '+' && token[0] != '-') || open == std::string::npos ||
-        token.back() != ')')
-      throw std::invalid_argument("'" + text + "' does not name a vessel (at '" + token + "')");
+    PetscCheck(token.size() >= 4 && (token[0] == '+' || token[0] == '-') && open != std::string::npos &&
+                   token.back() == ')',
+               PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "'%s' does not name a vessel (at '%s')", text.c_str(),
+               token.c_str());
     const std::string name = token.substr(1, open - 1);
     const KindInfo *info = nullptr;
     for (const auto &i : kKinds)
       if (name == i.name) info = &i;
-    if (!info) throw std::invalid_argument("'" + text + "' names an unknown vessel shape '" + name + "'");
+    PetscCheck(info, PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "'%s' names an unknown vessel shape '%s'", text.c_str(),
+               name.c_str());
     std::vector<double> p;
     std::istringstream list(token.substr(open + 1, token.size() - open - 2));
     std::string number;
     while (std::getline(list, number, ',')) {
       char *end = nullptr;
       p.push_back(std::strtod(number.c_str(), &end));
-      if (end == number.c_str() || *end)
-        throw std::invalid_argument("'" + text + "' has a bad number '" + number + "'");
+      PetscCheck(end != number.c_str() && !*end, PETSC_COMM_SELF, PETSC_ERR_USER_INPUT,
+                 "'%s' has a bad number '%s'", text.c_str(), number.c_str());
     }
-    v.add(info->kind, std::move(p), token[0] == '-');
+    PetscCall(v.add(info->kind, std::move(p), token[0] == '-'));
   }
-  if (!sampled || v.shapes_.empty()) throw std::invalid_argument("'" + text + "' does not name a vessel");
-  return v;
+  PetscCheck(sampled && !v.shapes_.empty(), PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "'%s' does not name a vessel",
+             text.c_str());
+  *out = std::move(v);
+  PetscFunctionReturn(PETSC_SUCCESS);
 }
 
-Vessel Vessel::in(const BoxSpec &box) const {
-  if (!fitted_) return *this;
+PetscErrorCode Vessel::in(const BoxSpec &box, Vessel *out) const {
+  PetscFunctionBeginUser;
   Vessel v = *this;
-  v.fitted_ = false;
-  const double x = std::isnan(fitAxis_[0]) ? box.origin[0] + 0.5 * box.length[0] : fitAxis_[0];
-  const double y = std::isnan(fitAxis_[1]) ? box.origin[1] + 0.5 * box.length[1] : fitAxis_[1];
-  const double r = std::isnan(fitRadius_) ? 0.5 * std::min(box.length[0], box.length[1]) : fitRadius_;
-  v.add(Kind::Cylinder, {x, y, r});
-  return v;
+  if (fitted_) {
+    v.fitted_ = false;
+    const double x = std::isnan(fitAxis_[0]) ? box.origin[0] + 0.5 * box.length[0] : fitAxis_[0];
+    const double y = std::isnan(fitAxis_[1]) ? box.origin[1] + 0.5 * box.length[1] : fitAxis_[1];
+    const double r = std::isnan(fitRadius_) ? 0.5 * std::min(box.length[0], box.length[1]) : fitRadius_;
+    PetscCall(v.add(Kind::Cylinder, {x, y, r}));
+  }
+  *out = std::move(v);
+  PetscFunctionReturn(PETSC_SUCCESS);
 }
 
 PetscErrorCode Vessel::setFromOptions(MPI_Comm comm, const BoxSpec &box) {
   PetscFunctionBeginUser;
   PetscCall(setFromOptions(comm));
-  PetscCall(collectively(comm, [&] { *this = in(box); }, PETSC_ERR_USER_INPUT));
+  PetscCall(in(box, this)); // the same on every rank: options and box are
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
@@ -262,7 +277,7 @@ PetscErrorCode Vessel::setFromOptions(MPI_Comm comm) {
         PetscCheck(why.empty(), comm, PETSC_ERR_USER_INPUT, "%s %s", option.c_str(), why.c_str());
         PetscCheck(found == 1, comm, PETSC_ERR_USER_INPUT, "Vessel shape '%s' has more than one shape option "
                    "(-vessel_%s_<shape>); give exactly one", name.c_str(), name.c_str());
-        add(info.kind, std::vector<double>(p, p + n), subtract);
+        PetscCall(add(info.kind, std::vector<double>(p, p + n), subtract));
       }
       PetscCheck(found == 1, comm, PETSC_ERR_USER_INPUT,
                  "Vessel shape '%s' has no shape: give one of -vessel_%s_box, _cylinder, _cone, _tube_x or _tube_y",

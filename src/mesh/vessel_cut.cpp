@@ -1,10 +1,12 @@
 // The vessel cut out of a box: each cell's and face's share inside
 // (exact where the wall does not cross them, sub-sampled where it does), and
 // the masked mesh made of the cells with a share (include/rcfd/vessel.hpp).
-#include "rcfd/vessel.hpp"
+#include "mesh/vessel_mesh.hpp"
+#include "base/petsc_compat.hpp"
+
+#include "base/collective.hpp"
 
 #include <cmath>
-#include <stdexcept>
 
 namespace rcfd {
 namespace {
@@ -80,7 +82,7 @@ double shareOf(const Vessel &v, const Vec3 &lo, const Vec3 &h, Vec3 *centroid) {
 
 namespace {
 
-// The cut over the box mesh `full` (Mesh::box(box)): its faces in its own order.
+// The cut over the box mesh `full` (Mesh::createBox of `box`): its faces in its own order.
 VesselCut cutOf(const Vessel &vessel, const BoxSpec &box, const Mesh &full) {
   VesselCut cut;
   const Vec3 h = box.spacing();
@@ -120,22 +122,19 @@ VesselCut cutOf(const Vessel &vessel, const BoxSpec &box, const Mesh &full) {
 
 } // namespace
 
-VesselCut cutVessel(const Vessel &vessel, const BoxSpec &box) { return cutOf(vessel, box, Mesh::box(box)); }
+PetscErrorCode cutVessel(const Vessel &vessel, const BoxSpec &box, VesselCut *cut) {
+  Mesh full;
+  PetscFunctionBeginUser;
+  PetscCall(Mesh::createBox(box, &full));
+  PetscCallCXX(*cut = cutOf(vessel, box, full));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
 
-Mesh vesselMesh(const Vessel &vessel, const BoxSpec &box) {
-  const Mesh full = Mesh::box(box); // its cells, faces and their order, kept where open
-  const VesselCut cut = cutOf(vessel, box, full);
-  auto whole = [](const std::vector<double> &s) {
-    for (double x : s)
-      if (x != 1.0) return false;
-    return true;
-  };
-  if (whole(cut.cellShare) && whole(cut.faceShare) && whole(cut.boundaryShare)) return Mesh::box(box);
-  std::vector<int> kept;
-  for (int c = 0; c < box.numCells(); ++c)
-    if (cut.cellShare[c] > 0) kept.push_back(c);
-  if (kept.empty())
-    throw std::invalid_argument("the vessel '" + vessel.describe() + "' holds no cell of the box mesh");
+namespace {
+
+// The masked mesh of `cut` over the box mesh `full` (vesselMesh's work).
+Mesh maskedOf(const Vessel &vessel, const BoxSpec &box, const Mesh &full, const VesselCut &cut,
+              const std::vector<int> &kept) {
   Mesh m = Mesh::masked(box, kept, vessel.describe());
   m.cellCentre.reserve(kept.size());
   m.cellVolume.reserve(kept.size());
@@ -160,6 +159,51 @@ Mesh vesselMesh(const Vessel &vessel, const BoxSpec &box) {
     m.boundaryArea.push_back(scaled(full.boundaryArea[f], cut.boundaryShare[f]));
   }
   return m;
+}
+
+bool whole(const std::vector<double> &shares) {
+  for (double x : shares)
+    if (x != 1.0) return false;
+  return true;
+}
+
+} // namespace
+
+PetscErrorCode vesselMesh(const Vessel &vessel, const BoxSpec &box, Mesh *mesh) {
+  Mesh full; // its cells, faces and their order, kept where open
+  VesselCut cut;
+  std::vector<int> kept;
+  PetscFunctionBeginUser;
+  PetscCall(Mesh::createBox(box, &full));
+  PetscCallCXX(cut = cutOf(vessel, box, full));
+  if (whole(cut.cellShare) && whole(cut.faceShare) && whole(cut.boundaryShare)) {
+    *mesh = std::move(full);
+    PetscFunctionReturn(PETSC_SUCCESS);
+  }
+  for (int c = 0; c < box.numCells(); ++c)
+    if (cut.cellShare[c] > 0) PetscCallCXX(kept.push_back(c));
+  PetscCheck(!kept.empty(), PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "the vessel '%s' holds no cell of the box mesh",
+             vessel.describe().c_str());
+  PetscCallCXX(*mesh = maskedOf(vessel, box, full, cut, kept));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+Mesh cutVesselMesh(const Vessel &vessel, const BoxSpec &box) {
+  Mesh mesh;
+  throwOnError([&] { return vesselMesh(vessel, box, &mesh); });
+  return mesh;
+}
+
+Vessel parseVessel(const std::string &text) {
+  Vessel v;
+  throwOnError([&] { return Vessel::parse(text, &v); });
+  return v;
+}
+
+Vessel vesselInBox(const Vessel &vessel, const BoxSpec &box) {
+  Vessel v;
+  throwOnError([&] { return vessel.in(box, &v); });
+  return v;
 }
 
 int Mesh::cellOfBoxCell(int b) const {

@@ -34,15 +34,12 @@ PetscErrorCode study() {
   const rcfd::Calibration::Result &fit = calibration.results().front();
   PetscCall(PetscPrintf(comm, "study: fitted k_d = %.4g %s\n", fit.kd, fit.unit.c_str()));
 
-  // 2. The ensemble's members run the fitted law along random stitched paths:
-  // this program sets the options its members read.
-  char kd[32];
-  std::snprintf(kd, sizeof kd, "%.17g", fit.kd);
-  PetscCall(PetscOptionsSetValue(nullptr, "-drift_size_law", fit.model.c_str()));
-  PetscCall(PetscOptionsSetValue(nullptr, "-drift_kd", kd));
+  // 2. The ensemble's members run the fitted law along random stitched paths
+  // (the path is an option the members read; the law is handed over typed).
   PetscCall(PetscOptionsSetValue(nullptr, "-path_type", "random"));
   rcfd::Ensemble ensemble(comm, registries);
   PetscCall(ensemble.setMembers(static_cast<int>(members)));
+  PetscCall(ensemble.setDriftLaw(fit)); // its size law and k_d, as the calibration's replays ran them
   PetscCall(ensemble.setFromOptions());
   PetscCall(ensemble.setUp());
   PetscCall(ensemble.solve());

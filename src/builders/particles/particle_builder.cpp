@@ -2,6 +2,7 @@
 
 #include "base/constants.hpp"
 #include "database/csr.hpp"
+#include "mesh/vessel_mesh.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -60,7 +61,7 @@ ParticleFrameBuilder::ParticleFrameBuilder(const ParticleBuildOptions &options, 
   if (n <= 0) throw std::invalid_argument("particle build: the mesh has no cells");
   if (opt.vessel && (!opt.vessel->onBoxLattice() || opt.vessel->boxSpec().numCells() != opt.mesh.numCells()))
     throw std::invalid_argument("particle build: the vessel's mesh is not cut from the build's box");
-  if (opt.vessel) vesselShape = Vessel::parse(opt.vessel->vessel());
+  if (opt.vessel) vesselShape = parseVessel(opt.vessel->vessel());
   const Vec3 h = opt.mesh.spacing();
   cellVolume = h[0] * h[1] * h[2];
   if (!(cellVolume > 0.0))

@@ -5,6 +5,7 @@
 #include "builders/synthetic/synthetic_bed.hpp"
 
 #include "builders/synthetic/kinematic_bed.hpp"
+#include "mesh/vessel_mesh.hpp"
 
 #include <algorithm>
 #include <array>
@@ -234,7 +235,7 @@ SyntheticBedReport runSyntheticBed(const SyntheticBedOptions &options, const Fra
   // In a cylinder the bed runs in a square of the same area (CylinderMap) and
   // its frames are on the vessel's cells; in the box, as it always did.
   const bool inVessel = !options.vessel.isWholeBox();
-  const Mesh mesh = inVessel ? vesselMesh(options.vessel, box) : Mesh();
+  const Mesh mesh = inVessel ? cutVesselMesh(options.vessel, box) : Mesh();
   SyntheticBedOptions square = options;
   if (inVessel) square.box.length[0] = square.box.length[1] = options.vessel.shapes()[0].p[2] * std::sqrt(kPi);
   const int numCells = inVessel ? mesh.numCells() : box.numCells();
