@@ -44,8 +44,8 @@ public:
   /// The whole box (every cell inside, every face open).
   Vessel() = default;
   /// Collective: reads the options above for a mesh of `box`; refuses, with one
-  /// sentence naming the option, an unknown shape, wrong numbers or a vessel
-  /// that holds no point of the box.
+  /// sentence naming the option, a name without a shape or with two, and wrong
+  /// numbers (a vessel that holds no cell of the box is vesselMesh's to refuse).
   PetscErrorCode setFromOptions(MPI_Comm comm, const BoxSpec &box);
   /// The same before the box is known (rcfd build finds it from the particles):
   /// `-vessel cylinder`'s defaults are left to in(box).
