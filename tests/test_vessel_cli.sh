@@ -135,6 +135,12 @@ awk -F, -v b="$(sed -n 2p "$work/conemixed/cog.csv" | cut -d, -f5)" 'NR == 2 { e
 grep -q '^0,' "$work/conerun/bottom.csv" && ! grep -q nan "$work/conerun/bottom.csv" ||
   fail "the cone's bottom layer is empty: $(sed -n 2p "$work/conerun/bottom.csv")"
 
+# Under the overlap rule the parts of a sphere beyond a cut cell's wall go to its centre's cell:
+# the cone's small rim cells are not crowded (alpha_s reached 34 in one before).
+"$rcfd" build -dumps "$work/dump/dump.*.txt" -times "$work/dump/times.txt" -mesh_cells 10,10,4 -vessel cone \
+  -vessel_cone_cone 0.05,0.05,0.01,0.02,0.04,0.05 -particle_volume overlap -o "$work/cone-overlap.h5" -quiet ||
+  fail "the cone under the overlap rule was not built"
+
 # A broken vessel mesh is refused with a sentence naming the file and what is wrong.
 h5edit=$(dirname "$compare")/h5_edit
 cp "$work/cyl.h5" "$work/short.h5"

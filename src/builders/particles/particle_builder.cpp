@@ -114,7 +114,8 @@ void ParticleFrameBuilder::place(const ParticleSnapshot &snap) {
 }
 
 // The shares of a particle (box cells) as the vessel's cells: the parts in box
-// cells outside the vessel go to the cell of its centre; a centre outside the
+// cells outside the vessel, and beyond the wall of cut cells, go to the cell of
+// its centre; a centre outside the
 // vessel (its shapes, not only its cells: a particle beyond the wall of a cut
 // cell would crowd that cell's small volume) puts the particle outside the
 // mesh (no share).  Equal cells merged.
@@ -125,12 +126,22 @@ void ParticleFrameBuilder::toVesselCells(int centreBoxCell) {
     scratch.clear();
     return;
   }
+  // Another cell keeps of its part only its inside share (its volume over its
+  // box cell's, the part of the sphere's overlap with it that is not beyond
+  // the wall, taken as uniform), so that a small cut cell is not crowded.
+  const double boxVolume = cellVolume;
   double toCentre = 0.0;
   std::size_t kept = 0;
-  for (const CellShare &s : scratch) {
+  for (std::size_t k = 0; k < scratch.size(); ++k) {
+    const CellShare s = scratch[k]; // a copy: scratch[kept] may be this entry
     const int c = v.cellOfBoxCell(s.cell);
-    if (c < 0 || c == centre) toCentre += s.share;
-    else scratch[kept++] = {c, s.share};
+    if (c < 0 || c == centre) {
+      toCentre += s.share;
+      continue;
+    }
+    const double inside = std::min(1.0, v.cellVolume[c] / boxVolume);
+    scratch[kept++] = {c, s.share * inside};
+    toCentre += s.share * (1.0 - inside);
   }
   scratch.resize(kept);
   if (toCentre > 0.0) scratch.push_back({centre, toCentre});
