@@ -49,6 +49,23 @@ public:
   const BoxSpec &boxSpec() const { return spec; }
   double totalVolume() const;
 
+  // A vessel cut out of a box (include/rcfd/vessel.hpp): not isBox(), but each
+  // cell is one cell of boxSpec(), so box-structured code (layers, columns,
+  // field files) finds a cell's (i, j, k) through boxCell and back through
+  // cellOfBoxCell.  On a box mesh both are the identity.
+  /// Cells cut from a box: some box cells are missing or partly outside.
+  bool isMasked() const { return !boxCells.empty(); }
+  /// A box mesh or a masked one: boxSpec() is the box of its cells.
+  bool onBoxLattice() const { return hasBox || isMasked(); }
+  int boxCell(int c) const { return boxCells.empty() ? c : boxCells[c]; }
+  /// The cell that is box cell b, or -1 when b is outside the vessel.
+  int cellOfBoxCell(int b) const;
+  /// The vessel's describe() line ("box" for a box mesh).
+  const std::string &vessel() const { return vesselText; }
+  /// A mesh of the given box cells (ascending) of `spec`, cut by the vessel
+  /// named by `vessel`; its geometry (cells, faces) is left to the caller to fill.
+  static Mesh masked(const BoxSpec &spec, std::vector<int> boxCells, std::string vessel);
+
   // Cells.
   std::vector<Vec3> cellCentre;
   std::vector<double> cellVolume;
@@ -62,6 +79,9 @@ public:
 private:
   bool hasBox = false;
   BoxSpec spec;
+  std::vector<int> boxCells;       // per cell, its box cell; empty on a box mesh
+  std::vector<int> cellOfBox;      // per box cell, its cell or -1; empty on a box mesh
+  std::string vesselText = "box";
 };
 
 } // namespace rcfd

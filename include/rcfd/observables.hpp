@@ -230,8 +230,11 @@ public:
 private:
   PetscErrorCode writeIndex() const;
   MPI_Comm comm = MPI_COMM_NULL;
+  PetscErrorCode writeVesselCells() const;
   BoxSpec box;
   std::vector<double> cellVolume; // natural order, on rank 0
+  std::vector<int> boxCells;      // a vessel's cells (their box cells), on rank 0; empty on a box
+  int vesselPoints = 0;           // corners of the vessel's cells, in fields_mesh.h5
   const FractionSet *fractions = nullptr;
   double rho = 0.0;
   std::string dir;

@@ -11,11 +11,13 @@
 #include "analysis/particle_reference.hpp"
 #include "analysis/regional_drift.hpp"
 #include "rcfd/database.hpp"
+#include "mesh/vessel_mesh.hpp"
 #include "base/atomic_file.hpp"
 #include "base/collective.hpp"
 #include "base/constants.hpp"
 #include "base/h5.hpp"
 #include "database/database_file_writer.hpp"
+#include "rcfd/vessel.hpp"
 
 #include <chrono>
 #include <cstdio>
@@ -113,6 +115,8 @@ PetscErrorCode buildCommand(MPI_Comm comm) {
   PetscCall(readParticleInputOptions(comm, &in));
   OperatingConditions conditions; // recorded in the file when given (format version 2)
   PetscCall(OperatingConditions::fromOptions(comm, &conditions));
+  Vessel vessel; // -vessel (docs/vessels.md): completed by the box once the particles give it
+  PetscCall(vessel.setFromOptions(comm));
   if (helpRequested()) PetscFunctionReturn(PETSC_SUCCESS);
   PetscCall(rejectUnusedOptions(comm, "build"));
 
@@ -138,6 +142,9 @@ PetscErrorCode buildCommand(MPI_Comm comm) {
     const ParticleSnapshot first = readParticleSnapshot(in.files[sel.front()], opt.read);
     opt.mesh = resolveMesh(in.mesh, first, opt.axes);
     const BoxSpec &box = opt.mesh;
+    const Vessel inBox = vesselInBox(vessel, box);
+    const Mesh mesh = inBox.isWholeBox() ? boxMesh(box) : cutVesselMesh(inBox, box);
+    if (mesh.isMasked()) opt.vessel = &mesh;
 
     DatabaseMetadata meta;
     meta.dtRec = dtRec;
@@ -169,8 +176,35 @@ PetscErrorCode buildCommand(MPI_Comm comm) {
     if (!out.initOut.empty()) {
       const SizeClasses classes = SizeClasses::cluster(first.diameter, in.classTolerance);
       std::size_t outside = 0;
-      const auto masses = classMassesPerCell(first, opt.axes, box, classes, opt.volume, &outside);
+      // In a vessel, the particles the frames count: those centred inside its shapes.
+      const ParticleSnapshot *counting = &first;
+      ParticleSnapshot counted;
+      std::size_t beyond = 0;
+      if (mesh.isMasked()) {
+        counted = first;
+        counting = &counted;
+        std::size_t kept = 0;
+        for (std::size_t p = 0; p < first.size(); ++p) {
+          if (!inBox.contains(opt.axes.apply(first.position[p]))) continue;
+          counted.id[kept] = first.id[p];
+          counted.type[kept] = first.type[p];
+          counted.position[kept] = first.position[p];
+          counted.diameter[kept] = first.diameter[p];
+          counted.mass[kept++] = first.mass[p];
+        }
+        counted.id.resize(kept), counted.type.resize(kept), counted.position.resize(kept);
+        counted.diameter.resize(kept), counted.mass.resize(kept);
+        beyond = first.size() - kept;
+      }
+      auto masses = classMassesPerCell(*counting, opt.axes, box, classes, opt.volume, &outside);
+      outside += beyond;
       const std::size_t nc = classes.diameter.size();
+      if (mesh.isMasked()) { // the vessel's cells; what lies in box cells outside it is left out
+        std::vector<double> inside(static_cast<std::size_t>(mesh.numCells()) * nc);
+        for (int c = 0; c < mesh.numCells(); ++c)
+          std::copy_n(&masses[static_cast<std::size_t>(mesh.boxCell(c)) * nc], nc, &inside[c * nc]);
+        masses.swap(inside);
+      }
       std::vector<double> total(nc, 0.0);
       for (std::size_t k = 0; k < masses.size(); ++k) total[k % nc] += masses[k];
       const double sum = std::accumulate(total.begin(), total.end(), 0.0);
@@ -192,7 +226,7 @@ PetscErrorCode buildCommand(MPI_Comm comm) {
                     "%s; use: rcfd run -init file -init_file %s -fractions_diameters %s "
                     "-fractions_mass_shares %s\n",
                     out.initOut.c_str(), nc, join(classes.diameter, 1e3, "%.4g").c_str(),
-                    join(shares, 1.0, "%.4f").c_str(), box.numCells(),
+                    join(shares, 1.0, "%.4f").c_str(), mesh.numCells(),
                     outside ? (" (" + std::to_string(outside) + " particles outside left out)").c_str()
                             : "",
                     out.initOut.c_str(), join(classes.diameter, 1.0, "%.9g").c_str(),
@@ -205,7 +239,7 @@ PetscErrorCode buildCommand(MPI_Comm comm) {
       };
     }
 
-    DatabaseFileWriter writer(out.database, boxMesh(box), meta);
+    DatabaseFileWriter writer(out.database, mesh, meta);
     ParticleFrameBuilder builder(opt, [&](const FrameRecord &f) { writer.append(f); });
     using Clock = std::chrono::steady_clock;
     const auto start = Clock::now();

@@ -31,7 +31,7 @@ void coarsenInitialMasses(const std::string &in, const std::string &out, const C
                              " cells x fractions to match the database");
   const std::size_t nf = dims[1];
   const auto fine = f.read<double>("/masses");
-  std::vector<double> masses(static_cast<std::size_t>(coarse.box.numCells()) * nf, 0.0);
+  std::vector<double> masses(static_cast<std::size_t>(coarse.numCells()) * nf, 0.0);
   for (int c = 0; c < fineCells; ++c)
     for (std::size_t i = 0; i < nf; ++i) masses[coarse.coarseOf[c] * nf + i] += fine[c * nf + i];
   AtomicFile file(out);
@@ -105,13 +105,17 @@ PetscErrorCode coarsenCommand(MPI_Comm comm, const char *positional) {
   std::unique_ptr<Database> db;
   PetscCall(Database::load(comm, file, headerOnly, &db));
   const int cells = db->mesh().numCells();
-  PetscCheck(db->mesh().isBox(), comm, PETSC_ERR_SUP, "Database '%s': rcfd coarsen needs a box mesh", file.c_str());
+  PetscCheck(db->mesh().onBoxLattice(), comm, PETSC_ERR_SUP, "Database '%s': rcfd coarsen needs a box mesh",
+             file.c_str());
   const int K = db->numFrames() / static_cast<int>(timeFactor);
   PetscCheck(K >= 1, comm, PETSC_ERR_USER_INPUT, "Database '%s' has too few frames for -time_factor %d",
              file.c_str(), (int)timeFactor);
   CoarseBox coarse;
+  Mesh coarseMesh; // a vessel's (docs/vessels.md); a box's is boxMesh(coarse.box)
   PetscCall(collectively(comm, [&] {
-    coarse = coarsenBox(db->mesh().boxSpec(), {(int)factor[0], (int)factor[1], (int)factor[2]});
+    const std::array<int, 3> f{(int)factor[0], (int)factor[1], (int)factor[2]};
+    if (db->mesh().isMasked()) coarseMesh = coarsenVesselMesh(db->mesh(), f, &coarse);
+    else coarse = coarsenBox(db->mesh().boxSpec(), f);
   }, PETSC_ERR_USER_INPUT));
   DatabaseMetadata meta = db->metadata();
   // Unless asked otherwise the output keeps the input's precision: a quantised
@@ -127,7 +131,9 @@ PetscErrorCode coarsenCommand(MPI_Comm comm, const char *positional) {
                 db->metadata().source + ")";
   meta.weightBits = weightBits;
   std::unique_ptr<DatabaseFileWriter> writer;
-  PetscCall(collectively(comm, [&] { writer = std::make_unique<DatabaseFileWriter>(out, boxMesh(coarse.box), meta); }));
+  PetscCall(collectively(comm, [&] {
+    writer = std::make_unique<DatabaseFileWriter>(out, coarse.cells > 0 ? coarseMesh : boxMesh(coarse.box), meta);
+  }));
   const std::vector<double> &volume = db->mesh().cellVolume;
   int64_t nnz = 0;
   PetscCall(collectively(comm, [&] {
@@ -147,7 +153,7 @@ PetscErrorCode coarsenCommand(MPI_Comm comm, const char *positional) {
   if (!quiet)
     PetscCall(PetscPrintf(comm, "Wrote %s: %d x %d x %d cells, %d frames every %g s, %.3g shift nonzeros per column%s\n",
                           out, coarse.box.nx, coarse.box.ny, coarse.box.nz, K, meta.dtRec,
-                          static_cast<double>(nnz) / (static_cast<double>(K) * coarse.box.numCells()),
+                          static_cast<double>(nnz) / (static_cast<double>(K) * coarse.numCells()),
                           weightBits > 0 ? (", weights quantised to 2^-" + std::to_string(weightBits)).c_str() : ""));
   PetscFunctionReturn(PETSC_SUCCESS);
 }

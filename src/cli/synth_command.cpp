@@ -8,6 +8,7 @@
 #include "builders/synthetic/two_phase_scaling.hpp"
 #include "database/min_fluidization.hpp"
 #include "rcfd/database.hpp"
+#include "mesh/vessel_mesh.hpp"
 #include "base/collective.hpp"
 #include "base/atomic_file.hpp"
 #include "database/database_file_writer.hpp"
@@ -214,6 +215,10 @@ PetscErrorCode synthCommand(MPI_Comm comm) {
   PetscFunctionBeginUser;
   PetscCallMPI(MPI_Comm_rank(comm, &rank));
   PetscCall(readSynthOptions(comm, &options, &path, &point, &series, &quiet));
+  PetscCall(options.vessel.setFromOptions(comm, options.box)); // -vessel: the whole box unless given
+  PetscCall(collectively(comm, [&] { // shapes that hold every cell whole are the box: today's bed
+    if (!options.vessel.isWholeBox() && cutVesselMesh(options.vessel, options.box).isBox()) options.vessel = Vessel();
+  }, PETSC_ERR_USER_INPUT));
   OperatingConditions conditions; // recorded in the file when given (format version 2)
   PetscCall(OperatingConditions::fromOptions(comm, &conditions));
   if (helpRequested()) PetscFunctionReturn(PETSC_SUCCESS);
@@ -223,6 +228,7 @@ PetscErrorCode synthCommand(MPI_Comm comm) {
 
   // The generator is serial: rank 0 makes and writes the file, the others wait.
   SyntheticBedReport report;
+  int cells = options.box.numCells();
   PetscCall(collectively(comm, [&] {
     if (rank != 0) return;
     if (series.only) {
@@ -241,7 +247,10 @@ PetscErrorCode synthCommand(MPI_Comm comm) {
       std::snprintf(at, sizeof at, ", at u_sup = %g m/s", conditions.superficialVelocity);
       meta.source += at;
     }
-    DatabaseFileWriter writer(path, boxMesh(options.box), meta);
+    const Mesh mesh =
+        options.vessel.isWholeBox() ? boxMesh(options.box) : cutVesselMesh(options.vessel, options.box);
+    cells = mesh.numCells();
+    DatabaseFileWriter writer(path, mesh, meta);
     if (!pointNote.empty()) writer.setNote("synth_operating_point", pointNote);
     report = generateSyntheticBed(options, [&](const FrameRecord &frame) {
       writer.append(frame);
@@ -259,7 +268,7 @@ PetscErrorCode synthCommand(MPI_Comm comm) {
     PetscCall(PetscPrintf(comm,
                           "Wrote %s: %d frames of %d cells every %g s; %ld parcels, largest alpha_s %.3f,"
                           " mean bed height %.3f m, %ld bubbles erupted, wrap mismatch %.2f %%\n",
-                          path.c_str(), options.numFrames, options.box.numCells(), options.dtRec,
+                          path.c_str(), options.numFrames, cells, options.dtRec,
                           report.parcels, report.maxAlpha, report.meanBedHeight,
                           report.bubblesErupted, 100 * report.wrapMismatchRelative));
   if (!quiet) printHalves(comm, report); // rank 0 made the report; PetscPrintf prints rank 0's

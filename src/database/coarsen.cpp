@@ -1,7 +1,10 @@
 #include "database/coarsen.hpp"
 
+#include <algorithm>
+#include <map>
 #include <stdexcept>
 #include <string>
+#include <utility>
 
 namespace rcfd {
 
@@ -25,8 +28,57 @@ CoarseBox coarsenBox(const BoxSpec &fine, const std::array<int, 3> &factor) {
   return c;
 }
 
+Mesh coarsenVesselMesh(const Mesh &fine, const std::array<int, 3> &factor, CoarseBox *coarse) {
+  const CoarseBox boxes = coarsenBox(fine.boxSpec(), factor); // checks the factors
+  std::vector<int> cells; // coarse box cells holding a fine cell, ascending
+  for (int c = 0; c < fine.numCells(); ++c) cells.push_back(boxes.coarseOf[fine.boxCell(c)]);
+  std::vector<int> ofFine = cells;
+  std::sort(cells.begin(), cells.end());
+  cells.erase(std::unique(cells.begin(), cells.end()), cells.end());
+  Mesh m = Mesh::masked(boxes.box, cells, fine.vessel());
+  for (int &C : ofFine) C = m.cellOfBoxCell(C);
+  const int nc = static_cast<int>(cells.size()); // m.numCells() counts volumes, still to fill
+  m.cellVolume.assign(nc, 0.0);
+  m.cellCentre.assign(nc, Vec3{0.0, 0.0, 0.0});
+  for (int c = 0; c < fine.numCells(); ++c) {
+    const double v = fine.cellVolume[c];
+    m.cellVolume[ofFine[c]] += v;
+    for (int a = 0; a < 3; ++a) m.cellCentre[ofFine[c]][a] += v * fine.cellCentre[c][a];
+  }
+  for (int C = 0; C < nc; ++C)
+    for (double &x : m.cellCentre[C]) x /= m.cellVolume[C];
+  // Keyed by (owner, axis) and (patch, owner): the box mesh's orders.
+  auto axisOf = [](const Vec3 &s) { return s[0] != 0.0 ? 0 : s[1] != 0.0 ? 1 : 2; };
+  std::map<std::pair<int, int>, std::pair<int, Vec3>> faces, walls;
+  for (int f = 0; f < fine.numFaces(); ++f) {
+    const int o = ofFine[fine.faceOwner[f]], n = ofFine[fine.faceNeighbour[f]];
+    if (o == n) continue;
+    auto &face = faces.try_emplace({o, axisOf(fine.faceArea[f])}, n, Vec3{0.0, 0.0, 0.0}).first->second;
+    for (int a = 0; a < 3; ++a) face.second[a] += fine.faceArea[f][a];
+  }
+  for (int f = 0; f < fine.numBoundaryFaces(); ++f) {
+    auto &wall = walls.try_emplace({fine.boundaryPatch[f], ofFine[fine.boundaryOwner[f]]}, 0, Vec3{0.0, 0.0, 0.0})
+                     .first->second;
+    for (int a = 0; a < 3; ++a) wall.second[a] += fine.boundaryArea[f][a];
+  }
+  for (const auto &[key, face] : faces) {
+    m.faceOwner.push_back(key.first);
+    m.faceNeighbour.push_back(face.first);
+    m.faceArea.push_back(face.second);
+  }
+  for (const auto &[key, wall] : walls) {
+    m.boundaryOwner.push_back(key.second);
+    m.boundaryPatch.push_back(key.first);
+    m.boundaryArea.push_back(wall.second);
+  }
+  *coarse = boxes;
+  coarse->coarseOf = std::move(ofFine);
+  coarse->cells = nc;
+  return m;
+}
+
 FrameRecord coarsenFrame(const FrameRecord &fine, const std::vector<double> &fineVolume, const CoarseBox &coarse) {
-  const int nf = static_cast<int>(fine.alphaS.size()), nc = coarse.box.numCells();
+  const int nf = static_cast<int>(fine.alphaS.size()), nc = coarse.numCells();
   if (nc == nf) return fine; // factor 1: the same frame, bit for bit
   FrameRecord out;
   out.alphaS.assign(nc, 0.0);

@@ -27,8 +27,17 @@ namespace rcfd {
 struct CoarseBox {
   BoxSpec box;
   std::vector<int> coarseOf; ///< natural fine cell -> natural coarse cell
+  int cells = 0;             ///< coarse cells when not the whole box (a vessel's), else 0
+  int numCells() const { return cells > 0 ? cells : box.numCells(); }
 };
 CoarseBox coarsenBox(const BoxSpec &fine, const std::array<int, 3> &factor);
+
+/// A vessel's mesh (Mesh::isMasked, docs/vessels.md) coarsened: the coarse box's
+/// cells that hold a fine cell, in the box's order, each with its fine cells'
+/// volume and their volume-weighted centre; faces between two coarse cells
+/// with the fine faces' open areas summed (boundary faces likewise); the same
+/// vessel.  `coarse` maps the fine mesh's cells to the coarse mesh's.
+Mesh coarsenVesselMesh(const Mesh &fine, const std::array<int, 3> &factor, CoarseBox *coarse);
 
 /// The frame on the coarse cells (see above).  `fineVolume` per fine cell.
 FrameRecord coarsenFrame(const FrameRecord &fine, const std::vector<double> &fineVolume, const CoarseBox &coarse);

@@ -89,6 +89,15 @@ PetscErrorCode Database::view(PetscViewer viewer) const {
         viewer, "mesh: box %d x %d x %d cells = %d, %.4g x %.4g x %.4g m from (%.4g, %.4g, %.4g)\n",
         b.nx, b.ny, b.nz, m.numCells(), b.length[0], b.length[1], b.length[2], b.origin[0],
         b.origin[1], b.origin[2]));
+  } else if (m.isMasked()) {
+    const BoxSpec &b = m.boxSpec();
+    PetscCall(PetscViewerASCIIPrintf(
+        viewer,
+        "mesh: vessel %s\n      cut from the box %d x %d x %d cells, %.4g x %.4g x %.4g m from (%.4g, %.4g, %.4g): "
+        "%d cells inside (%.1f %% of the box's), %.6g m^3 (%.1f %% of the box's)\n",
+        m.vessel().c_str(), b.nx, b.ny, b.nz, b.length[0], b.length[1], b.length[2], b.origin[0], b.origin[1],
+        b.origin[2], m.numCells(), 100.0 * m.numCells() / b.numCells(), m.totalVolume(),
+        100.0 * m.totalVolume() / (b.length[0] * b.length[1] * b.length[2])));
   }
   PetscCall(PetscViewerASCIIPrintf(viewer, "faces: %d internal, %d boundary\n", m.numFaces(),
                                    m.numBoundaryFaces()));

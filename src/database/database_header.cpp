@@ -27,6 +27,53 @@ void readConditions(const h5::File &f, OperatingConditions *c) {
   }
 }
 
+std::vector<Vec3> triples(const h5::File &f, const std::string &name) {
+  const auto flat = f.read<double>(name);
+  if (flat.size() % 3) throw h5::Error("database '" + f.path() + "': " + name + " must hold three numbers per row");
+  std::vector<Vec3> out(flat.size() / 3);
+  for (std::size_t r = 0; r < out.size(); ++r) out[r] = {flat[3 * r], flat[3 * r + 1], flat[3 * r + 2]};
+  return out;
+}
+
+std::vector<int> cellIndices(const h5::File &f, const std::string &name, int numCells) {
+  const auto stored = f.read<int32_t>(name);
+  for (int32_t c : stored)
+    if (c < 0 || c >= numCells)
+      throw h5::Error("database '" + f.path() + "': " + name + " names cell " + std::to_string(c) + " of a " +
+                      std::to_string(numCells) + "-cell mesh");
+  return std::vector<int>(stored.begin(), stored.end());
+}
+
+// A vessel cut out of a box: its cells are the stored box cells, its geometry
+// the stored arrays (checked for sizes and indices, as a reader must).
+Mesh readMaskedMesh(const h5::File &f, const BoxSpec &spec) {
+  const std::string where = "database '" + f.path() + "': /mesh ";
+  const auto boxCell = f.read<int32_t>("/mesh/box_cell");
+  for (std::size_t c = 0; c < boxCell.size(); ++c)
+    if (boxCell[c] < 0 || boxCell[c] >= spec.numCells() || (c > 0 && boxCell[c] <= boxCell[c - 1]))
+      throw h5::Error(where + "box_cell must list box cells in ascending order, each once");
+  if (boxCell.empty()) throw h5::Error(where + "box_cell lists no cell");
+  Mesh m = Mesh::masked(spec, std::vector<int>(boxCell.begin(), boxCell.end()), f.readAttrString("/mesh", "vessel"));
+  const int n = static_cast<int>(boxCell.size());
+  m.cellCentre = triples(f, "/mesh/cell_centres");
+  m.cellVolume = f.read<double>("/mesh/cell_volumes");
+  m.faceOwner = cellIndices(f, "/mesh/face_owner", n);
+  m.faceNeighbour = cellIndices(f, "/mesh/face_neighbour", n);
+  m.faceArea = triples(f, "/mesh/face_area");
+  m.boundaryOwner = cellIndices(f, "/mesh/boundary_owner", n);
+  m.boundaryPatch = f.read<int>("/mesh/boundary_patch");
+  m.boundaryArea = triples(f, "/mesh/boundary_area");
+  if (m.cellCentre.size() != boxCell.size() || m.cellVolume.size() != boxCell.size())
+    throw h5::Error(where + "cell_centres and cell_volumes must have one row per cell of box_cell (" +
+                    std::to_string(n) + ")");
+  for (double v : m.cellVolume)
+    if (!(v > 0) || !std::isfinite(v)) throw h5::Error(where + "cell_volumes must be positive");
+  if (m.faceNeighbour.size() != m.faceOwner.size() || m.faceArea.size() != m.faceOwner.size() ||
+      m.boundaryPatch.size() != m.boundaryOwner.size() || m.boundaryArea.size() != m.boundaryOwner.size())
+    throw h5::Error(where + "face arrays must have one row per face");
+  return m;
+}
+
 } // namespace
 
 void writeMesh(const h5::File &f, const Mesh &mesh) {
@@ -37,6 +84,18 @@ void writeMesh(const h5::File &f, const Mesh &mesh) {
     f.writeAttr("/mesh", "box_cells", std::vector<long long>{b.nx, b.ny, b.nz});
     f.writeAttr("/mesh", "box_origin", std::vector<double>(b.origin.begin(), b.origin.end()));
     f.writeAttr("/mesh", "box_length", std::vector<double>(b.length.begin(), b.length.end()));
+  } else if (mesh.isMasked()) {
+    // A vessel cut out of a box (docs/vessels.md): the box, the vessel's line
+    // and each cell's box cell; the arrays below hold the cut geometry.
+    const BoxSpec &b = mesh.boxSpec();
+    f.writeAttr("/mesh", "kind", std::string("masked_box"));
+    f.writeAttr("/mesh", "box_cells", std::vector<long long>{b.nx, b.ny, b.nz});
+    f.writeAttr("/mesh", "box_origin", std::vector<double>(b.origin.begin(), b.origin.end()));
+    f.writeAttr("/mesh", "box_length", std::vector<double>(b.length.begin(), b.length.end()));
+    f.writeAttr("/mesh", "vessel", mesh.vessel());
+    std::vector<int32_t> boxCell(mesh.numCells());
+    for (int c = 0; c < mesh.numCells(); ++c) boxCell[c] = mesh.boxCell(c);
+    f.write("/mesh/box_cell", boxCell);
   } else {
     f.writeAttr("/mesh", "kind", std::string("unstructured"));
   }
@@ -60,9 +119,9 @@ void writeMesh(const h5::File &f, const Mesh &mesh) {
 Mesh readMesh(const h5::File &f) {
   f.requireGroup("/mesh");
   const std::string kind = f.readAttrString("/mesh", "kind");
-  if (kind != "box")
+  if (kind != "box" && kind != "masked_box")
     throw h5::Error("database '" + f.path() + "' has a mesh of kind '" + kind +
-                    "'; this version of rcfd reads box meshes only");
+                    "'; this version of rcfd reads box meshes and vessels cut from them only");
   const auto n = f.readAttrInts("/mesh", "box_cells");
   const auto origin = f.readAttrDoubles("/mesh", "box_origin");
   const auto length = f.readAttrDoubles("/mesh", "box_length");
@@ -77,6 +136,7 @@ Mesh readMesh(const h5::File &f) {
   spec.nz = static_cast<int>(n[2]);
   std::copy(origin.begin(), origin.end(), spec.origin.begin());
   std::copy(length.begin(), length.end(), spec.length.begin());
+  if (kind == "masked_box") return readMaskedMesh(f, spec);
   Mesh mesh = boxMesh(spec);
   // The stored arrays must describe the same mesh as the box attributes.
   const auto volumes = f.read<double>("/mesh/cell_volumes");

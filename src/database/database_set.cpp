@@ -11,18 +11,19 @@ namespace rcfd {
 namespace {
 
 bool sameMesh(const Mesh &a, const Mesh &b) {
-  if (a.numCells() != b.numCells() || a.isBox() != b.isBox()) return false;
-  if (!a.isBox()) return true; // readMesh reads box meshes only
+  if (a.numCells() != b.numCells() || a.isBox() != b.isBox() || a.vessel() != b.vessel()) return false;
+  if (!a.onBoxLattice()) return true; // readMesh reads box meshes (and vessels cut from them) only
   const BoxSpec &p = a.boxSpec(), &q = b.boxSpec();
   return p.nx == q.nx && p.ny == q.ny && p.nz == q.nz && p.origin == q.origin && p.length == q.length;
 }
 
 std::string describeMesh(const Mesh &m) {
-  if (!m.isBox()) return std::to_string(m.numCells()) + " cells";
+  if (!m.onBoxLattice()) return std::to_string(m.numCells()) + " cells";
   const BoxSpec &b = m.boxSpec();
   std::ostringstream out;
   out << b.nx << " x " << b.ny << " x " << b.nz << " cells of " << b.length[0] << " x " << b.length[1] << " x "
       << b.length[2] << " m from (" << b.origin[0] << ", " << b.origin[1] << ", " << b.origin[2] << ")";
+  if (m.isMasked()) out << " cut to the vessel " << m.vessel() << " (" << m.numCells() << " cells)";
   return out.str();
 }
 
@@ -52,6 +53,10 @@ PetscErrorCode DatabaseSet::open(MPI_Comm comm, const std::vector<std::string> &
       work = std::move(h.work);
     } else {
       const DatabaseEntry &first = set->entries.front();
+      PetscCheck(set->mesh_.vessel() == h.mesh.vessel(), comm, PETSC_ERR_USER_INPUT,
+                 "Databases '%s' and '%s' are of different vessels (%s and %s); the databases of a run must share "
+                 "one vessel (docs/vessels.md)",
+                 first.path.c_str(), e.path.c_str(), set->mesh_.vessel().c_str(), h.mesh.vessel().c_str());
       PetscCheck(sameMesh(set->mesh_, h.mesh), comm, PETSC_ERR_USER_INPUT,
                  "Databases '%s' and '%s' are on different meshes (%s and %s); the databases of a run must share one mesh",
                  first.path.c_str(), e.path.c_str(), describeMesh(set->mesh_).c_str(), describeMesh(h.mesh).c_str());

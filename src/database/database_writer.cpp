@@ -67,6 +67,7 @@ DatabaseFileWriter::DatabaseFileWriter(const std::string &path, const Mesh &mesh
   impl->cells = mesh.numCells();
   impl->hash.add(std::vector<double>{static_cast<double>(impl->cells), meta.dtRec, meta.solidDensity, meta.gravity[0],
                                      meta.gravity[1], meta.gravity[2]});
+  if (mesh.isMasked()) impl->hash.add(mesh.vessel()); // a box's hash stays what it was
   impl->file = h5::File::create(impl->out, h5::Checksums::fletcher32);
   const h5::File &f = impl->file;
   f.writeAttr("/", "format", std::string(kFormatName));

@@ -114,12 +114,12 @@ PetscErrorCode Zone::setUp(const Mesh &mesh, const Layout &layout, const Vec3 &g
   const std::string why = checkParameters();
   PetscCheck(why.empty(), comm, PETSC_ERR_USER_INPUT, "Zone '%s' (-zone_%s_%s) %s", name_.c_str(),
              name_.c_str(), infoOf(shape_).option, why.c_str());
-  PetscCheck(shape_ != Shape::Layers || mesh.isBox(), comm, PETSC_ERR_USER_INPUT,
+  PetscCheck(shape_ != Shape::Layers || mesh.onBoxLattice(), comm, PETSC_ERR_USER_INPUT,
              "Zone '%s': cell layers need a box mesh; give heights instead", name_.c_str());
   int vertical = 2;
   bool upward = true;
   verticalAxis(gravity, &vertical, &upward);
-  if (mesh.isBox()) {
+  if (mesh.onBoxLattice()) { // a vessel's bottom is its box's: heights are the same numbers
     const BoxSpec &b = mesh.boxSpec();
     bottom = upward ? b.origin[vertical] : b.origin[vertical] + b.length[vertical];
   } else {

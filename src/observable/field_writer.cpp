@@ -29,6 +29,23 @@ PetscErrorCode FieldWriter::setUp(const Database &database, const FractionSet &s
   box = database.mesh().boxSpec();
   PetscCallMPI(MPI_Comm_rank(comm, &rank));
   if (rank == 0) cellVolume = database.mesh().cellVolume;
+  boxCells.clear();
+  vesselPoints = 0;
+  if (rank == 0 && database.mesh().isMasked()) {
+    const Mesh &mesh = database.mesh();
+    for (int c = 0; c < mesh.numCells(); ++c) boxCells.push_back(mesh.boxCell(c));
+    const BoxSpec &b = mesh.boxSpec();
+    const long px = b.nx + 1, py = b.ny + 1;
+    std::vector<char> used(static_cast<std::size_t>(px) * py * (b.nz + 1), 0);
+    for (int bc : boxCells) {
+      const int i = bc % b.nx, j = (bc / b.nx) % b.ny, k = bc / (b.nx * b.ny);
+      for (int o = 0; o < 8; ++o) {
+        const long p = (i + (o & 1)) + px * ((j + ((o >> 1) & 1)) + py * static_cast<long>(k + (o >> 2)));
+        vesselPoints += !used[p];
+        used[p] = 1;
+      }
+    }
+  }
   fractions = &set;
   rho = solidDensity;
   dir = directory;
@@ -81,6 +98,8 @@ PetscErrorCode FieldWriter::write(double time, Vec databaseAlpha, Vec masses, Ve
   if (ns > 0) PetscCall(VecGetArrayRead(zeroAmounts, &amount));
   const PetscErrorCode written = collectively(comm, [&] {
     if (rank != 0) return;
+    if (!boxCells.empty() && (times.empty() || access((dir + "/fields_mesh.h5").c_str(), F_OK) != 0))
+      writeVesselCells();
     // Derived fields: alpha_s of the state, alpha of each fraction, local
     // Sauter diameter; and the database's alpha_s for comparison.
     const size_t n = cellVolume.size();
@@ -148,6 +167,44 @@ PetscErrorCode FieldWriter::continueSeries(const std::vector<double> &earlier) {
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
+// A vessel's cells as hexahedra (ParaView shows the vessel, not its box):
+// their corners, numbered once, and each cell's eight corners in VTK order.
+// Written once per series, as fields_mesh.h5 beside the field files.
+PetscErrorCode FieldWriter::writeVesselCells() const {
+  PetscFunctionBeginUser;
+  const BoxSpec &b = box;
+  const Vec3 h = b.spacing();
+  const long px = b.nx + 1, py = b.ny + 1;
+  std::vector<long> pointOf(static_cast<std::size_t>(px) * py * (b.nz + 1), -1);
+  std::vector<double> points;
+  std::vector<int32_t> cells;
+  cells.reserve(boxCells.size() * 8);
+  const int corner[8][3] = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}, {0, 0, 1}, {1, 0, 1}, {1, 1, 1}, {0, 1, 1}};
+  for (int bc : boxCells) {
+    const int i = bc % b.nx, j = (bc / b.nx) % b.ny, k = bc / (b.nx * b.ny);
+    for (const auto &o : corner) {
+      const long p = (i + o[0]) + px * ((j + o[1]) + py * static_cast<long>(k + o[2]));
+      if (pointOf[p] < 0) {
+        pointOf[p] = static_cast<long>(points.size() / 3);
+        points.insert(points.end(), {b.origin[0] + (i + o[0]) * h[0], b.origin[1] + (j + o[1]) * h[1],
+                                     b.origin[2] + (k + o[2]) * h[2]});
+      }
+      cells.push_back(static_cast<int32_t>(pointOf[p]));
+    }
+  }
+  AtomicFile target(dir + "/fields_mesh.h5");
+  h5::File out = h5::File::create(target);
+  out.write("/points", points, 3);
+  out.write("/cells", cells, 8);
+  // The share of each cell inside the vessel: its volume over its box cell's.
+  std::vector<double> share(cellVolume.size());
+  for (std::size_t c = 0; c < share.size(); ++c) share[c] = cellVolume[c] / (h[0] * h[1] * h[2]);
+  out.write("/inside_share", share);
+  out.close();
+  target.commit();
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
 // XDMF 2 index over all field files written so far, a temporal collection of
 // co-rectilinear grids (box meshes) that ParaView reads directly.  The data
 // items must carry the grid's cell dimensions (z, y, x); with only the
@@ -168,24 +225,48 @@ PetscErrorCode FieldWriter::writeIndex() const {
   char line[512];
   std::string x = "<?xml version=\"1.0\" ?>\n<Xdmf Version=\"2.0\">\n<Domain>\n"
                   "<Grid Name=\"rcfd\" GridType=\"Collection\" CollectionType=\"Temporal\">\n";
-  for (size_t t = 0; t < times.size(); ++t) {
-    std::snprintf(line, sizeof line,
-                  "<Grid Name=\"t%zu\" GridType=\"Uniform\">\n<Time Value=\"%.9g\"/>\n"
+  // A box: a co-rectilinear grid whose data items carry the cell dimensions
+  // (z, y, x); a vessel: its cells as hexahedra (fields_mesh.h5), one value each.
+  const int n = static_cast<int>(boxCells.size());
+  char grid[768], dims[64];
+  if (n > 0) {
+    std::snprintf(grid, sizeof grid,
+                  "<Topology TopologyType=\"Hexahedron\" NumberOfElements=\"%d\">\n"
+                  "<DataItem Dimensions=\"%d 8\" NumberType=\"Int\" Format=\"HDF\">fields_mesh.h5:/cells</DataItem>\n"
+                  "</Topology>\n<Geometry GeometryType=\"XYZ\">\n"
+                  "<DataItem Dimensions=\"%d 3\" NumberType=\"Float\" Precision=\"8\" Format=\"HDF\">"
+                  "fields_mesh.h5:/points</DataItem>\n</Geometry>\n",
+                  n, n, vesselPoints);
+    std::snprintf(dims, sizeof dims, "%d", n);
+  } else {
+    std::snprintf(grid, sizeof grid,
                   "<Topology TopologyType=\"3DCoRectMesh\" Dimensions=\"%d %d %d\"/>\n"
                   "<Geometry GeometryType=\"ORIGIN_DXDYDZ\">\n"
                   "<DataItem Dimensions=\"3\" Format=\"XML\">%.9g %.9g %.9g</DataItem>\n"
                   "<DataItem Dimensions=\"3\" Format=\"XML\">%.9g %.9g %.9g</DataItem>\n"
                   "</Geometry>\n",
-                  t, times[t], b.nz + 1, b.ny + 1, b.nx + 1, b.origin[2], b.origin[1], b.origin[0],
-                  h[2], h[1], h[0]);
+                  b.nz + 1, b.ny + 1, b.nx + 1, b.origin[2], b.origin[1], b.origin[0], h[2], h[1], h[0]);
+    std::snprintf(dims, sizeof dims, "%d %d %d", b.nz, b.ny, b.nx);
+  }
+  for (size_t t = 0; t < times.size(); ++t) {
+    std::snprintf(line, sizeof line, "<Grid Name=\"t%zu\" GridType=\"Uniform\">\n<Time Value=\"%.9g\"/>\n", t,
+                  times[t]);
     x += line;
+    x += grid;
     for (const auto &name : names) {
       std::snprintf(line, sizeof line,
                     "<Attribute Name=\"%s\" AttributeType=\"Scalar\" Center=\"Cell\">\n"
-                    "<DataItem Dimensions=\"%d %d %d\" NumberType=\"Float\" Precision=\"8\" "
+                    "<DataItem Dimensions=\"%s\" NumberType=\"Float\" Precision=\"8\" "
                     "Format=\"HDF\">%s:/%s</DataItem>\n</Attribute>\n",
-                    name.c_str(), b.nz, b.ny, b.nx, fieldFileName(static_cast<int>(t)).c_str(),
-                    name.c_str());
+                    name.c_str(), dims, fieldFileName(static_cast<int>(t)).c_str(), name.c_str());
+      x += line;
+    }
+    if (n > 0) {
+      std::snprintf(line, sizeof line,
+                    "<Attribute Name=\"inside_share\" AttributeType=\"Scalar\" Center=\"Cell\">\n"
+                    "<DataItem Dimensions=\"%d\" NumberType=\"Float\" Precision=\"8\" "
+                    "Format=\"HDF\">fields_mesh.h5:/inside_share</DataItem>\n</Attribute>\n",
+                    n);
       x += line;
     }
     x += "</Grid>\n";

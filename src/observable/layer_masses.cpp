@@ -13,7 +13,9 @@ PetscErrorCode HorizontalLayers::setUp(const Database &db) {
   PetscFunctionBeginUser;
   comm = db.layout().comm();
   const Mesh &mesh = db.mesh();
-  PetscCheck(mesh.isBox(), comm, PETSC_ERR_SUP,
+  // A vessel cut from a box has the box's layers; each holds its cells' real
+  // (inside) volumes, so a cone's narrow layers weigh what they hold.
+  PetscCheck(mesh.onBoxLattice(), comm, PETSC_ERR_SUP,
              "Database '%s': profiles, halves and the bottom layer need a box mesh (horizontal cell layers)",
              db.path().c_str());
   int axis = 2;
@@ -40,6 +42,22 @@ PetscErrorCode HorizontalLayers::setUp(const Database &db) {
   }
   layerVolume.assign(n, 0.0);
   PetscCallMPI(MPI_Allreduce(volume.data(), layerVolume.data(), n, MPI_DOUBLE, MPI_SUM, comm));
+  // A vessel may leave box layers without a cell (a cone that starts above the
+  // box's floor): they are no layers of the bed, and the bottom layer is the
+  // vessel's lowest.  A box keeps every layer.
+  std::vector<int> kept(n, -1);
+  int count = 0;
+  for (int l = 0; l < n; ++l)
+    if (layerVolume[l] > 0.0) {
+      kept[l] = count;
+      centre[count] = centre[l];
+      layerVolume[count++] = layerVolume[l];
+    }
+  if (count < n) {
+    centre.resize(count);
+    layerVolume.resize(count);
+    for (int &l : layerOfLocal) l = kept[l];
+  }
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 

@@ -16,7 +16,7 @@ PetscErrorCode SnapshotMonitor::setUp(const RunContext &run, const FractionState
   rho = run.solidDensity;
   directory = dir;
   const Mesh &mesh = run.db.mesh();
-  PetscCheck(mesh.isBox(), comm, PETSC_ERR_SUP, "-snapshots_times needs a box mesh (a mid-plane of cells)");
+  PetscCheck(mesh.onBoxLattice(), comm, PETSC_ERR_SUP, "-snapshots_times needs a box mesh (a mid-plane of cells)");
   int up = 2;
   bool upward = true;
   verticalAxis(run.db.metadata().gravity, &up, &upward);
@@ -37,9 +37,9 @@ PetscErrorCode SnapshotMonitor::setUp(const RunContext &run, const FractionState
   planeCoordinates.clear();
   planeVolumes.clear();
   for (std::size_t c = 0; c < owned.size(); ++c) {
-    const PetscInt g = owned[c];
-    const int index[3] = {static_cast<int>(g % b.nx), static_cast<int>((g / b.nx) % b.ny),
-                          static_cast<int>(g / (static_cast<PetscInt>(b.nx) * b.ny))};
+    const PetscInt g = owned[c], boxCell = mesh.boxCell(static_cast<int>(g)); // a vessel: only its cells
+    const int index[3] = {static_cast<int>(boxCell % b.nx), static_cast<int>((boxCell / b.nx) % b.ny),
+                          static_cast<int>(boxCell / (static_cast<PetscInt>(b.nx) * b.ny))};
     if (index[depth] != middle) continue;
     planeCells.push_back(static_cast<PetscInt>(c));
     planeCoordinates.push_back(mesh.cellCentre[g][across]);

@@ -2,6 +2,7 @@
 
 #include "base/constants.hpp"
 #include "database/csr.hpp"
+#include "mesh/vessel_mesh.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -56,8 +57,11 @@ std::vector<std::size_t> selectSnapshots(std::size_t available, const ParticleBu
 ParticleFrameBuilder::ParticleFrameBuilder(const ParticleBuildOptions &options, FrameSink frameSink)
     : opt(options), sink(std::move(frameSink)) {
   opt.axes.validate();
-  const int n = opt.mesh.numCells();
+  const int n = numCells = opt.vessel ? opt.vessel->numCells() : opt.mesh.numCells();
   if (n <= 0) throw std::invalid_argument("particle build: the mesh has no cells");
+  if (opt.vessel && (!opt.vessel->onBoxLattice() || opt.vessel->boxSpec().numCells() != opt.mesh.numCells()))
+    throw std::invalid_argument("particle build: the vessel's mesh is not cut from the build's box");
+  if (opt.vessel) vesselShape = parseVessel(opt.vessel->vessel());
   const Vec3 h = opt.mesh.spacing();
   cellVolume = h[0] * h[1] * h[2];
   if (!(cellVolume > 0.0))
@@ -69,7 +73,7 @@ ParticleFrameBuilder::ParticleFrameBuilder(const ParticleBuildOptions &options, 
 // Cells of every particle, alpha_s and mass per cell; the list sorted by id
 // so that two snapshots can be matched by a merge.
 void ParticleFrameBuilder::place(const ParticleSnapshot &snap) {
-  const int n = opt.mesh.numCells();
+  const int n = numCells;
   cur.particles.resize(snap.size());
   cur.shares.clear();
   alphaCur.assign(n, 0.0);
@@ -77,7 +81,9 @@ void ParticleFrameBuilder::place(const ParticleSnapshot &snap) {
   std::size_t outside = 0;
   for (std::size_t p = 0; p < snap.size(); ++p) {
     const double d = snap.diameter[p];
-    cellShares(opt.mesh, opt.axes.apply(snap.position[p]), d, opt.volume, scratch);
+    const Vec3 x = opt.axes.apply(snap.position[p]);
+    cellShares(opt.mesh, x, d, opt.volume, scratch);
+    if (opt.vessel && !scratch.empty()) toVesselCells(vesselShape.contains(x) ? opt.mesh.locate(x) : -1);
     cur.particles[p] = {snap.id[p], snap.mass[p], cur.shares.size(), scratch.size()};
     if (scratch.empty()) ++outside;
     const double volume = kPi / 6.0 * d * d * d;
@@ -87,8 +93,9 @@ void ParticleFrameBuilder::place(const ParticleSnapshot &snap) {
       cur.shares.push_back(s);
     }
   }
-  for (double &a : alphaCur) {
-    a /= cellVolume;
+  for (std::size_t c = 0; c < alphaCur.size(); ++c) {
+    double &a = alphaCur[c];
+    a /= opt.vessel ? opt.vessel->cellVolume[c] : cellVolume;
     rep.maxAlphaS = std::max(rep.maxAlphaS, a);
     if (a >= 1.0) ++rep.cellsAlphaAtLeastOne;
   }
@@ -104,6 +111,40 @@ void ParticleFrameBuilder::place(const ParticleSnapshot &snap) {
     throw std::runtime_error("particle snapshot '" + snap.source + "' lists particle id " +
                              std::to_string(dup->id) +
                              " more than once, so particles cannot be matched between snapshots.");
+}
+
+// The shares of a particle (box cells) as the vessel's cells: the parts in box
+// cells outside the vessel, and beyond the wall of cut cells, go to the cell of
+// its centre; a centre outside the
+// vessel (its shapes, not only its cells: a particle beyond the wall of a cut
+// cell would crowd that cell's small volume) puts the particle outside the
+// mesh (no share).  Equal cells merged.
+void ParticleFrameBuilder::toVesselCells(int centreBoxCell) {
+  const Mesh &v = *opt.vessel;
+  const int centre = centreBoxCell >= 0 ? v.cellOfBoxCell(centreBoxCell) : -1;
+  if (centre < 0) {
+    scratch.clear();
+    return;
+  }
+  // Another cell keeps of its part only its inside share (its volume over its
+  // box cell's, the part of the sphere's overlap with it that is not beyond
+  // the wall, taken as uniform), so that a small cut cell is not crowded.
+  const double boxVolume = cellVolume;
+  double toCentre = 0.0;
+  std::size_t kept = 0;
+  for (std::size_t k = 0; k < scratch.size(); ++k) {
+    const CellShare s = scratch[k]; // a copy: scratch[kept] may be this entry
+    const int c = v.cellOfBoxCell(s.cell);
+    if (c < 0 || c == centre) {
+      toCentre += s.share;
+      continue;
+    }
+    const double inside = std::min(1.0, v.cellVolume[c] / boxVolume);
+    scratch[kept++] = {c, s.share * inside};
+    toCentre += s.share * (1.0 - inside);
+  }
+  scratch.resize(kept);
+  if (toCentre > 0.0) scratch.push_back({centre, toCentre});
 }
 
 // Merge the id-sorted lists of t_k (prev) and t_{k+1} (next) into transfers:
@@ -187,7 +228,7 @@ CsrMatrix ParticleFrameBuilder::shiftTo(const Snapshot &next) {
       }
     }
   }
-  return shiftFromTransfers(opt.mesh.numCells(), std::move(dest), std::move(src),
+  return shiftFromTransfers(numCells, std::move(dest), std::move(src),
                             std::move(weight));
 }
 

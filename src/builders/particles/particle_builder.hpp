@@ -47,6 +47,7 @@
 #include "particles/particle_dump.hpp"
 #include "rcfd/frames.hpp"
 #include "rcfd/mesh.hpp"
+#include "rcfd/vessel.hpp"
 
 #include <cstddef>
 #include <cstdint>
@@ -64,6 +65,11 @@ struct ParticleBuildOptions {
   std::size_t last = std::numeric_limits<std::size_t>::max(); // both ends included
   SnapshotReadOptions read; // default density for files without density/mass
   ParticleVolume volume = ParticleVolume::Centre; // cells a particle's volume is counted in
+  /// A vessel cut out of `mesh` (vesselMesh; not owned, outlives the builder), or
+  /// none: the frames are then on its cells, alpha_s over their inside volumes.
+  /// A particle whose centre is outside it (its shapes) is outside the mesh; under
+  /// the overlap rule the parts of a sphere in outside cells go to its centre's cell.
+  const Mesh *vessel = nullptr;
 };
 
 struct ParticleBuildReport {
@@ -125,6 +131,7 @@ private:
   };
 
   void place(const ParticleSnapshot &snap);
+  void toVesselCells(int centreBoxCell);
   CsrMatrix shiftTo(const Snapshot &next);
   void account(const CsrMatrix &T, const std::vector<double> &alphaK,
                const std::vector<double> &massK);
@@ -132,6 +139,8 @@ private:
   ParticleBuildOptions opt;
   FrameSink sink;
   double cellVolume = 0.0;
+  int numCells = 0;
+  Vessel vesselShape; // of opt.vessel, for which particles are inside it
   ParticleBuildReport rep;
   int64_t prevTimestep = -1;
   std::size_t nnzTotal = 0, nnzOccupied = 0, occupiedColumns = 0;

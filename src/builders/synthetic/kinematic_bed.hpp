@@ -113,6 +113,14 @@ public:
   void advance(double dt);
   /// Natural cell index of every parcel.
   void cellsOf(std::vector<int32_t> &cells) const;
+  /// The cell cellOf(x, y, layer) of every parcel (x, y from the box origin, layer
+  /// its cell layer), by parcel identity: for a vessel the bed's square is mapped into.
+  template <typename CellOf> void cellsOf(std::vector<int32_t> &cells, CellOf &&cellOf) const {
+    const size_t n = x_.size();
+    cells.resize(n);
+    for (size_t p = 0; p < n; ++p)
+      cells[id_[p]] = cellOf(x_[p], y_[p], airborne_[p] ? layerOf(z_[p]) : slot_[p] / ppc_);
+  }
   double meanSurfaceHeight() const;
   long numParcels() const { return static_cast<long>(x_.size()); }
   double alphaPerParcel() const { return opt_.packing / opt_.parcelsPerCell; }

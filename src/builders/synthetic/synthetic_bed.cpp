@@ -5,10 +5,12 @@
 #include "builders/synthetic/synthetic_bed.hpp"
 
 #include "builders/synthetic/kinematic_bed.hpp"
+#include "mesh/vessel_mesh.hpp"
 
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <memory>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -56,6 +58,69 @@ std::vector<double> alphaOf(int numCells, const std::vector<int32_t> &cells, dou
   return alpha;
 }
 
+/// alpha_s of each cell of a vessel's mesh: its parcels' volume over its inside volume.
+std::vector<double> alphaIn(const Mesh &mesh, const std::vector<int32_t> &cells, double parcelVolume) {
+  std::vector<int> count(mesh.numCells(), 0);
+  for (int32_t c : cells) ++count[c];
+  std::vector<double> alpha(mesh.numCells());
+  for (int c = 0; c < mesh.numCells(); ++c) alpha[c] = count[c] * parcelVolume / mesh.cellVolume[c];
+  return alpha;
+}
+
+/// Where a parcel of the bed's square lands in a vertical cylinder: Shirley and
+/// Chiu's concentric map takes the square onto the disk with a constant
+/// Jacobian, so a square of the disk's area keeps the bed's density (its
+/// alpha_s) on average, and neighbours stay neighbours.  A cell takes at most
+/// the parcels that fill its inside volume (alpha_s <= 1): a cell the wall
+/// leaves small would otherwise show alpha_s > 1 for one parcel; the parcels it
+/// cannot take go to the next cell towards the axis.  Call start() before the
+/// parcels of each state.
+class CylinderMap {
+public:
+  CylinderMap(const BoxSpec &box, const Mesh &mesh, const Vessel::Shape &cylinder, double side, double parcelVolume)
+      : box_(box), mesh_(mesh), cx_(cylinder.p[0]), cy_(cylinder.p[1]), radius_(cylinder.p[2]), side_(side),
+        capacity_(mesh.numCells()) {
+    for (int c = 0; c < mesh.numCells(); ++c)
+      capacity_[c] = static_cast<int>(std::floor(mesh.cellVolume[c] / parcelVolume * (1.0 + 1e-12)));
+  }
+  CylinderMap &start() {
+    held_.assign(capacity_.size(), 0);
+    return *this;
+  }
+  int32_t operator()(double x, double y, int layer) {
+    const double a = std::min(1.0, std::max(-1.0, 2.0 * x / side_ - 1.0));
+    const double b = std::min(1.0, std::max(-1.0, 2.0 * y / side_ - 1.0));
+    constexpr double quarterPi = 0.78539816339744830962;
+    double r = 0.0, phi = 0.0;
+    if (std::fabs(a) > std::fabs(b)) r = a, phi = quarterPi * (b / a);
+    else if (b != 0.0) r = b, phi = 2.0 * quarterPi - quarterPi * (a / b);
+    const Vec3 h = box_.spacing();
+    int i = static_cast<int>(std::floor((cx_ + radius_ * r * std::cos(phi) - box_.origin[0]) / h[0]));
+    int j = static_cast<int>(std::floor((cy_ + radius_ * r * std::sin(phi) - box_.origin[1]) / h[1]));
+    i = std::min(box_.nx - 1, std::max(0, i));
+    j = std::min(box_.ny - 1, std::max(0, j));
+    // A point inside the disk in a cell whose samples all fell outside: the
+    // next cell towards the axis (the mask is the same in every layer).
+    const int ic = static_cast<int>(std::floor((cx_ - box_.origin[0]) / h[0]));
+    const int jc = static_cast<int>(std::floor((cy_ - box_.origin[1]) / h[1]));
+    int cell = mesh_.cellOfBoxCell(box_.cellIndex(i, j, layer));
+    while ((cell < 0 || held_[cell] >= capacity_[cell]) && (i != ic || j != jc)) {
+      if (std::abs(i - ic) >= std::abs(j - jc)) i += i < ic ? 1 : -1;
+      else j += j < jc ? 1 : -1;
+      cell = mesh_.cellOfBoxCell(box_.cellIndex(i, j, layer));
+    }
+    if (cell < 0) throw std::logic_error("synthetic bed: a parcel found no cell of the cylinder");
+    ++held_[cell]; // the axis cell takes what is left (alpha_s > 1 there is refused by the loader)
+    return cell;
+  }
+
+private:
+  const BoxSpec &box_;
+  const Mesh &mesh_;
+  double cx_, cy_, radius_, side_;
+  std::vector<int> capacity_, held_;
+};
+
 /// Largest per-axis cell distance travelled by a parcel between two states.
 class JumpMeter {
 public:
@@ -63,6 +128,13 @@ public:
     for (int k = 0; k < box.nz; ++k)
       for (int j = 0; j < box.ny; ++j)
         for (int i = 0; i < box.nx; ++i) ijk_[box.cellIndex(i, j, k)] = {i, j, k};
+  }
+  /// The same for the cells of a vessel's mesh (their box cells' indices).
+  JumpMeter(const BoxSpec &box, const Mesh &mesh) : ijk_(mesh.numCells()) {
+    for (int c = 0; c < mesh.numCells(); ++c) {
+      const int b = mesh.boxCell(c);
+      ijk_[c] = {b % box.nx, (b / box.nx) % box.ny, b / (box.nx * box.ny)};
+    }
   }
   int largest(const std::vector<int32_t> &from, const std::vector<int32_t> &to) const {
     int jump = 0;
@@ -79,10 +151,13 @@ private:
 
 /// Height of the solid's centre of gravity [m] from the parcels' cells (all
 /// parcels have the same volume; heights are cell centres, as for alpha_s).
-double centreOfGravity(const BoxSpec &box, const std::vector<int32_t> &cells) {
+double centreOfGravity(const BoxSpec &box, const std::vector<int32_t> &cells, const Mesh *vessel = nullptr) {
   const int perLayer = box.nx * box.ny;
   double sum = 0.0;
-  for (int32_t c : cells) sum += c / perLayer + 0.5;
+  if (vessel)
+    for (int32_t c : cells) sum += vessel->boxCell(c) / perLayer + 0.5;
+  else
+    for (int32_t c : cells) sum += c / perLayer + 0.5;
   return sum / static_cast<double>(cells.size()) * box.spacing()[2];
 }
 
@@ -134,6 +209,20 @@ void validateSyntheticBedOptions(const SyntheticBedOptions &o) {
   require(o.eruptionRoof >= 0.0, "eruptionRoof must not be negative.");
   require(o.ejectionSpeed >= 0.0, "ejectionSpeed must not be negative.");
   require(o.gravity > 0.0, "gravity must be positive.");
+  if (o.vessel.isWholeBox()) return;
+  const auto &shapes = o.vessel.shapes();
+  const bool cylinder = shapes.size() == 1 && shapes[0].kind == Vessel::Kind::Cylinder;
+  const auto &p = shapes[0].p;
+  const double slack = 1e-12 * std::max(box.length[0], box.length[1]);
+  require(cylinder && (p.size() == 3 || (p[3] <= box.origin[2] && p[4] >= box.origin[2] + box.length[2])) &&
+              p[0] - p[2] >= box.origin[0] - slack && p[0] + p[2] <= box.origin[0] + box.length[0] + slack &&
+              p[1] - p[2] >= box.origin[1] - slack && p[1] + p[2] <= box.origin[1] + box.length[1] + slack,
+          "the vessel must be the whole box or one vertical cylinder, through the box's height, inside its "
+          "cross-section (-vessel cylinder).");
+  SyntheticBedOptions square = o; // the square the bed runs in must hold a bed too
+  square.vessel = Vessel();
+  square.box.length[0] = square.box.length[1] = p[2] * std::sqrt(kPi);
+  validateSyntheticBedOptions(square);
 }
 
 namespace {
@@ -143,11 +232,17 @@ namespace {
 /// shifts, the costly part, are not built.  The bed's motion is the same.
 SyntheticBedReport runSyntheticBed(const SyntheticBedOptions &options, const FrameSink *sink) {
   const BoxSpec &box = options.box;
-  const int numCells = box.numCells();
-  const Vec3 h = box.spacing();
-  const double cellVolume = h[0] * h[1] * h[2];
+  // In a cylinder the bed runs in a square of the same area (CylinderMap) and
+  // its frames are on the vessel's cells; in the box, as it always did.
+  const bool inVessel = !options.vessel.isWholeBox();
+  const Mesh mesh = inVessel ? cutVesselMesh(options.vessel, box) : Mesh();
+  SyntheticBedOptions square = options;
+  if (inVessel) square.box.length[0] = square.box.length[1] = options.vessel.shapes()[0].p[2] * std::sqrt(kPi);
+  const int numCells = inVessel ? mesh.numCells() : box.numCells();
+  const Vec3 h = square.box.spacing();
+  const double cellVolume = h[0] * h[1] * h[2]; // of the bed's own cells
 
-  synthetic::SyntheticBed bed(options);
+  synthetic::SyntheticBed bed(square);
   const int substeps =
       std::max(1, static_cast<int>(std::ceil(options.dtRec / options.maxSubstep - 1e-9)));
   const double dt = options.dtRec / substeps;
@@ -161,10 +256,21 @@ SyntheticBedReport runSyntheticBed(const SyntheticBedOptions &options, const Fra
   report.solidVolume = static_cast<double>(report.parcels) * report.parcelVolume;
   report.substepsPerFrame = substeps;
 
-  const JumpMeter jumps(box);
+  const JumpMeter jumps = inVessel ? JumpMeter(box, mesh) : JumpMeter(box);
+  std::unique_ptr<CylinderMap> map;
+  if (inVessel)
+    map = std::make_unique<CylinderMap>(box, mesh, options.vessel.shapes()[0], square.box.length[0],
+                                        report.parcelVolume);
+  auto cellsOf = [&](std::vector<int32_t> &out) {
+    if (map) bed.cellsOf(out, map->start());
+    else bed.cellsOf(out);
+  };
+  auto alphaOfCells = [&](const std::vector<int32_t> &of) {
+    return inVessel ? alphaIn(mesh, of, report.parcelVolume) : alphaOf(numCells, of, bed.alphaPerParcel());
+  };
   std::vector<int32_t> cells, next;
-  bed.cellsOf(cells);
-  const std::vector<double> alpha0 = alphaOf(numCells, cells, bed.alphaPerParcel());
+  cellsOf(cells);
+  const std::vector<double> alpha0 = alphaOfCells(cells);
   FrameRecord frame;
   frame.alphaS = alpha0;
   double heightSum = 0.0;
@@ -173,9 +279,9 @@ SyntheticBedReport runSyntheticBed(const SyntheticBedOptions &options, const Fra
   for (int k = 0; k < options.numFrames; ++k) {
     heightSum += bed.meanSurfaceHeight();
     report.surfaceHeight.push_back(bed.meanSurfaceHeight());
-    report.centreOfGravity.push_back(centreOfGravity(box, cells));
+    report.centreOfGravity.push_back(centreOfGravity(box, cells, inVessel ? &mesh : nullptr));
     for (int s = 0; s < substeps; ++s) bed.advance(dt);
-    bed.cellsOf(next);
+    cellsOf(next);
     report.maxAlpha = std::max(report.maxAlpha,
                                *std::max_element(frame.alphaS.begin(), frame.alphaS.end()));
     report.maxCellJump = std::max(report.maxCellJump, jumps.largest(cells, next));
@@ -184,13 +290,13 @@ SyntheticBedReport runSyntheticBed(const SyntheticBedOptions &options, const Fra
       (*sink)(frame);
     }
     cells.swap(next);
-    frame.alphaS = alphaOf(numCells, cells, bed.alphaPerParcel());
+    frame.alphaS = alphaOfCells(cells);
   }
   // frame.alphaS now holds alpha at t_K, where replay wraps to frame 0.
   report.maxAlpha =
       std::max(report.maxAlpha, *std::max_element(frame.alphaS.begin(), frame.alphaS.end()));
   for (int c = 0; c < numCells; ++c)
-    report.wrapMismatchL1 += std::fabs(frame.alphaS[c] - alpha0[c]) * cellVolume;
+    report.wrapMismatchL1 += std::fabs(frame.alphaS[c] - alpha0[c]) * (inVessel ? mesh.cellVolume[c] : cellVolume);
   report.wrapMismatchRelative = report.wrapMismatchL1 / report.solidVolume;
   report.meanBedHeight = heightSum / options.numFrames;
   report.bubblesNucleated = bed.nucleated;

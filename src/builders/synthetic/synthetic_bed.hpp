@@ -9,6 +9,7 @@
 
 #include "rcfd/frames.hpp"
 #include "rcfd/mesh.hpp"
+#include "rcfd/vessel.hpp"
 #include "base/constants.hpp"
 
 #include <cstdint>
@@ -20,6 +21,11 @@ namespace rcfd {
 /// positions are measured from the box origin.  Defaults: the paper's bed.
 struct SyntheticBedOptions {
   BoxSpec box;              ///< 0.2 x 0.05 x 0.7 m, 40 x 10 x 140 cells
+  /// The whole box, or one vertical cylinder (no caps) inside the box's
+  /// cross-section: the bed then runs in a square of the cylinder's area and
+  /// its parcels are mapped into the cylinder by an equal-area map
+  /// (docs/vessels.md); the frames are on vesselMesh(vessel, box)'s cells.
+  Vessel vessel;
   int numFrames = 300;      ///< K frames are written
   double dtRec = 5e-3;      ///< time between frames
   std::uint64_t seed = 1;   ///< the whole run is a function of the options and this seed

@@ -13,14 +13,18 @@ namespace rcfd {
 namespace {
 
 /// The vertical columns of a box mesh whose gravity is along one of its axes:
-/// the natural cell indices of each column, bottom to top.
+/// the natural cell indices of each column, bottom to top.  On a vessel cut
+/// from a box a column holds the cells of its box column that are inside (a
+/// column through a tube passes it by), and columns with none are left out.
 struct Columns {
-  int count = 0, levels = 0;
-  std::vector<PetscInt> cells; // column-major: cells[col * levels + lev]
+  int count = 0, levels = 0; // levels: of the tallest column
+  std::vector<PetscInt> cells; // column after column: cells[start[col] + lev]
+  std::vector<size_t> start;   // count + 1 offsets
+  int levelsOf(int col) const { return static_cast<int>(start[col + 1] - start[col]); }
 
   /// Why the mesh cannot be cut into columns, or "" when it can.
   static std::string problem(const Mesh &mesh, const Vec3 &g) {
-    if (!mesh.isBox()) return "a box mesh";
+    if (!mesh.onBoxLattice()) return "a box mesh";
     const double gn = std::hypot(g[0], g[1], g[2]);
     int along = 0;
     for (int a = 0; a < 3; ++a) along += std::fabs(g[a]) > 1e-12 * gn;
@@ -39,6 +43,7 @@ struct Columns {
       h[k] = -(g[0] * x[0] + g[1] * x[1] + g[2] * x[2]);
       c.cells[k] = k;
     }
+    c.start = {0, static_cast<size_t>(c.levels)};
     std::stable_sort(c.cells.begin(), c.cells.end(), [&](PetscInt a, PetscInt b) { return h[a] < h[b]; });
     return c;
   }
@@ -50,16 +55,21 @@ struct Columns {
     const int n[3] = {b.nx, b.ny, b.nz};
     const int p = (axis + 1) % 3, q = (axis + 2) % 3; // the two horizontal axes
     Columns c;
-    c.count = n[p] * n[q];
-    c.levels = n[axis];
-    c.cells.resize(static_cast<size_t>(c.count) * c.levels);
+    c.cells.reserve(mesh.numCells());
+    c.start.push_back(0);
     for (int iq = 0; iq < n[q]; ++iq)
-      for (int ip = 0; ip < n[p]; ++ip)
-        for (int l = 0; l < c.levels; ++l) {
+      for (int ip = 0; ip < n[p]; ++ip) {
+        for (int l = 0; l < n[axis]; ++l) {
           int ijk[3];
-          ijk[p] = ip, ijk[q] = iq, ijk[axis] = upIsPlus ? l : c.levels - 1 - l;
-          c.cells[(static_cast<size_t>(iq) * n[p] + ip) * c.levels + l] = b.cellIndex(ijk[0], ijk[1], ijk[2]);
+          ijk[p] = ip, ijk[q] = iq, ijk[axis] = upIsPlus ? l : n[axis] - 1 - l;
+          const int cell = mesh.cellOfBoxCell(b.cellIndex(ijk[0], ijk[1], ijk[2]));
+          if (cell >= 0) c.cells.push_back(cell);
         }
+        if (c.cells.size() == c.start.back()) continue; // wholly outside the vessel
+        c.levels = std::max(c.levels, static_cast<int>(c.cells.size() - c.start.back()));
+        c.start.push_back(c.cells.size());
+      }
+    c.count = static_cast<int>(c.start.size()) - 1;
     return c;
   }
 };
@@ -193,13 +203,14 @@ PetscErrorCode ColumnCarry::carry(const CarryContext &ctx, Vec targetAlpha, Frac
                "-carry_type column needs %s; database '%s' does not have it (choose -carry_type remap)",
                missing.c_str(), db.path().c_str());
     columns = wholeBed ? Columns::bed(db.mesh(), db.metadata().gravity) : Columns::of(db.mesh(), db.metadata().gravity);
-    const int L = columns.levels;
     lowestAbove.resize(columns.cells.size());
-    for (int col = 0; col < columns.count; ++col)
+    for (int col = 0; col < columns.count; ++col) {
+      const int L = columns.levelsOf(col);
       for (int l = L - 1; l >= 0; --l) {
-        const size_t k = static_cast<size_t>(col) * L + l;
+        const size_t k = columns.start[col] + l;
         lowestAbove[k] = l == L - 1 ? columns.cells[k] : std::min(columns.cells[k], lowestAbove[k + 1]);
       }
+    }
     bulk.assign(n, 0.0);
     target.assign(n, 0.0);
     out.clear();
@@ -250,9 +261,10 @@ PetscErrorCode ColumnCarry::carry(const CarryContext &ctx, Vec targetAlpha, Frac
   const int L = columns.levels;
   std::vector<int> height(columns.count);
   for (int col = 0; col < columns.count; ++col) {
-    const PetscInt *above = &lowestAbove[static_cast<size_t>(col) * L];
+    const PetscInt *above = &lowestAbove[columns.start[col]];
     height[col] = static_cast<int>(
-        std::partition_point(above, above + L, [&](PetscInt c) { return static_cast<size_t>(c) < end; }) - above);
+        std::partition_point(above, above + columns.levelsOf(col),
+                             [&](PetscInt c) { return static_cast<size_t>(c) < end; }) - above);
   }
   std::copy(m.begin(), m.begin() + end * w, out.begin());
   std::vector<double> colTarget(L), pool(w, 0.0), pieceStore(static_cast<size_t>(L + 1) * w);
@@ -260,7 +272,7 @@ PetscErrorCode ColumnCarry::carry(const CarryContext &ctx, Vec targetAlpha, Frac
   std::vector<char> moves(columns.count, 0);
   double deficit = 0.0;
   for (int col = 0; col < columns.count; ++col) {
-    const PetscInt *cells = &columns.cells[static_cast<size_t>(col) * L];
+    const PetscInt *cells = &columns.cells[columns.start[col]];
     const int H = height[col];
     double off = 0.0;
     for (int l = 0; l < H; ++l) {
@@ -288,7 +300,7 @@ PetscErrorCode ColumnCarry::carry(const CarryContext &ctx, Vec targetAlpha, Frac
   std::vector<Piece> pieces;
   for (int col = 0; col < columns.count; ++col) {
     if (!moves[col]) continue;
-    const PetscInt *cells = &columns.cells[static_cast<size_t>(col) * L];
+    const PetscInt *cells = &columns.cells[columns.start[col]];
     const int H = height[col];
     pieces.clear();
     const double keep = std::min(oldTotal[col], newTotal[col]);

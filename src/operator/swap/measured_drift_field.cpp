@@ -50,7 +50,7 @@ PetscErrorCode MeasuredDriftField::setUp(const Database &db, const std::vector<d
              "Database '%s' has no measured drift field (/extra/%s): -drift_model measured needs a database "
              "built from particles by an rcfd that stores it (rebuild it with rcfd build)",
              path, kMeasuredDriftFieldName);
-  PetscCheck(db.mesh().isBox(), comm, PETSC_ERR_USER_INPUT,
+  PetscCheck(db.mesh().onBoxLattice(), comm, PETSC_ERR_USER_INPUT,
              "Database '%s': the measured drift field needs a box mesh", path);
   const BoxSpec &box = db.mesh().boxSpec();
   const int classes = layoutCols - 3;
@@ -107,7 +107,7 @@ PetscErrorCode MeasuredDriftField::setUp(const Database &db, const std::vector<d
   PetscCall(exchange.gatherScalar(natural, &gathered));
   regionOfGathered.resize(gathered.size());
   for (std::size_t c = 0; c < gathered.size(); ++c)
-    regionOfGathered[c] = blocks.regionOf(box, static_cast<int>(gathered[c]));
+    regionOfGathered[c] = blocks.regionOf(box, db.mesh().boxCell(static_cast<int>(gathered[c]))); // a vessel: its box cell
   madeFrom = db.identity();
   PetscFunctionReturn(PETSC_SUCCESS);
 }
