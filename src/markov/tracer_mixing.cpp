@@ -48,8 +48,7 @@ PetscErrorCode tracerMixing(const FrameChain &chain, const MixingSettings &setti
   std::vector<OwnedMat> step;
   PetscCall(chain.blockTransfers(bs, &step));
   OwnedVec x, y;
-  PetscCall(VecCreateMPI(comm, nlocal * bs, PETSC_DETERMINE, x.put()));
-  PetscCall(VecSetBlockSize(x, bs));
+  PetscCall(chain.blockVector(bs, x.put()));
   PetscCall(VecDuplicate(x, y.put()));
   {
     PetscScalar *px;

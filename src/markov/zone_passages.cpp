@@ -57,53 +57,118 @@ PetscErrorCode zonePassages(const FrameChain &chain, const std::vector<const Zon
     PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, &p.databaseShare, 1, MPI_DOUBLE, MPI_SUM, comm));
     out->push_back(std::move(p));
   }
-  const PetscInt bs = static_cast<PetscInt>(cohorts.size());
-  if (bs == 0) PetscFunctionReturn(PETSC_SUCCESS);
+  if (cohorts.empty()) PetscFunctionReturn(PETSC_SUCCESS);
+  // The block vector holds one column per cohort still followed: column c is
+  // cohort column[c].  When half of the columns are done (a departure whose
+  // tail fell below the tolerance, most of the residences within a second or
+  // two) the block is rebuilt without them, so the long followings (the time
+  // away) do not carry the finished ones; what a dropped column still holds
+  // is its `left`.  Done columns are not absorbed any more, so dropping them
+  // changes nothing but the work.
+  std::vector<size_t> column(cohorts.size());
+  for (size_t c = 0; c < cohorts.size(); ++c) column[c] = c;
+  std::vector<double> left(cohorts.size(), 0.0);
+  PetscInt bs = 0;
   std::vector<OwnedMat> step;
-  PetscCall(chain.blockTransfers(bs, &step));
   OwnedVec x, y, source, moved;
-  PetscCall(VecCreateMPI(comm, nlocal * bs, PETSC_DETERMINE, x.put()));
-  PetscCall(VecSetBlockSize(x, bs));
-  PetscCall(VecDuplicate(x, y.put()));
-  PetscCall(VecSet(x, 0.0));
+  // (Re)builds the block for the cohorts in `keep`, moving their columns of x.
+  auto rebuild = [&](const std::vector<size_t> &keep) -> PetscErrorCode {
+    PetscFunctionBeginUser;
+    const PetscInt nbs = static_cast<PetscInt>(keep.size());
+    OwnedVec nx;
+    if (nbs > 0) PetscCall(chain.blockVector(nbs, nx.put()));
+    if (x) {
+      std::vector<double> dropped(cohorts.size(), 0.0);
+      std::vector<PetscInt> slot(cohorts.size(), -1);
+      for (PetscInt c = 0; c < nbs; ++c) slot[keep[static_cast<size_t>(c)]] = c;
+      const PetscScalar *px;
+      PetscScalar *pn = nullptr;
+      PetscCall(VecGetArrayRead(x, &px));
+      if (nx) PetscCall(VecGetArray(nx, &pn));
+      for (PetscInt i = 0; i < nlocal; ++i)
+        for (PetscInt c = 0; c < bs; ++c) {
+          const size_t h = column[static_cast<size_t>(c)];
+          if (slot[h] >= 0)
+            pn[i * nbs + slot[h]] = px[i * bs + c];
+          else
+            dropped[h] += px[i * bs + c];
+        }
+      if (nx) PetscCall(VecRestoreArray(nx, &pn));
+      PetscCall(VecRestoreArrayRead(x, &px));
+      PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, dropped.data(), static_cast<int>(dropped.size()), MPI_DOUBLE, MPI_SUM, comm));
+      for (PetscInt c = 0; c < bs; ++c) {
+        const size_t h = column[static_cast<size_t>(c)];
+        if (slot[h] < 0) left[h] = dropped[h];
+      }
+    }
+    column = keep;
+    bs = nbs;
+    x = std::move(nx);
+    step.clear();
+    if (bs > 0) {
+      PetscCall(VecDuplicate(x, y.put()));
+      PetscCall(chain.blockTransfers(bs, &step));
+    }
+    PetscFunctionReturn(PETSC_SUCCESS);
+  };
+  PetscCall(rebuild(column));
   PetscCall(VecDuplicate(chain.meanShare(), source.put()));
   PetscCall(VecDuplicate(chain.meanShare(), moved.put()));
   const long long horizon = std::max<long long>(1, std::llround(settings.horizon / chain.dt()));
   const int lastDeparture = *std::max_element(settings.departures.begin(), settings.departures.end());
-  std::vector<double> sums(bs);
+  std::vector<double> sums;
+  // Per column, for the absorption: the zone's cells (or none, when the
+  // column is not absorbed this step) and the side that absorbs.
+  std::vector<const char *> mask;
+  std::vector<char> side;
   for (long long s = 0;; ++s) {
     // Move every cohort from t_s to t_{s+1}; the ones not yet started are empty.
     PetscCall(MatMult(step[static_cast<size_t>(s % K)], x, y));
     std::swap(x, y);
     // Absorb: what reached the side it left ends its duration, n = s - departure steps.
+    mask.assign(static_cast<size_t>(bs), nullptr);
+    side.assign(static_cast<size_t>(bs), 0);
+    for (PetscInt c = 0; c < bs; ++c) {
+      const Cohort &h = cohorts[column[static_cast<size_t>(c)]];
+      if (h.departure >= s || h.done) continue;
+      mask[static_cast<size_t>(c)] = inside[h.zone].data();
+      side[static_cast<size_t>(c)] = h.away;
+    }
     PetscScalar *px;
     PetscCall(VecGetArray(x, &px));
-    std::fill(sums.begin(), sums.end(), 0.0);
-    for (PetscInt c = 0; c < bs; ++c) {
-      const Cohort &h = cohorts[c];
-      if (h.departure >= s || h.done) continue;
-      const std::vector<char> &in = inside[h.zone];
-      for (PetscInt i = 0; i < nlocal; ++i)
-        if (static_cast<bool>(in[i]) == h.away) {
-          sums[c] += px[i * bs + c];
-          px[i * bs + c] = 0.0;
+    sums.assign(static_cast<size_t>(bs), 0.0);
+    // Cell by cell, the columns in memory order (a column at a time would
+    // stride through the whole block vector once per column).
+    for (PetscInt i = 0; i < nlocal; ++i) {
+      PetscScalar *row = px + i * bs;
+      for (PetscInt c = 0; c < bs; ++c) {
+        const char *in = mask[static_cast<size_t>(c)];
+        if (in && in[i] == side[static_cast<size_t>(c)]) {
+          sums[static_cast<size_t>(c)] += row[c];
+          row[c] = 0.0;
         }
+      }
     }
     PetscCall(VecRestoreArray(x, &px));
     PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, sums.data(), static_cast<int>(bs), MPI_DOUBLE, MPI_SUM, comm));
     bool open = s < lastDeparture;
+    PetscInt finished = 0;
     for (PetscInt c = 0; c < bs; ++c) {
-      Cohort &h = cohorts[c];
-      if (h.departure >= s || h.done) continue;
-      h.f.push_back(sums[c]);
-      h.absorbed += sums[c];
+      Cohort &h = cohorts[column[static_cast<size_t>(c)]];
+      if (h.departure >= s || h.done) {
+        finished += h.done;
+        continue;
+      }
+      h.f.push_back(sums[static_cast<size_t>(c)]);
+      h.absorbed += sums[static_cast<size_t>(c)];
       h.done = 1.0 - h.absorbed < settings.tail || static_cast<long long>(h.f.size()) >= horizon || h.weight == 0;
+      finished += h.done;
       open = open || !h.done;
     }
     // Start the cohorts that cross during frame s: the solid on one side at
     // t_s found on the other at t_{s+1}, as a distribution.
     for (PetscInt c = 0; c < bs; ++c) {
-      Cohort &h = cohorts[c];
+      Cohort &h = cohorts[column[static_cast<size_t>(c)]];
       if (h.departure != s) continue;
       const std::vector<char> &in = inside[h.zone];
       const PetscScalar *pm;
@@ -129,7 +194,14 @@ PetscErrorCode zonePassages(const FrameChain &chain, const std::vector<const Zon
       open = open || w > 0;
     }
     if (!open) break;
+    if (2 * finished >= bs) {
+      std::vector<size_t> keep;
+      for (size_t h : column)
+        if (!cohorts[h].done) keep.push_back(h);
+      PetscCall(rebuild(keep));
+    }
   }
+  PetscCall(rebuild({})); // what the last columns hold is their `left`
   // Mix the departures, weighted by the mass that crossed.
   for (size_t z = 0; z < zones.size(); ++z)
     for (bool away : {false, true}) {
@@ -153,16 +225,7 @@ PetscErrorCode zonePassages(const FrameChain &chain, const std::vector<const Zon
       d.mean = absorbed > 0 ? first / absorbed : 0.0;
     }
   // Conservation: absorbed plus what is left in the block vector is 1 for every cohort.
-  std::vector<double> left(bs, 0.0);
-  {
-    const PetscScalar *px;
-    PetscCall(VecGetArrayRead(x, &px));
-    for (PetscInt i = 0; i < nlocal; ++i)
-      for (PetscInt c = 0; c < bs; ++c) left[c] += px[i * bs + c];
-    PetscCall(VecRestoreArrayRead(x, &px));
-    PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, left.data(), static_cast<int>(bs), MPI_DOUBLE, MPI_SUM, comm));
-  }
-  for (PetscInt c = 0; c < bs; ++c) {
+  for (size_t c = 0; c < cohorts.size(); ++c) {
     const Cohort &h = cohorts[c];
     if (h.weight == 0) continue;
     PassageDistribution &d = h.away ? (*out)[h.zone].away : (*out)[h.zone].residence;
