@@ -85,10 +85,34 @@ void cut() {
   RCFD_CHECK_CLOSE(o.share(), 0.4, 1e-15);
 }
 
+void passes() {
+  // In for 2, out for 3 (entries at 5, 10, 15, 20): within 5 intervals
+  // exactly one entry from every start; within 7, two entries from the starts
+  // k with two entries in (k, k + 7]: k = 3, 4 of each period of 5 (k <= 17).
+  ZoneVisits v = twoCells();
+  std::string path;
+  for (int k = 0; k < 25; ++k) path += k % 5 < 2 ? '1' : '0';
+  feed(v, {path}, {1.0});
+  std::vector<double> p = v.passCounts(5, 3);
+  RCFD_CHECK(p.size() == 4);
+  if (p.size() == 4) RCFD_CHECK_CLOSE(p[1], 1.0, 1e-15);
+  p = v.passCounts(7, 3);
+  // Starts 0..17: two entries for k = 3, 4, 8, 9, 13, 14 (6 of 18).
+  if (p.size() == 4) {
+    RCFD_CHECK_CLOSE(p[2], 6.0 / 18.0, 1e-15);
+    RCFD_CHECK_CLOSE(p[1], 12.0 / 18.0, 1e-15);
+  }
+  // Capped at 1: all of it in the last count.
+  p = v.passCounts(7, 1);
+  if (p.size() == 2) RCFD_CHECK_CLOSE(p[1], 1.0, 1e-15);
+  RCFD_CHECK(p.size() == 2);
+}
+
 } // namespace
 
 int main() {
   periodic();
   cut();
+  passes();
   return RCFD_TEST_RESULT();
 }

@@ -31,6 +31,7 @@ void ZoneVisits::add(const std::vector<int64_t> &id, const std::vector<Vec3> &po
     if (s.side == side) continue;
     // The run on the other side ended at k - 1; one on this side starts at k.
     if (s.side >= 0 && s.start >= 0) runs_[s.side == 0].push_back({s.start, k - s.start, s.mass});
+    if (s.side == 0) s.entries.push_back(k);
     s.start = s.side < 0 ? -1 : k;
     s.side = side;
   }
@@ -72,6 +73,26 @@ std::vector<double> ZoneVisits::distribution(bool away) const {
     if (!(den >= kEligible * c)) break; // too few runs could show it: noise
     p.push_back(num / den);
   }
+  return p;
+}
+
+std::vector<double> ZoneVisits::passCounts(int steps, int maxPasses) const {
+  std::vector<double> p(static_cast<std::size_t>(maxPasses) + 1, 0.0);
+  const int starts = snapshots_ - steps; // k = 0 .. S - 1 - steps
+  if (steps < 1 || starts < 1) return {};
+  double total = 0.0;
+  for (const auto &entry : state_) {
+    const std::vector<int> &e = entry.second.entries;
+    // Entries in (k, k + steps], by two pointers as k advances.
+    std::size_t lo = 0, hi = 0;
+    for (int k = 0; k < starts; ++k) {
+      while (lo < e.size() && e[lo] <= k) ++lo;
+      while (hi < e.size() && e[hi] <= k + steps) ++hi;
+      p[std::min<std::size_t>(hi - lo, static_cast<std::size_t>(maxPasses))] += entry.second.mass;
+      total += entry.second.mass;
+    }
+  }
+  for (double &v : p) v = total > 0 ? v / total : 0.0;
   return p;
 }
 

@@ -42,12 +42,18 @@ public:
   /// Complete runs counted (both ends seen) and runs cut by the last snapshot.
   std::size_t complete(bool away) const;
   std::size_t censored(bool away) const;
+  /// probability[j] that a particle enters the zone j times within `steps`
+  /// snapshot intervals (the last: maxPasses or more), mass-weighted, over
+  /// every start snapshot k with k + steps a snapshot (an entry at snapshot e
+  /// counts when k < e <= k + steps: outside at e - 1, in at e).
+  std::vector<double> passCounts(int steps, int maxPasses) const;
 
 private:
   struct State {
     int side = -1;  // 1 in the zone, 0 outside, -1 not seen yet
     int start = -1; // snapshot the current run started at; -1: unknown (seen from the first snapshot)
     double mass = 0.0;
+    std::vector<int> entries; // snapshots it entered the zone at
   };
   struct Run {
     int start = 0, length = 0; // length 0: still going at the last snapshot

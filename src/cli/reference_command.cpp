@@ -31,6 +31,8 @@ struct ReferenceOutputs {
   double windowBegin = -std::numeric_limits<double>::infinity();
   double windowEnd = std::numeric_limits<double>::infinity();
   PetscBool quiet = PETSC_FALSE;
+  double passesTime = 0.0; // with -zones: entries within this time [s]; 0: none
+  PetscInt passesMax = 20;
 };
 
 PetscErrorCode readReferenceOptions(MPI_Comm comm, ReferenceOutputs *o) {
@@ -51,6 +53,11 @@ PetscErrorCode readReferenceOptions(MPI_Comm comm, ReferenceOutputs *o) {
                              "Size class diameters [m] (default: clustered from the first snapshot)", classes,
                              &nclasses, &setClasses));
   PetscCall(PetscOptionsBool("-quiet", "No progress or summary", "", o->quiet, &o->quiet, nullptr));
+  PetscCall(checkedReal(PetscOptionsObject, "-passes_time",
+                        "With -zones: distribution of the number of entries into each zone within this time [s]",
+                        &o->passesTime, kNonNegative));
+  PetscCall(checkedInt(PetscOptionsObject, "-passes_max", "With -passes_time: the last count holds this many or more",
+                       &o->passesMax, 1, 100000));
   PetscOptionsEnd();
   PetscCheck(!setWindow || (nwindow == 2 && window[0] <= window[1]), comm, PETSC_ERR_USER_INPUT,
              "-average_window takes two times t0,t1 [s] with t0 <= t1");
@@ -166,6 +173,26 @@ PetscErrorCode referenceCommand(MPI_Comm comm) {
         z << t << ',' << field(residence, n) << ',' << field(away, n) << '\n';
       }
       writeTextAtomically(dir + "zone_" + v.name() + ".csv", z.str());
+      const int steps = dt > 0 ? static_cast<int>(std::lround(out.passesTime / dt)) : 0;
+      const std::vector<double> passes = v.passCounts(steps, static_cast<int>(out.passesMax));
+      if (out.passesTime > 0 && passes.empty())
+        throw std::runtime_error("-passes_time " + std::to_string(out.passesTime) + " s is longer than the snapshots");
+      if (!passes.empty()) {
+        std::ostringstream c;
+        c << "# zone " << v.name() << ": probability of j entries into the zone within " << steps * dt
+          << " s (the last row: that many or more), from the particles, every start snapshot\npasses,probability\n";
+        double mean = 0.0;
+        for (std::size_t j = 0; j < passes.size(); ++j) {
+          char line[48];
+          std::snprintf(line, sizeof line, "%zu,%.10g\n", j, passes[j]);
+          c << line;
+          mean += double(j) * passes[j];
+        }
+        writeTextAtomically(dir + "passes_" + v.name() + ".csv", c.str());
+        if (talk)
+          std::printf("  zone %s: entries within %g s: mean %.4g, none %.4f\n", v.name().c_str(), steps * dt, mean,
+                      passes[0]);
+      }
       if (!talk) continue;
       double mass[2] = {0, 0}, mean[2] = {0, 0};
       for (std::size_t n = 0; n < residence.size(); ++n)

@@ -1,4 +1,5 @@
 #include "markov/pass_counts.hpp"
+#include "markov/chain_block.hpp"
 #include "base/petsc_compat.hpp"
 
 #include <algorithm>
@@ -25,26 +26,22 @@ PetscErrorCode passCounts(const FrameChain &chain, const std::vector<const Zone 
   std::vector<std::vector<char>> inside(zones.size(), std::vector<char>(nlocal, 0));
   for (size_t z = 0; z < zones.size(); ++z)
     for (PetscInt i : zones[z]->localCells()) inside[z][i] = 1;
-  std::vector<OwnedMat> step;
-  PetscCall(chain.blockTransfers(bs, &step));
-  OwnedVec x, y;
-  PetscCall(chain.blockVector(bs, x.put()));
-  PetscCall(VecDuplicate(x, y.put()));
+  ChainBlock x;
+  PetscCall(x.setUp(chain, bs));
   const int first = *std::min_element(dep.begin(), dep.end());
   const int last = *std::max_element(dep.begin(), dep.end());
   std::vector<std::vector<double>> result(static_cast<size_t>(Z * D));
   std::vector<double> sums(static_cast<size_t>(C));
   for (long long s = first; s <= last + steps; ++s) {
-    PetscScalar *px;
     // Start the departures of frame s: the mass share of frame s at counter 0.
     for (PetscInt d = 0; d < D; ++d) {
       if (dep[static_cast<size_t>(d)] != s) continue;
       const PetscScalar *pm;
       PetscCall(VecGetArrayRead(chain.massShare(s), &pm));
-      PetscCall(VecGetArray(x, &px));
+      PetscCall(x.getArrays());
       for (PetscInt z = 0; z < Z; ++z)
-        for (PetscInt i = 0; i < nlocal; ++i) px[i * bs + inside[z][i] * C + z * D * J + d * J] = pm[i];
-      PetscCall(VecRestoreArray(x, &px));
+        for (PetscInt i = 0; i < nlocal; ++i) x.at(i, inside[z][i] * C + z * D * J + d * J) = pm[i];
+      PetscCall(x.restoreArrays());
       PetscCall(VecRestoreArrayRead(chain.massShare(s), &pm));
     }
     // Read the departures whose time is up: at t_{dep + steps}.
@@ -52,11 +49,10 @@ PetscErrorCode passCounts(const FrameChain &chain, const std::vector<const Zone 
     bool reading = false;
     for (PetscInt d = 0; d < D; ++d) reading = reading || dep[static_cast<size_t>(d)] + steps == s;
     if (reading) {
-      const PetscScalar *pr;
-      PetscCall(VecGetArrayRead(x, &pr));
+      PetscCall(x.getArrays());
       for (PetscInt i = 0; i < nlocal; ++i)
-        for (PetscInt c = 0; c < C; ++c) sums[static_cast<size_t>(c)] += pr[i * bs + c] + pr[i * bs + C + c];
-      PetscCall(VecRestoreArrayRead(x, &pr));
+        for (PetscInt c = 0; c < C; ++c) sums[static_cast<size_t>(c)] += x.at(i, c) + x.at(i, C + c);
+      PetscCall(x.restoreArrays());
       PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, sums.data(), static_cast<int>(C), MPI_DOUBLE, MPI_SUM, comm));
       for (PetscInt z = 0; z < Z; ++z)
         for (PetscInt d = 0; d < D; ++d)
@@ -65,36 +61,31 @@ PetscErrorCode passCounts(const FrameChain &chain, const std::vector<const Zone 
                                                           sums.begin() + z * D * J + (d + 1) * J);
     }
     if (s == last + steps) break;
-    PetscCall(MatMult(step[static_cast<size_t>(s % chain.numFrames())], x, y));
-    // Sort the moved solid by side at t_{s+1}; what entered the zone (from
-    // the outside half into a zone cell) passes to the next counter.
-    const PetscScalar *py;
-    PetscCall(VecGetArrayRead(y, &py));
-    PetscCall(VecGetArrayWrite(x, &px));
-    for (PetscInt i = 0; i < nlocal; ++i) {
-      const PetscScalar *from = py + i * bs;
-      PetscScalar *to = px + i * bs;
+    PetscCall(x.step(s));
+    // Sort the moved solid by side at t_{s+1}, in place: what entered the
+    // zone (from the outside half into a zone cell) passes to the next counter.
+    PetscCall(x.getArrays());
+    for (PetscInt i = 0; i < nlocal; ++i)
       for (PetscInt z = 0; z < Z; ++z) {
         const bool in = inside[z][i];
         for (PetscInt d = 0; d < D; ++d) {
           const PetscInt o = z * D * J + d * J;
-          for (PetscInt j = 0; j < J; ++j) {
-            const PetscScalar stayedIn = from[C + o + j], cameOut = from[o + j];
-            if (!in) {
-              to[o + j] = stayedIn + cameOut; // outside now, whichever side it came from
-              to[C + o + j] = 0.0;
-            } else {
-              to[o + j] = 0.0;
-              // In the zone: what was in stays at j; what came from outside enters, j -> j + 1.
-              const PetscScalar entered = j > 0 ? from[o + j - 1] : 0.0;
-              to[C + o + j] = stayedIn + entered + (j == J - 1 ? cameOut : 0.0);
+          if (!in) {
+            // Outside now, whichever side it came from.
+            for (PetscInt j = 0; j < J; ++j) {
+              x.at(i, o + j) += x.at(i, C + o + j);
+              x.at(i, C + o + j) = 0.0;
             }
+            continue;
           }
+          // In the zone: what was in stays at j; what came from outside
+          // enters, j -> j + 1 (the last counter keeps its own).
+          x.at(i, C + o + J - 1) += x.at(i, o + J - 1);
+          for (PetscInt j = J - 1; j > 0; --j) x.at(i, C + o + j) += x.at(i, o + j - 1);
+          for (PetscInt j = 0; j < J; ++j) x.at(i, o + j) = 0.0;
         }
       }
-    }
-    PetscCall(VecRestoreArrayWrite(x, &px));
-    PetscCall(VecRestoreArrayRead(y, &py));
+    PetscCall(x.restoreArrays());
   }
   for (PetscInt z = 0; z < Z; ++z) {
     PassCounts p;

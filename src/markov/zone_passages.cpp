@@ -1,4 +1,5 @@
 #include "markov/zone_passages.hpp"
+#include "markov/chain_block.hpp"
 #include "base/petsc_compat.hpp"
 
 #include <algorithm>
@@ -33,7 +34,6 @@ PetscErrorCode zonePassages(const FrameChain &chain, const std::vector<const Zon
   const Layout &layout = chain.database().layout();
   const MPI_Comm comm = layout.comm();
   const PetscInt nlocal = layout.numLocal();
-  const int K = chain.numFrames();
   PetscFunctionBeginUser;
   out->clear();
   std::vector<Cohort> cohorts;
@@ -68,50 +68,32 @@ PetscErrorCode zonePassages(const FrameChain &chain, const std::vector<const Zon
   std::vector<size_t> column(cohorts.size());
   for (size_t c = 0; c < cohorts.size(); ++c) column[c] = c;
   std::vector<double> left(cohorts.size(), 0.0);
-  PetscInt bs = 0;
-  std::vector<OwnedMat> step;
-  OwnedVec x, y, source, moved;
-  // (Re)builds the block for the cohorts in `keep`, moving their columns of x.
+  ChainBlock x;
+  PetscCall(x.setUp(chain, static_cast<PetscInt>(cohorts.size())));
+  OwnedVec source, moved;
+  // Keeps the cohorts in `keep`, the rest's content counted as their `left`.
   auto rebuild = [&](const std::vector<size_t> &keep) -> PetscErrorCode {
     PetscFunctionBeginUser;
-    const PetscInt nbs = static_cast<PetscInt>(keep.size());
-    OwnedVec nx;
-    if (nbs > 0) PetscCall(chain.blockVector(nbs, nx.put()));
-    if (x) {
-      std::vector<double> dropped(cohorts.size(), 0.0);
-      std::vector<PetscInt> slot(cohorts.size(), -1);
-      for (PetscInt c = 0; c < nbs; ++c) slot[keep[static_cast<size_t>(c)]] = c;
-      const PetscScalar *px;
-      PetscScalar *pn = nullptr;
-      PetscCall(VecGetArrayRead(x, &px));
-      if (nx) PetscCall(VecGetArray(nx, &pn));
-      for (PetscInt i = 0; i < nlocal; ++i)
-        for (PetscInt c = 0; c < bs; ++c) {
-          const size_t h = column[static_cast<size_t>(c)];
-          if (slot[h] >= 0)
-            pn[i * nbs + slot[h]] = px[i * bs + c];
-          else
-            dropped[h] += px[i * bs + c];
-        }
-      if (nx) PetscCall(VecRestoreArray(nx, &pn));
-      PetscCall(VecRestoreArrayRead(x, &px));
-      PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, dropped.data(), static_cast<int>(dropped.size()), MPI_DOUBLE, MPI_SUM, comm));
-      for (PetscInt c = 0; c < bs; ++c) {
-        const size_t h = column[static_cast<size_t>(c)];
-        if (slot[h] < 0) left[h] = dropped[h];
-      }
+    const PetscInt bs = x.columns();
+    std::vector<double> dropped(cohorts.size(), 0.0);
+    std::vector<char> kept(cohorts.size(), 0);
+    for (size_t h : keep) kept[h] = 1;
+    std::vector<PetscInt> from;
+    for (size_t h : keep) from.push_back(static_cast<PetscInt>(std::find(column.begin(), column.end(), h) - column.begin()));
+    PetscCall(x.getArrays());
+    for (PetscInt i = 0; i < nlocal; ++i)
+      for (PetscInt c = 0; c < bs; ++c)
+        if (!kept[column[static_cast<size_t>(c)]]) dropped[column[static_cast<size_t>(c)]] += x.at(i, c);
+    PetscCall(x.restoreArrays());
+    PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, dropped.data(), static_cast<int>(dropped.size()), MPI_DOUBLE, MPI_SUM, comm));
+    for (PetscInt c = 0; c < bs; ++c) {
+      const size_t h = column[static_cast<size_t>(c)];
+      if (!kept[h]) left[h] = dropped[h];
     }
+    PetscCall(x.keepColumns(from));
     column = keep;
-    bs = nbs;
-    x = std::move(nx);
-    step.clear();
-    if (bs > 0) {
-      PetscCall(VecDuplicate(x, y.put()));
-      PetscCall(chain.blockTransfers(bs, &step));
-    }
     PetscFunctionReturn(PETSC_SUCCESS);
   };
-  PetscCall(rebuild(column));
   PetscCall(VecDuplicate(chain.meanShare(), source.put()));
   PetscCall(VecDuplicate(chain.meanShare(), moved.put()));
   const long long horizon = std::max<long long>(1, std::llround(settings.horizon / chain.dt()));
@@ -123,8 +105,8 @@ PetscErrorCode zonePassages(const FrameChain &chain, const std::vector<const Zon
   std::vector<char> side;
   for (long long s = 0;; ++s) {
     // Move every cohort from t_s to t_{s+1}; the ones not yet started are empty.
-    PetscCall(MatMult(step[static_cast<size_t>(s % K)], x, y));
-    std::swap(x, y);
+    PetscCall(x.step(s));
+    const PetscInt bs = x.columns();
     // Absorb: what reached the side it left ends its duration, n = s - departure steps.
     mask.assign(static_cast<size_t>(bs), nullptr);
     side.assign(static_cast<size_t>(bs), 0);
@@ -134,22 +116,19 @@ PetscErrorCode zonePassages(const FrameChain &chain, const std::vector<const Zon
       mask[static_cast<size_t>(c)] = inside[h.zone].data();
       side[static_cast<size_t>(c)] = h.away;
     }
-    PetscScalar *px;
-    PetscCall(VecGetArray(x, &px));
+    PetscCall(x.getArrays());
     sums.assign(static_cast<size_t>(bs), 0.0);
     // Cell by cell, the columns in memory order (a column at a time would
     // stride through the whole block vector once per column).
-    for (PetscInt i = 0; i < nlocal; ++i) {
-      PetscScalar *row = px + i * bs;
+    for (PetscInt i = 0; i < nlocal; ++i)
       for (PetscInt c = 0; c < bs; ++c) {
         const char *in = mask[static_cast<size_t>(c)];
         if (in && in[i] == side[static_cast<size_t>(c)]) {
-          sums[static_cast<size_t>(c)] += row[c];
-          row[c] = 0.0;
+          sums[static_cast<size_t>(c)] += x.at(i, c);
+          x.at(i, c) = 0.0;
         }
       }
-    }
-    PetscCall(VecRestoreArray(x, &px));
+    PetscCall(x.restoreArrays());
     PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, sums.data(), static_cast<int>(bs), MPI_DOUBLE, MPI_SUM, comm));
     bool open = s < lastDeparture;
     PetscInt finished = 0;
@@ -187,9 +166,9 @@ PetscErrorCode zonePassages(const FrameChain &chain, const std::vector<const Zon
       }
       PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, &w, 1, MPI_DOUBLE, MPI_SUM, comm));
       h.weight = w;
-      PetscCall(VecGetArray(x, &px));
-      for (PetscInt i = 0; i < nlocal; ++i) px[i * bs + c] = w > 0 ? pv[i] / w : 0.0;
-      PetscCall(VecRestoreArray(x, &px));
+      PetscCall(x.getArrays());
+      for (PetscInt i = 0; i < nlocal; ++i) x.at(i, c) = w > 0 ? pv[i] / w : 0.0;
+      PetscCall(x.restoreArrays());
       PetscCall(VecRestoreArray(moved, &pv));
       open = open || w > 0;
     }
