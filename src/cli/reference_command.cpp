@@ -175,8 +175,12 @@ PetscErrorCode referenceCommand(MPI_Comm comm) {
       writeTextAtomically(dir + "zone_" + v.name() + ".csv", z.str());
       const int steps = dt > 0 ? static_cast<int>(std::lround(out.passesTime / dt)) : 0;
       const std::vector<double> passes = v.passCounts(steps, static_cast<int>(out.passesMax));
-      if (out.passesTime > 0 && passes.empty())
-        throw std::runtime_error("-passes_time " + std::to_string(out.passesTime) + " s is longer than the snapshots");
+      if (out.passesTime > 0 && passes.empty()) {
+        char why[160];
+        std::snprintf(why, sizeof why, "-passes_time %g s: expected a time from one snapshot interval to the %g s the snapshots span",
+                      out.passesTime, dt * double(sel.size() - 1));
+        throw std::runtime_error(why);
+      }
       if (!passes.empty()) {
         std::ostringstream c;
         c << "# zone " << v.name() << ": probability of j entries into the zone within " << steps * dt
