@@ -9,6 +9,7 @@
 #include "database/database_file_writer.hpp"
 #include "database_copies.hpp"
 #include "markov/frame_chain.hpp"
+#include "markov/pass_counts.hpp"
 #include "markov/spectrum.hpp"
 #include "markov/tracer_mixing.hpp"
 #include "markov/zone_passages.hpp"
@@ -278,6 +279,78 @@ void nonConserving() {
   }
 }
 
+// The number of entries into the first cell within n steps, from the
+// pass-counter chain.  Two cells from the stationary share (pi0, pi1): in two
+// steps at most one entry (1 -> 0 at the first or at the second step), P(1) =
+// pi1 b + (pi0 a + pi1 (1 - b)) b = 2 pi1 b; in three, two entries only by
+// 1 -> 0 -> 1 -> 0, P(2) = pi1 b a b, and the mean is 3 pi1 b.  A rotating
+// ring of N cells (each step all of a cell moves on) from the uniform share:
+// in n = q N + r steps a particle enters q or q + 1 times, q + 1 from the r
+// cells within r steps of the zone.
+PetscErrorCode countPasses(const std::string &path, double time, int maxPasses, std::vector<double> *p,
+                           double *mean, double *conservation) {
+  std::unique_ptr<Database> db;
+  FrameChain chain;
+  ZoneSet zones;
+  PetscFunctionBeginUser;
+  PetscCall(Database::load(PETSC_COMM_WORLD, path, DatabaseLoadOptions{}, &db));
+  PetscCall(chain.setUp(*db));
+  zones.add(firstCell());
+  PetscCall(zones.setUp(db->mesh(), db->layout(), db->metadata().gravity));
+  PassCountSettings settings;
+  settings.time = time;
+  settings.maxPasses = maxPasses;
+  settings.departures = {0};
+  std::vector<PassCounts> out;
+  PetscCall(passCounts(chain, {&zones.all()[0]}, settings, &out));
+  *p = out.at(0).probability;
+  *mean = out[0].mean;
+  *conservation = out[0].conservation;
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+void passes() {
+  const double a = 0.3, b = 0.1, pi1 = a / (a + b);
+  std::vector<double> p;
+  double mean = 0, conservation = 1;
+  RCFD_CHECK(succeeded(countPasses(dir + "/two_cells.h5", 2 * dt, 5, &p, &mean, &conservation)));
+  RCFD_CHECK(p.size() == 6);
+  if (p.size() == 6) {
+    RCFD_CHECK_CLOSE(p[1], 2 * pi1 * b, 1e-15);
+    RCFD_CHECK_CLOSE(p[0], 1 - 2 * pi1 * b, 1e-15);
+    for (int j = 2; j < 6; ++j) RCFD_CHECK(p[j] == 0.0);
+  }
+  RCFD_CHECK(conservation <= 1e-14);
+  RCFD_CHECK(succeeded(countPasses(dir + "/two_cells.h5", 3 * dt, 5, &p, &mean, &conservation)));
+  if (p.size() == 6) {
+    RCFD_CHECK_CLOSE(p[2], pi1 * b * a * b, 1e-15);
+    RCFD_CHECK_CLOSE(mean, 3 * pi1 * b, 1e-15);
+    RCFD_CHECK_CLOSE(p[0] + p[1] + p[2], 1.0, 1e-14);
+  }
+  // The rotating ring: 8 cells, 20 steps = 2 * 8 + 4.
+  const int N = 8;
+  const std::string path = dir + "/rotation.h5";
+  writeChain(path, N, std::vector<double>(N, 0.5), {lazyRing(N, 1.0)});
+  RCFD_CHECK(succeeded(countPasses(path, 20 * dt, 4, &p, &mean, &conservation)));
+  RCFD_CHECK(p.size() == 5);
+  if (p.size() == 5) {
+    RCFD_CHECK_CLOSE(p[2], 0.5, 1e-15);
+    RCFD_CHECK_CLOSE(p[3], 0.5, 1e-15);
+    RCFD_CHECK(p[0] == 0.0 && p[1] == 0.0 && p[4] == 0.0);
+  }
+  RCFD_CHECK_CLOSE(mean, 2.5, 1e-14);
+  RCFD_CHECK(conservation <= 1e-14);
+  // The last counter keeps "that many or more": capped at 2, all of it.
+  RCFD_CHECK(succeeded(countPasses(path, 20 * dt, 2, &p, &mean, &conservation)));
+  if (p.size() == 3) RCFD_CHECK_CLOSE(p[2], 1.0, 1e-15);
+  RCFD_CHECK(p.size() == 3);
+  // The lazy ring (1/4 moves): the mean number of entries is the flux into
+  // the zone per step, (1/8)(1/4), times the steps.
+  RCFD_CHECK(succeeded(countPasses(dir + "/ring.h5", 100 * dt, 60, &p, &mean, &conservation)));
+  RCFD_CHECK_CLOSE(mean, 100.0 / 32.0, 1e-12);
+  RCFD_CHECK(conservation <= 1e-13);
+}
+
 } // namespace
 
 int main(int argc, char **argv) {
@@ -292,6 +365,7 @@ int main(int argc, char **argv) {
   ring();
   ringWithPauses();
   nonConserving();
+  passes();
   PetscPopErrorHandler();
   PetscCall(PetscFinalize());
   return RCFD_TEST_RESULT();

@@ -11,7 +11,7 @@ export PATH=/usr/bin:$PATH
 db=$data/small.h5
 common=(-zones low -zone_low_layers 0,4 -markov_mix_starts all -markov_mix_alpha_min 0.3 -markov_mix_horizon 60
   -markov_mix_tolerance 0.3
-  -markov_departures 6 -markov_passage_horizon 5 -quiet)
+  -markov_departures 6 -markov_passage_horizon 5 -markov_passes_time 1 -markov_passes_max 8 -quiet)
 mpiexec -n 1 "$rcfd" markov "$db" "${common[@]}" -plot 1 -o "$work/np1" && ok || fail "rcfd markov on 1 rank failed"
 mpiexec -n 2 "$rcfd" markov "$db" "${common[@]}" -o "$work/np2" && ok || fail "rcfd markov on 2 ranks failed"
 # Propagations: the sums over cells differ in order only (1e-12).  lambda2_decay
@@ -20,6 +20,7 @@ mpiexec -n 2 "$rcfd" markov "$db" "${common[@]}" -o "$work/np2" && ok || fail "r
 "$compare" "$work/np1/relaxation.csv" "$work/np2/relaxation.csv" 1e-12 1e-15 lambda2_decay=1e-8 && ok ||
   fail "relaxation.csv differs between 1 and 2 ranks"
 "$compare" "$work/np1/zone_low.csv" "$work/np2/zone_low.csv" 1e-12 1e-15 && ok || fail "zone_low.csv differs"
+"$compare" "$work/np1/passes_low.csv" "$work/np2/passes_low.csv" 1e-12 1e-15 && ok || fail "passes_low.csv differs"
 "$compare" "$work/np1/stationary.csv" "$work/np2/stationary.csv" 1e-12 1e-15 stationary_share=1e-8 && ok ||
   fail "stationary.csv differs"
 value() { grep "^$2," "$1/summary.csv" | cut -d, -f2; }
@@ -31,6 +32,8 @@ awk -v a="$(value "$work/np1" relaxation_time)" -v b="$(value "$work/np2" relaxa
   fail "relaxation time $(value "$work/np1" relaxation_time) vs $(value "$work/np2" relaxation_time)"
 awk -v c="$(value "$work/np1" zone_low_conservation)" 'BEGIN { exit !(c < 1e-12) }' && ok ||
   fail "absorbed + left - 1 = $(value "$work/np1" zone_low_conservation)"
+awk -v c="$(value "$work/np1" zone_low_passes_conservation)" 'BEGIN { exit !(c < 1e-12) }' && ok ||
+  fail "sum of the pass counts - 1 = $(value "$work/np1" zone_low_passes_conservation)"
 # The figures, where matplotlib is there to draw them.
 if /usr/bin/python3 -c "import matplotlib, numpy" 2>/dev/null; then
   for png in relaxation zone_low; do

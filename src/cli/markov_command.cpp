@@ -8,6 +8,7 @@
 
 #include "cli/figures.hpp"
 #include "markov/frame_chain.hpp"
+#include "markov/pass_counts.hpp"
 #include "markov/spectrum.hpp"
 #include "markov/tracer_mixing.hpp"
 #include "markov/zone_passages.hpp"
@@ -34,6 +35,7 @@ struct MarkovOptions {
   PetscInt stride = 4;
   PassageSettings passages;
   PetscInt departures = 16;
+  PassCountSettings passCounts; // time 0: not computed
   bool quiet = false, plot = true;
 };
 
@@ -75,6 +77,15 @@ PetscErrorCode readOptions(MPI_Comm comm, const char *positional, MarkovOptions 
                         &o->passages.horizon, kPositive));
   PetscCall(checkedReal(PetscOptionsObject, "-markov_passage_tail",
                         "Stop following a crossing when less than this is left", &o->passages.tail, kOpenUnit));
+  PetscReal passTime = 0.0;
+  PetscInt maxPasses = 20;
+  PetscCall(checkedReal(PetscOptionsObject, "-markov_passes_time",
+                        "Distribution of the number of entries into each zone within this time [s] (0: not computed)",
+                        &passTime, kNonNegative));
+  PetscCall(checkedInt(PetscOptionsObject, "-markov_passes_max",
+                       "With -markov_passes_time: the last count holds this many entries or more", &maxPasses, 1, 100000));
+  o->passCounts.time = passTime;
+  o->passCounts.maxPasses = static_cast<int>(maxPasses);
   PetscCall(PetscOptionsBool("-quiet", "No report", "", quiet, &quiet, nullptr));
   PetscCall(PetscOptionsBool("-plot", "Draw the figures (default: $RCFD_PLOT, else true)", "", plot, &plot, nullptr));
   PetscOptionsEnd();
@@ -148,6 +159,11 @@ PetscErrorCode markovCommand(MPI_Comm comm, const char *positional) {
     for (PetscInt i : zoneList[z]->localCells()) passages[z].stationaryShare += stationary[layout.naturalCell(layout.rowStart() + i)];
   for (ZonePassages &p : passages)
     PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, &p.stationaryShare, 1, MPI_DOUBLE, MPI_SUM, comm));
+  std::vector<PassCounts> counts;
+  if (o.passCounts.time > 0) {
+    o.passCounts.departures = o.passages.departures;
+    PetscCall(passCounts(chain, zoneList, o.passCounts, &counts));
+  }
   const double tZones = MPI_Wtime();
 
   // Mixing summary over the starts.
@@ -204,6 +220,14 @@ PetscErrorCode markovCommand(MPI_Comm comm, const char *positional) {
           << number(n < p.away.probability.size() ? p.away.probability[n] : 0.0) << '\n';
       writeTextAtomically(dir + "zone_" + p.zone + ".csv", z.str());
     }
+    for (const PassCounts &c : counts) {
+      std::ostringstream z;
+      z << "# zone " << c.zone << ": probability of j entries into the zone within " << c.steps * dt
+        << " s (the last row: that many or more), from the pass-counter chain, " << o.passages.departures.size()
+        << " departure frames\npasses,probability\n";
+      for (size_t j = 0; j < c.probability.size(); ++j) z << j << ',' << number(c.probability[j]) << '\n';
+      writeTextAtomically(dir + "passes_" + c.zone + ".csv", z.str());
+    }
     std::ostringstream sum;
     sum << "# rcfd markov " << o.file << " (docs/markov.md)\nquantity,value\n"
         << "frames," << chain.numFrames() << "\ndt_rec," << number(dt) << "\nchain_cells," << spectrum.cells
@@ -224,6 +248,10 @@ PetscErrorCode markovCommand(MPI_Comm comm, const char *positional) {
           << p.zone << "_residence_tail," << number(p.residence.tail) << "\nzone_" << p.zone << "_away_tail,"
           << number(p.away.tail) << "\nzone_" << p.zone << "_conservation,"
           << number(std::max(p.residence.conservation, p.away.conservation)) << '\n';
+    for (const PassCounts &c : counts)
+      sum << "zone_" << c.zone << "_passes_time," << number(c.steps * dt) << "\nzone_" << c.zone << "_passes_mean,"
+          << number(c.mean) << "\nzone_" << c.zone << "_passes_none," << number(c.probability[0]) << "\nzone_"
+          << c.zone << "_passes_conservation," << number(c.conservation) << '\n';
     writeTextAtomically(dir + "summary.csv", sum.str());
   }));
   if (o.mix && o.plot)
@@ -268,6 +296,10 @@ PetscErrorCode markovCommand(MPI_Comm comm, const char *positional) {
                             p.zone.c_str(), p.stationaryShare, p.databaseShare, p.residence.mean, p.residence.tail,
                             p.away.mean, p.away.tail, p.residence.mean / (p.residence.mean + p.away.mean),
                             std::max(p.residence.conservation, p.away.conservation)));
+    for (const PassCounts &c : counts)
+      PetscCall(PetscPrintf(comm, "  zone %s: entries within %g s: mean %.4g, none %.4f, %d or more %.2e; sum 1 within %.1e\n",
+                            c.zone.c_str(), c.steps * dt, c.mean, c.probability[0], o.passCounts.maxPasses,
+                            c.probability.back(), c.conservation));
     PetscCall(PetscPrintf(comm, "  seconds: load %.2f, chain %.2f, eigenvalues %.2f, mixing %.2f, zones %.2f; wrote %s\n",
                           tLoad - t0, tChain - tLoad, tSpectrum - tChain, tMixing - tSpectrum, tZones - tMixing,
                           o.directory.c_str()));

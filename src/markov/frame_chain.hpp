@@ -46,6 +46,9 @@ public:
   /// (MAIJ, as the run's shift kernel holds them): block vectors of `columns`
   /// distributions over the cells step together.
   PetscErrorCode blockTransfers(PetscInt columns, std::vector<OwnedMat> *maij) const;
+  /// Collective.  A zeroed block vector of `columns` distributions over the
+  /// cells (cell-major: entry i * columns + c), as blockTransfers moves them.
+  PetscErrorCode blockVector(PetscInt columns, Vec *x) const;
 
   /// How frames are averaged into one chain.
   enum class Average {

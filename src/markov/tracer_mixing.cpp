@@ -1,4 +1,5 @@
 #include "markov/tracer_mixing.hpp"
+#include "markov/chain_block.hpp"
 #include "base/petsc_compat.hpp"
 
 #include "rcfd/zone.hpp"
@@ -45,25 +46,19 @@ PetscErrorCode tracerMixing(const FrameChain &chain, const MixingSettings &setti
   out->worstDeviation.clear();
   out->confirm = chain.numFrames();
   if (s == 0) PetscFunctionReturn(PETSC_SUCCESS);
-  std::vector<OwnedMat> step;
-  PetscCall(chain.blockTransfers(bs, &step));
-  OwnedVec x, y;
-  PetscCall(VecCreateMPI(comm, nlocal * bs, PETSC_DETERMINE, x.put()));
-  PetscCall(VecSetBlockSize(x, bs));
-  PetscCall(VecDuplicate(x, y.put()));
+  ChainBlock x;
+  PetscCall(x.setUp(chain, bs));
   {
-    PetscScalar *px;
     const PetscScalar *pm;
-    PetscCall(VecGetArrayWrite(x, &px));
-    std::fill(px, px + nlocal * bs, 0.0);
+    PetscCall(x.getArrays());
     PetscCall(VecGetArrayRead(chain.massShare(0), &pm));
-    for (PetscInt i = 0; i < nlocal; ++i) px[i * bs] = pm[i];
+    for (PetscInt i = 0; i < nlocal; ++i) x.at(i, 0) = pm[i];
     PetscCall(VecRestoreArrayRead(chain.massShare(0), &pm));
     for (PetscInt c = 0; c < s; ++c) {
       const PetscInt row = layout.petscRow(settings.starts[c]);
-      if (row >= layout.rowStart() && row < layout.rowEnd()) px[(row - layout.rowStart()) * bs + 1 + c] = 1.0;
+      if (row >= layout.rowStart() && row < layout.rowEnd()) x.at(row - layout.rowStart(), 1 + c) = 1.0;
     }
-    PetscCall(VecRestoreArrayWrite(x, &px));
+    PetscCall(x.restoreArrays());
   }
   // The bulk's share y_i holds alpha y_i S / V_i, S the solid volume of frame 0.
   double solid = 0.0;
@@ -79,19 +74,17 @@ PetscErrorCode tracerMixing(const FrameChain &chain, const MixingSettings &setti
   std::vector<double> deviation(s);
   PetscInt open = s;
   for (long long n = 1; n <= horizon && open > 0; ++n) {
-    PetscCall(MatMult(step[static_cast<size_t>((n - 1) % chain.numFrames())], x, y));
-    std::swap(x, y);
+    PetscCall(x.step(n - 1));
     // Deviation at t_n, over the cells where the propagated bulk holds alpha_s >= alphaMin.
-    const PetscScalar *px;
-    PetscCall(VecGetArrayRead(x, &px));
+    PetscCall(x.getArrays());
     std::fill(deviation.begin(), deviation.end(), 0.0);
     for (PetscInt i = 0; i < nlocal; ++i) {
-      const double bulk = px[i * bs];
+      const double bulk = x.at(i, 0);
       if (bulk * solid < settings.alphaMin * db.localVolumes()[i]) continue;
       if (!settings.excluded.empty() && settings.excluded[i]) continue;
-      for (PetscInt c = 0; c < s; ++c) deviation[c] = std::max(deviation[c], std::fabs(px[i * bs + 1 + c] / bulk - 1.0));
+      for (PetscInt c = 0; c < s; ++c) deviation[c] = std::max(deviation[c], std::fabs(x.at(i, 1 + c) / bulk - 1.0));
     }
-    PetscCall(VecRestoreArrayRead(x, &px));
+    PetscCall(x.restoreArrays());
     PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, deviation.data(), static_cast<int>(s), MPI_DOUBLE, MPI_MAX, comm));
     double mean = 0.0, worst = 0.0;
     for (PetscInt c = 0; c < s; ++c) {

@@ -1,4 +1,5 @@
 #include "markov/zone_passages.hpp"
+#include "markov/chain_block.hpp"
 #include "base/petsc_compat.hpp"
 
 #include <algorithm>
@@ -33,7 +34,6 @@ PetscErrorCode zonePassages(const FrameChain &chain, const std::vector<const Zon
   const Layout &layout = chain.database().layout();
   const MPI_Comm comm = layout.comm();
   const PetscInt nlocal = layout.numLocal();
-  const int K = chain.numFrames();
   PetscFunctionBeginUser;
   out->clear();
   std::vector<Cohort> cohorts;
@@ -57,53 +57,97 @@ PetscErrorCode zonePassages(const FrameChain &chain, const std::vector<const Zon
     PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, &p.databaseShare, 1, MPI_DOUBLE, MPI_SUM, comm));
     out->push_back(std::move(p));
   }
-  const PetscInt bs = static_cast<PetscInt>(cohorts.size());
-  if (bs == 0) PetscFunctionReturn(PETSC_SUCCESS);
-  std::vector<OwnedMat> step;
-  PetscCall(chain.blockTransfers(bs, &step));
-  OwnedVec x, y, source, moved;
-  PetscCall(VecCreateMPI(comm, nlocal * bs, PETSC_DETERMINE, x.put()));
-  PetscCall(VecSetBlockSize(x, bs));
-  PetscCall(VecDuplicate(x, y.put()));
-  PetscCall(VecSet(x, 0.0));
+  if (cohorts.empty()) PetscFunctionReturn(PETSC_SUCCESS);
+  // The block vector holds one column per cohort still followed: column c is
+  // cohort column[c].  When half of the columns are done (a departure whose
+  // tail fell below the tolerance, most of the residences within a second or
+  // two) the block is rebuilt without them, so the long followings (the time
+  // away) do not carry the finished ones; what a dropped column still holds
+  // is its `left`.  Done columns are not absorbed any more, so dropping them
+  // changes nothing but the work.
+  std::vector<size_t> column(cohorts.size());
+  for (size_t c = 0; c < cohorts.size(); ++c) column[c] = c;
+  std::vector<double> left(cohorts.size(), 0.0);
+  ChainBlock x;
+  PetscCall(x.setUp(chain, static_cast<PetscInt>(cohorts.size())));
+  OwnedVec source, moved;
+  // Keeps the cohorts in `keep`, the rest's content counted as their `left`.
+  auto rebuild = [&](const std::vector<size_t> &keep) -> PetscErrorCode {
+    PetscFunctionBeginUser;
+    const PetscInt bs = x.columns();
+    std::vector<double> dropped(cohorts.size(), 0.0);
+    std::vector<char> kept(cohorts.size(), 0);
+    for (size_t h : keep) kept[h] = 1;
+    std::vector<PetscInt> from;
+    for (size_t h : keep) from.push_back(static_cast<PetscInt>(std::find(column.begin(), column.end(), h) - column.begin()));
+    PetscCall(x.getArrays());
+    for (PetscInt i = 0; i < nlocal; ++i)
+      for (PetscInt c = 0; c < bs; ++c)
+        if (!kept[column[static_cast<size_t>(c)]]) dropped[column[static_cast<size_t>(c)]] += x.at(i, c);
+    PetscCall(x.restoreArrays());
+    PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, dropped.data(), static_cast<int>(dropped.size()), MPI_DOUBLE, MPI_SUM, comm));
+    for (PetscInt c = 0; c < bs; ++c) {
+      const size_t h = column[static_cast<size_t>(c)];
+      if (!kept[h]) left[h] = dropped[h];
+    }
+    PetscCall(x.keepColumns(from));
+    column = keep;
+    PetscFunctionReturn(PETSC_SUCCESS);
+  };
   PetscCall(VecDuplicate(chain.meanShare(), source.put()));
   PetscCall(VecDuplicate(chain.meanShare(), moved.put()));
   const long long horizon = std::max<long long>(1, std::llround(settings.horizon / chain.dt()));
   const int lastDeparture = *std::max_element(settings.departures.begin(), settings.departures.end());
-  std::vector<double> sums(bs);
+  std::vector<double> sums;
+  // Per column, for the absorption: the zone's cells (or none, when the
+  // column is not absorbed this step) and the side that absorbs.
+  std::vector<const char *> mask;
+  std::vector<char> side;
   for (long long s = 0;; ++s) {
     // Move every cohort from t_s to t_{s+1}; the ones not yet started are empty.
-    PetscCall(MatMult(step[static_cast<size_t>(s % K)], x, y));
-    std::swap(x, y);
+    PetscCall(x.step(s));
+    const PetscInt bs = x.columns();
     // Absorb: what reached the side it left ends its duration, n = s - departure steps.
-    PetscScalar *px;
-    PetscCall(VecGetArray(x, &px));
-    std::fill(sums.begin(), sums.end(), 0.0);
+    mask.assign(static_cast<size_t>(bs), nullptr);
+    side.assign(static_cast<size_t>(bs), 0);
     for (PetscInt c = 0; c < bs; ++c) {
-      const Cohort &h = cohorts[c];
+      const Cohort &h = cohorts[column[static_cast<size_t>(c)]];
       if (h.departure >= s || h.done) continue;
-      const std::vector<char> &in = inside[h.zone];
-      for (PetscInt i = 0; i < nlocal; ++i)
-        if (static_cast<bool>(in[i]) == h.away) {
-          sums[c] += px[i * bs + c];
-          px[i * bs + c] = 0.0;
-        }
+      mask[static_cast<size_t>(c)] = inside[h.zone].data();
+      side[static_cast<size_t>(c)] = h.away;
     }
-    PetscCall(VecRestoreArray(x, &px));
+    PetscCall(x.getArrays());
+    sums.assign(static_cast<size_t>(bs), 0.0);
+    // Cell by cell, the columns in memory order (a column at a time would
+    // stride through the whole block vector once per column).
+    for (PetscInt i = 0; i < nlocal; ++i)
+      for (PetscInt c = 0; c < bs; ++c) {
+        const char *in = mask[static_cast<size_t>(c)];
+        if (in && in[i] == side[static_cast<size_t>(c)]) {
+          sums[static_cast<size_t>(c)] += x.at(i, c);
+          x.at(i, c) = 0.0;
+        }
+      }
+    PetscCall(x.restoreArrays());
     PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, sums.data(), static_cast<int>(bs), MPI_DOUBLE, MPI_SUM, comm));
     bool open = s < lastDeparture;
+    PetscInt finished = 0;
     for (PetscInt c = 0; c < bs; ++c) {
-      Cohort &h = cohorts[c];
-      if (h.departure >= s || h.done) continue;
-      h.f.push_back(sums[c]);
-      h.absorbed += sums[c];
+      Cohort &h = cohorts[column[static_cast<size_t>(c)]];
+      if (h.departure >= s || h.done) {
+        finished += h.done;
+        continue;
+      }
+      h.f.push_back(sums[static_cast<size_t>(c)]);
+      h.absorbed += sums[static_cast<size_t>(c)];
       h.done = 1.0 - h.absorbed < settings.tail || static_cast<long long>(h.f.size()) >= horizon || h.weight == 0;
+      finished += h.done;
       open = open || !h.done;
     }
     // Start the cohorts that cross during frame s: the solid on one side at
     // t_s found on the other at t_{s+1}, as a distribution.
     for (PetscInt c = 0; c < bs; ++c) {
-      Cohort &h = cohorts[c];
+      Cohort &h = cohorts[column[static_cast<size_t>(c)]];
       if (h.departure != s) continue;
       const std::vector<char> &in = inside[h.zone];
       const PetscScalar *pm;
@@ -122,14 +166,21 @@ PetscErrorCode zonePassages(const FrameChain &chain, const std::vector<const Zon
       }
       PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, &w, 1, MPI_DOUBLE, MPI_SUM, comm));
       h.weight = w;
-      PetscCall(VecGetArray(x, &px));
-      for (PetscInt i = 0; i < nlocal; ++i) px[i * bs + c] = w > 0 ? pv[i] / w : 0.0;
-      PetscCall(VecRestoreArray(x, &px));
+      PetscCall(x.getArrays());
+      for (PetscInt i = 0; i < nlocal; ++i) x.at(i, c) = w > 0 ? pv[i] / w : 0.0;
+      PetscCall(x.restoreArrays());
       PetscCall(VecRestoreArray(moved, &pv));
       open = open || w > 0;
     }
     if (!open) break;
+    if (2 * finished >= bs) {
+      std::vector<size_t> keep;
+      for (size_t h : column)
+        if (!cohorts[h].done) keep.push_back(h);
+      PetscCall(rebuild(keep));
+    }
   }
+  PetscCall(rebuild({})); // what the last columns hold is their `left`
   // Mix the departures, weighted by the mass that crossed.
   for (size_t z = 0; z < zones.size(); ++z)
     for (bool away : {false, true}) {
@@ -153,16 +204,7 @@ PetscErrorCode zonePassages(const FrameChain &chain, const std::vector<const Zon
       d.mean = absorbed > 0 ? first / absorbed : 0.0;
     }
   // Conservation: absorbed plus what is left in the block vector is 1 for every cohort.
-  std::vector<double> left(bs, 0.0);
-  {
-    const PetscScalar *px;
-    PetscCall(VecGetArrayRead(x, &px));
-    for (PetscInt i = 0; i < nlocal; ++i)
-      for (PetscInt c = 0; c < bs; ++c) left[c] += px[i * bs + c];
-    PetscCall(VecRestoreArrayRead(x, &px));
-    PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, left.data(), static_cast<int>(bs), MPI_DOUBLE, MPI_SUM, comm));
-  }
-  for (PetscInt c = 0; c < bs; ++c) {
+  for (size_t c = 0; c < cohorts.size(); ++c) {
     const Cohort &h = cohorts[c];
     if (h.weight == 0) continue;
     PassageDistribution &d = h.away ? (*out)[h.zone].away : (*out)[h.zone].residence;
