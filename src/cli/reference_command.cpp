@@ -9,6 +9,7 @@
 #include "cli/particle_input.hpp"
 #include "analysis/particle_reference.hpp"
 #include "analysis/zone_visits.hpp"
+#include "mesh/box_mesh.hpp"
 #include "base/atomic_file.hpp"
 #include "rcfd/layout.hpp"
 #include "rcfd/zone.hpp"
@@ -113,7 +114,7 @@ PetscErrorCode referenceCommand(MPI_Comm comm) {
     std::vector<ZoneVisits> visits;
     if (!zones.all().empty()) {
       if (!opt.profileMesh) throw std::runtime_error("-zones needs a mesh (-mesh_cells or -mesh_cell_size)");
-      const Mesh mesh = Mesh::box(*opt.profileMesh);
+      const Mesh mesh = boxMesh(*opt.profileMesh);
       Layout layout;
       ZoneSet set = zones;
       if (Layout::create(PETSC_COMM_SELF, mesh, &layout) || set.setUp(mesh, layout, Vec3{0.0, 0.0, -1.0}))
