@@ -127,7 +127,7 @@ for name in other clash; do
   # shellcheck disable=SC2086
   "$cxx" -std=c++17 -shared -fPIC $flags "$work/$name.cpp" -o "$work/lib$name.so" || fail "cannot build lib$name.so"
 done
-expect_error "-plugin $work/libother.so was built against rcfd 0.0.1, not this rcfd 0.2.0; rebuild it against this version" \
+expect_error "-plugin $work/libother.so was built against rcfd 0.0.1, not this rcfd 0.3.0; rebuild it against this version" \
   run -plugin "$work/libother.so" -db "$data/small.h5"
 expect_error "-plugin $work/libclash.so: its registration failed: Cannot register the operator 'drift': the name is taken" \
   run -plugin "$work/libclash.so" -db "$data/small.h5"

@@ -24,7 +24,7 @@
 #include <vector>
 
 /// The version of rcfd (the project's version; CMake checks that they agree).
-#define RCFD_VERSION "0.2.0"
+#define RCFD_VERSION "0.3.0"
 
 /// Defines the version a plugin was built against; put it once in a plugin.
 #define RCFD_PLUGIN_VERSION_SYMBOL                                                                                    \
