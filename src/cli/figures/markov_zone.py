@@ -53,7 +53,9 @@ def main():
             ax.set_xlim(0, right)
         ax.set_xlabel(label + " [s]")
         ax.set_ylabel("probability density [1/s]")
-        ax.legend()
+        bottom, top = ax.get_ylim()
+        ax.set_ylim(bottom, top + 0.3 * (top - bottom))  # room for the legend above the curves
+        ax.legend(loc="upper right", fontsize="small")
     fig.suptitle(args.title)
     rf.save(fig, args.output)
 
