@@ -90,6 +90,10 @@ private:
   PetscErrorCode substepsFor(double dt, double largestScale, int *n) const;
   PetscErrorCode setUpScaling(const RunContext &ctx);
   PetscErrorCode setUpExcessGas(const RunContext &ctx);
+  /// u_sup - u_mf at the conditions `now` (a schedule's or a live file's u_sup),
+  /// and the velocities that follow from it.
+  PetscErrorCode excessGasAt(const OperatingConditions &now);
+  void setUpVelocities();
   std::string kdUnit() const;
   // u of every fraction [m/s] for the reference diameter dRef.
   void velocitiesAt(double dRef, double *u) const;
@@ -149,6 +153,8 @@ private:
   OperatingConditions givenConditions;
   std::string umfCorrelation = "wen-yu";
   double gasFactor = 1.0, gasUsup = 0.0, gasUmf = 0.0, gasSauter = 0.0;
+  double gasGravity = 0.0, gasSolidDensity = 0.0;
+  double followedUsup = 0.0; // the run's u_sup the factor was last worked out for
   std::string usupSource;
   double normaliser = 1.0;
   std::shared_ptr<const AgitationField> agitation;

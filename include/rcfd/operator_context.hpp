@@ -21,6 +21,9 @@ struct StepInfo {
   /// state holds up to round-off; nullptr when the run keeps no ledger.  An
   /// operator that needs the bed's totals reads them here instead of the bed.
   const std::vector<double> *expectedTotals = nullptr;
+  /// The conditions the run operates at during the step (RunContext::operatingConditions:
+  /// a schedule's or a live file's u_sup at the step's start); nullptr: those of set-up.
+  const OperatingConditions *conditions = nullptr;
 };
 
 } // namespace rcfd

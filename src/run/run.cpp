@@ -568,6 +568,7 @@ PetscErrorCode Run::Impl::march() {
       for (size_t i = 0; i < expected.size() && i < added.size(); ++i) expected[i] += added[i];
       info.expectedTotals = &expected;
     }
+    info.conditions = &r.context().operatingConditions(); // a schedule's or a live file's u_sup now
     if (info.jump) {
       BedSample before, after;
       PetscCall(r.applyAcrossJump(info, &before, &after));

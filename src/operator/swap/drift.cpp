@@ -188,14 +188,7 @@ PetscErrorCode DriftOperator::setUpSwap(const RunContext &ctx) {
   for (int i = 0; i < nf; ++i) diameter[i] = ctx.fractions.diameter(i);
   d32 = d32Override > 0 ? d32Override : ctx.fractions.inventorySauterDiameter();
   PetscCall(setUpExcessGas(ctx));
-  velocityCache.resize(nf);
-  fixedUp.resize(nf);
-  fixedDown.resize(nf);
-  velocitiesAt(d32, velocityCache.data());
-  for (int i = 0; i < nf; ++i) {
-    fixedUp[i] = std::max(velocityCache[i], 0.0);
-    fixedDown[i] = std::max(-velocityCache[i], 0.0);
-  }
+  setUpVelocities();
   setUpTables();
   measured.reset();
   if (model == Model::Measured) { // the sweep's per-cell speeds come from the database's field
@@ -210,6 +203,17 @@ PetscErrorCode DriftOperator::setUpSwap(const RunContext &ctx) {
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
+void DriftOperator::setUpVelocities() {
+  velocityCache.resize(nf);
+  fixedUp.resize(nf);
+  fixedDown.resize(nf);
+  velocitiesAt(d32, velocityCache.data());
+  for (int i = 0; i < nf; ++i) {
+    fixedUp[i] = std::max(velocityCache[i], 0.0);
+    fixedDown[i] = std::max(-velocityCache[i], 0.0);
+  }
+}
+
 // The bed's excess gas u_sup - u_mf, from the case's conditions over the
 // database's (as the bottom layer resolves them), with u_mf of the
 // inventory's d32: the bubble flux of two-phase theory, which sets how hard
@@ -219,21 +223,29 @@ PetscErrorCode DriftOperator::setUpExcessGas(const RunContext &ctx) {
   PetscFunctionBeginUser;
   gasFactor = 1.0;
   if (!excessGas) PetscFunctionReturn(PETSC_SUCCESS);
+  const Vec3 g = ctx.db.metadata().gravity;
+  gasGravity = std::sqrt(g[0] * g[0] + g[1] * g[1] + g[2] * g[2]);
+  gasSauter = ctx.fractions.inventorySauterDiameter();
+  gasSolidDensity = ctx.solidDensity;
+  PetscCall(excessGasAt(ctx.operatingConditions()));
+  PetscCheck(usupSource != "default", comm, PETSC_ERR_USER_INPUT,
+             "-%sexcess_gas needs the superficial gas velocity: give -superficial_velocity, or record it in the "
+             "database '%s' (rcfd build -superficial_velocity)",
+             prefix.c_str(), ctx.db.path().c_str());
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode DriftOperator::excessGasAt(const OperatingConditions &run) {
+  PetscFunctionBeginUser;
   FluidizationModel gas;
   gas.given = givenConditions;
   PetscCallCXX(gas.correlation = findUmfCorrelation(umfCorrelation));
   std::string sources[3];
-  const OperatingConditions now = gas.resolve(ctx.operatingConditions(), sources);
-  PetscCheck(sources[0] != "default", comm, PETSC_ERR_USER_INPUT,
-             "-%sexcess_gas needs the superficial gas velocity: give -superficial_velocity, or record it in the "
-             "database '%s' (rcfd build -superficial_velocity)",
-             prefix.c_str(), ctx.db.path().c_str());
-  const Vec3 g = ctx.db.metadata().gravity;
-  const double gravity = std::sqrt(g[0] * g[0] + g[1] * g[1] + g[2] * g[2]);
-  gasSauter = ctx.fractions.inventorySauterDiameter();
-  PetscCallCXX(gasUmf = gas.minFluidizationVelocity(gasSauter, ctx.solidDensity, now, gravity));
+  const OperatingConditions now = gas.resolve(run, sources);
+  PetscCallCXX(gasUmf = gas.minFluidizationVelocity(gasSauter, gasSolidDensity, now, gasGravity));
   gasUsup = now.superficialVelocity;
   usupSource = sources[0];
+  followedUsup = run.superficialVelocity;
   gasFactor = std::max(0.0, gasUsup - gasUmf); // a bed below u_mf does not bubble: no drift
   PetscFunctionReturn(PETSC_SUCCESS);
 }
@@ -363,6 +375,12 @@ PetscErrorCode DriftOperator::apply(const StepInfo &step, FractionState &state) 
   // N-th step (counted from the run's start, so a restart keeps the rhythm).
   if ((step.step + 1) % every != 0) PetscFunctionReturn(PETSC_SUCCESS);
   const double dt = step.dt * static_cast<double>(every);
+  // The excess gas follows the run's u_sup where a schedule or a live file changes it between
+  // set-ups (a database switch sets the drift up again); unchanged, nothing is worked out again.
+  if (excessGas && step.conditions && step.conditions->superficialVelocity != followedUsup) {
+    PetscCall(excessGasAt(*step.conditions));
+    setUpVelocities();
+  }
   const bool scaled = !scaleByFrame.empty();
   PetscCheck(!scaled || (step.frame >= 0 && step.frame < (int)scaleByFrame.size()), comm,
              PETSC_ERR_ARG_OUTOFRANGE, "Drift scaled by agitation was given frame %d of %zu",
