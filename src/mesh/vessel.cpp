@@ -237,6 +237,8 @@ PetscErrorCode Vessel::setFromOptions(MPI_Comm comm) {
                         "radius of -vessel cylinder [m] (nan: half the narrower side of the box)", &radius, kPositive,
                         &radiusGiven));
   PetscOptionsEnd();
+  PetscCheck(!(given && names.size() == 1 && names[0] == "from-particles"), comm, PETSC_ERR_USER_INPUT,
+             "-vessel from-particles takes the vessel from particle dumps (rcfd build -dumps); give the vessel's shapes here");
   const bool shortcut = names.size() == 1 && (names[0] == "box" || names[0] == "cylinder");
   PetscCheck(!(axisGiven || radiusGiven) || (shortcut && names[0] == "cylinder"), comm, PETSC_ERR_USER_INPUT,
              "-vessel_axis and -vessel_radius belong to -vessel cylinder; give a named shape's numbers in "
