@@ -7,14 +7,7 @@
 # gives the same answers on 1 and 2 ranks; a frame with solid outside the vessel is refused with one
 # sentence naming the file and the cell.
 # usage: test_vessel_eulerian_cli.sh RCFD CSV_COMPARE DATA_DIR SOURCE_DIR
-set -eu
-export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
-rcfd=$1 compare=$2
-h5print=$(dirname "$compare")/h5_print
-work=$(mktemp -d)
-trap 'rm -rf "$work"' EXIT
-fail() { echo "FAIL: $*"; exit 1; }
-source "$(dirname "${BASH_SOURCE[0]}")/vessel_run_check.sh"
+source "$(dirname "${BASH_SOURCE[0]}")/vessel_script_setup.sh"
 
 # frame FILE ALPHA_S OUTSIDE_ALPHA_S: x y z alpha Ux Uy Uz Usx Usy Usz per box cell; solid turning at
 # 5 rad/s (a quarter cell per dt_rec at the rim) where the centre is within 4.4 cm of the axis.

@@ -6,14 +6,7 @@
 # the same answers on 1 and 2 ranks; a run on it and a database of another vessel is refused;
 # misplaced options are refused with one sentence.
 # usage: test_vessel_particles_cli.sh RCFD CSV_COMPARE DATA_DIR SOURCE_DIR
-set -eu
-export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
-rcfd=$1 compare=$2
-h5print=$(dirname "$compare")/h5_print
-work=$(mktemp -d)
-trap 'rm -rf "$work"' EXIT
-fail() { echo "FAIL: $*"; exit 1; }
-source "$(dirname "${BASH_SOURCE[0]}")/vessel_run_check.sh"
+source "$(dirname "${BASH_SOURCE[0]}")/vessel_script_setup.sh"
 
 # Five snapshots of 200 particles (radius 1 and 1.5 mm) in a cylinder R = 4.6 cm about (5, 5) cm,
 # turning by 0.5 rad and shuffled in height between snapshots; a box 10 x 4 cm of 1 cm cells.

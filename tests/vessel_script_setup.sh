@@ -1,7 +1,16 @@
-# Sourced by the vessel tests: a run on a vessel's database, on 1 and 2 ranks.
+# Sourced by the vessel tests (usage: SCRIPT RCFD CSV_COMPARE DATA_DIR SOURCE_DIR): strict mode,
+# MPI as root, rcfd, compare, h5print, a work directory removed on exit, fail, and run_on_ranks.
+set -eu
+export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
+rcfd=$1 compare=$2
+h5print=$(dirname "$compare")/h5_print
+work=$(mktemp -d)
+trap 'rm -rf "$work"' EXIT
+fail() { echo "FAIL: $*"; exit 1; }
+
 # run_on_ranks LABEL RUN_OPTIONS...: the options (with -halves) run into $work/np1 and $work/np2;
 # cog and halves agree to 1e-12, every fraction's mass is kept to 1e-12 and no cell turns
-# negative, or the test fails naming LABEL.  Needs rcfd, compare, work and fail.
+# negative, or the test fails naming LABEL.
 run_on_ranks() {
   local label=$1
   shift
