@@ -224,7 +224,7 @@ PetscErrorCode Vessel::setFromOptions(MPI_Comm comm) {
   PetscFunctionBeginUser;
   PetscOptionsBegin(comm, nullptr, "Vessel (docs/vessels.md)", nullptr);
   PetscCall(checkedStringArray(PetscOptionsObject, "-vessel",
-                               "box, cylinder, or the names of shapes united (-vessel_NAME_<shape>)", 64, &names,
+                               "box, cylinder, or the names of shapes united (-vessel_NAME_<shape>); rcfd build from dumps also from-particles", 64, &names,
                                &given));
   PetscCall(checkedStringArray(PetscOptionsObject, "-vessel_minus", "names of shapes taken away", 64, &minus,
                                &minusGiven));
