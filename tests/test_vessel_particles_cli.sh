@@ -52,6 +52,12 @@ cmp -s "$work/cells.txt" "$work/expected.txt" ||
 # Whole cells: every volume is the box cell's, 1 cm^3.
 awk '{ if ($1 < 0.999999e-6 || $1 > 1.000001e-6) bad = 1 } END { exit bad }' <("$h5print" "$work/fp.h5" /mesh/cell_volumes) ||
   fail "a cell of the vessel from the particles is not whole"
+# Faces open, whole (1 cm^2), exactly between two visited cells that touch in the box.
+pairs=$(awk '{ v[$1] = 1 } END { for (c in v) { c += 0; if (c % 10 < 9 && ((c + 1) in v)) n++
+    if (int(c / 10) % 10 < 9 && ((c + 10) in v)) n++; if ((c + 100) in v) n++ } print n + 0 }' "$work/expected.txt")
+[ "$("$h5print" "$work/fp.h5" /mesh/face_owner | wc -l)" -eq "$pairs" ] || fail "the vessel has not the $pairs faces between visited cells"
+awk '{ s += $1 } END { exit !(s > (1 - 1e-12) * p * 1e-4 && s < (1 + 1e-12) * p * 1e-4) }' p="$pairs" \
+  <("$h5print" "$work/fp.h5" /mesh/face_area) || fail "the faces between visited cells are not whole"
 grep -q "Vessel from the particles (margin 0 m): $cells of the box's 400 cells" "$work/build.txt" ||
   { cat "$work/build.txt"; fail "rcfd build does not report the vessel"; }
 grep -q "outside the mesh: 0 particle-snapshots" "$work/build.txt" ||
