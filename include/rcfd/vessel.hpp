@@ -18,6 +18,8 @@
 //       -vessel_NAME_tube_y x,z,radius    the same along y [m]
 //   -vessel_minus NAME,...             shapes taken out of the union (a tube bank)
 //   -vessel_samples n                  sub-samples per cell edge for cut cells (default 8)
+// rcfd build from particle dumps also takes -vessel from-particles [-vessel_margin M]: the
+// box cells the particles reached (src/builders/particles/particle_vessel.hpp), not a Vessel.
 // Positions are absolute, in the mesh's coordinates; z is the vertical axis.
 #pragma once
 

@@ -18,6 +18,7 @@
 #include "base/h5.hpp"
 #include "database/database_file_writer.hpp"
 #include "rcfd/vessel.hpp"
+#include "builders/particles/particle_vessel.hpp"
 
 #include <chrono>
 #include <cstdio>
@@ -99,6 +100,26 @@ void writeInitialMasses(const std::string &path, const std::vector<double> &mass
 
 } // namespace
 
+namespace {
+// -vessel from-particles [-vessel_margin M] (docs/vessels.md); any other -vessel is
+// Vessel::setFromOptions's to read.
+PetscErrorCode readParticleVesselOptions(MPI_Comm comm, PetscBool *fromParticles, PetscReal *margin) {
+  char name[64] = "";
+  PetscBool set = PETSC_FALSE, marginSet = PETSC_FALSE;
+  PetscFunctionBeginUser;
+  PetscCall(PetscOptionsGetString(nullptr, nullptr, "-vessel", name, sizeof name, &set));
+  *fromParticles = set && std::string(name) == "from-particles" ? PETSC_TRUE : PETSC_FALSE;
+  PetscOptionsBegin(comm, nullptr, "Vessel from the particles (docs/vessels.md)", nullptr);
+  PetscCall(checkedReal(PetscOptionsObject, "-vessel_margin",
+                        "with -vessel from-particles: cells closer than this to a particle centre are inside too [m]",
+                        margin, kNonNegative, &marginSet));
+  PetscOptionsEnd();
+  PetscCheck(!marginSet || *fromParticles, comm, PETSC_ERR_USER_INPUT,
+             "-vessel_margin belongs to -vessel from-particles; an analytic vessel is given by its shapes");
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+} // namespace
+
 PetscErrorCode buildCommand(MPI_Comm comm) {
   ParticleInput in;
   BuildOutputs out;
@@ -116,7 +137,10 @@ PetscErrorCode buildCommand(MPI_Comm comm) {
   OperatingConditions conditions; // recorded in the file when given (format version 2)
   PetscCall(OperatingConditions::fromOptions(comm, &conditions));
   Vessel vessel; // -vessel (docs/vessels.md): completed by the box once the particles give it
-  PetscCall(vessel.setFromOptions(comm));
+  PetscBool fromParticles = PETSC_FALSE; // -vessel from-particles: the cells the particles reached
+  PetscReal margin = 0.0;
+  PetscCall(readParticleVesselOptions(comm, &fromParticles, &margin));
+  if (!fromParticles) PetscCall(vessel.setFromOptions(comm));
   if (helpRequested()) PetscFunctionReturn(PETSC_SUCCESS);
   PetscCall(rejectUnusedOptions(comm, "build"));
 
@@ -143,8 +167,23 @@ PetscErrorCode buildCommand(MPI_Comm comm) {
     opt.mesh = resolveMesh(in.mesh, first, opt.axes);
     const BoxSpec &box = opt.mesh;
     const Vessel inBox = vesselInBox(vessel, box);
-    const Mesh mesh = inBox.isWholeBox() ? boxMesh(box) : cutVesselMesh(inBox, box);
+    const Mesh mesh = [&] {
+      if (!fromParticles) return inBox.isWholeBox() ? boxMesh(box) : cutVesselMesh(inBox, box);
+      // The vessel is where the particles were in the snapshots the frames are built from:
+      // one pass over them before the build's own.
+      VisitedCells visited(box, opt.axes, margin);
+      visited.add(first);
+      for (std::size_t k = 1; k < sel.size(); ++k) visited.add(readParticleSnapshot(in.files[sel[k]], opt.read));
+      return visited.mesh();
+    }();
     if (mesh.isMasked()) opt.vessel = &mesh;
+    // A particle the frames count: centred inside the vessel's shapes, or in its cells when it has none.
+    auto insideVessel = [&](const Vec3 &x) {
+      return fromParticles ? mesh.cellOfBoxCell(box.locate(x)) >= 0 : inBox.contains(x);
+    };
+    if (talk && fromParticles)
+      std::printf("Vessel from the particles (margin %g m): %d of the box's %d cells\n", (double)margin,
+                  mesh.numCells(), box.numCells());
 
     DatabaseMetadata meta;
     meta.dtRec = dtRec;
@@ -185,7 +224,7 @@ PetscErrorCode buildCommand(MPI_Comm comm) {
         counting = &counted;
         std::size_t kept = 0;
         for (std::size_t p = 0; p < first.size(); ++p) {
-          if (!inBox.contains(opt.axes.apply(first.position[p]))) continue;
+          if (!insideVessel(opt.axes.apply(first.position[p]))) continue;
           counted.id[kept] = first.id[p];
           counted.type[kept] = first.type[p];
           counted.position[kept] = first.position[p];

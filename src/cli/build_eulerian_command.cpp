@@ -12,6 +12,8 @@
 #include "base/collective.hpp"
 #include "base/constants.hpp"
 #include "database/database_file_writer.hpp"
+#include "mesh/vessel_mesh.hpp"
+#include "rcfd/vessel.hpp"
 
 #include <chrono>
 #include <cstdio>
@@ -153,6 +155,8 @@ PetscErrorCode buildEulerianCommand(MPI_Comm comm) {
   PetscCall(readEulerianOptions(comm, &in));
   OperatingConditions conditions; // recorded in the file when given (format version 2)
   PetscCall(OperatingConditions::fromOptions(comm, &conditions));
+  Vessel vessel; // -vessel (docs/vessels.md): the frames are on the box, the database on the vessel's cells
+  PetscCall(vessel.setFromOptions(comm));
   if (helpRequested()) PetscFunctionReturn(PETSC_SUCCESS);
   PetscCall(rejectUnusedOptions(comm, "build"));
 
@@ -170,6 +174,9 @@ PetscErrorCode buildEulerianCommand(MPI_Comm comm) {
     opt.mesh = resolveEulerianMesh(in.mesh, first);
     const BoxSpec &box = opt.mesh;
     EulerianFrame frame0 = mapOntoMesh(first, box);
+    const Vessel inBox = vesselInBox(vessel, box);
+    const Mesh mesh = inBox.isWholeBox() ? boxMesh(box) : cutVesselMesh(inBox, box);
+    if (mesh.isMasked()) opt.cellVolume = insideVolumes(mesh);
 
     DatabaseMetadata meta;
     meta.dtRec = opt.dtRec;
@@ -194,8 +201,12 @@ PetscErrorCode buildEulerianCommand(MPI_Comm comm) {
                   box.origin[2] + box.length[2]),
           std::fflush(stdout);
 
-    DatabaseFileWriter writer(in.database, boxMesh(box), meta);
-    EulerianFrameBuilder builder(opt, [&](const FrameRecord &f) { writer.append(f); });
+    if (talk && mesh.isMasked())
+      std::printf("Vessel %s: %d of the box's %d cells\n", mesh.vessel().c_str(), mesh.numCells(), box.numCells());
+    DatabaseFileWriter writer(in.database, mesh, meta);
+    EulerianFrameBuilder builder(opt, [&](const FrameRecord &f) {
+      writer.append(mesh.isMasked() ? onVesselCells(f, mesh) : f);
+    });
     using Clock = std::chrono::steady_clock;
     const auto start = Clock::now();
     auto lastPrint = start;

@@ -224,7 +224,7 @@ PetscErrorCode Vessel::setFromOptions(MPI_Comm comm) {
   PetscFunctionBeginUser;
   PetscOptionsBegin(comm, nullptr, "Vessel (docs/vessels.md)", nullptr);
   PetscCall(checkedStringArray(PetscOptionsObject, "-vessel",
-                               "box, cylinder, or the names of shapes united (-vessel_NAME_<shape>)", 64, &names,
+                               "box, cylinder, or the names of shapes united (-vessel_NAME_<shape>); rcfd build from dumps also from-particles", 64, &names,
                                &given));
   PetscCall(checkedStringArray(PetscOptionsObject, "-vessel_minus", "names of shapes taken away", 64, &minus,
                                &minusGiven));
@@ -237,6 +237,8 @@ PetscErrorCode Vessel::setFromOptions(MPI_Comm comm) {
                         "radius of -vessel cylinder [m] (nan: half the narrower side of the box)", &radius, kPositive,
                         &radiusGiven));
   PetscOptionsEnd();
+  PetscCheck(!(given && names.size() == 1 && names[0] == "from-particles"), comm, PETSC_ERR_USER_INPUT,
+             "-vessel from-particles takes the vessel from particle dumps (rcfd build -dumps); give the vessel's shapes here");
   const bool shortcut = names.size() == 1 && (names[0] == "box" || names[0] == "cylinder");
   PetscCheck(!(axisGiven || radiusGiven) || (shortcut && names[0] == "cylinder"), comm, PETSC_ERR_USER_INPUT,
              "-vessel_axis and -vessel_radius belong to -vessel cylinder; give a named shape's numbers in "

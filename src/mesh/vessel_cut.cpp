@@ -7,6 +7,7 @@
 #include "base/collective.hpp"
 
 #include <cmath>
+#include <stdexcept>
 
 namespace rcfd {
 namespace {
@@ -133,9 +134,9 @@ PetscErrorCode cutVessel(const Vessel &vessel, const BoxSpec &box, VesselCut *cu
 namespace {
 
 // The masked mesh of `cut` over the box mesh `full` (vesselMesh's work).
-Mesh maskedOf(const Vessel &vessel, const BoxSpec &box, const Mesh &full, const VesselCut &cut,
+Mesh maskedOf(const std::string &line, const BoxSpec &box, const Mesh &full, const VesselCut &cut,
               const std::vector<int> &kept) {
-  Mesh m = Mesh::masked(box, kept, vessel.describe());
+  Mesh m = Mesh::masked(box, kept, line);
   m.cellCentre.reserve(kept.size());
   m.cellVolume.reserve(kept.size());
   for (int b : kept) {
@@ -184,8 +185,29 @@ PetscErrorCode vesselMesh(const Vessel &vessel, const BoxSpec &box, Mesh *mesh) 
     if (cut.cellShare[c] > 0) PetscCallCXX(kept.push_back(c));
   PetscCheck(!kept.empty(), PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "the vessel '%s' holds no cell of the box mesh",
              vessel.describe().c_str());
-  PetscCallCXX(*mesh = maskedOf(vessel, box, full, cut, kept));
+  PetscCallCXX(*mesh = maskedOf(vessel.describe(), box, full, cut, kept));
   PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+Mesh cellsVesselMesh(const BoxSpec &box, const std::vector<char> &inside, const std::string &line) {
+  if (inside.size() != static_cast<std::size_t>(box.numCells()))
+    throw std::invalid_argument("a vessel of box cells needs one flag per cell of the box");
+  Mesh full;
+  throwOnError([&] { return Mesh::createBox(box, &full); });
+  // Whole cells: share 1 inside, 0 outside; a face is open, whole, where both its cells are inside.
+  VesselCut cut;
+  cut.cellShare.resize(inside.size());
+  std::vector<int> kept;
+  for (std::size_t c = 0; c < inside.size(); ++c)
+    if ((cut.cellShare[c] = inside[c] ? 1.0 : 0.0) > 0) kept.push_back(static_cast<int>(c));
+  if (kept.empty()) throw std::invalid_argument("the vessel '" + line + "' holds no cell of the box mesh");
+  cut.faceShare.resize(full.faceOwner.size());
+  for (std::size_t f = 0; f < cut.faceShare.size(); ++f)
+    cut.faceShare[f] = inside[full.faceOwner[f]] && inside[full.faceNeighbour[f]] ? 1.0 : 0.0;
+  cut.boundaryShare.resize(full.boundaryOwner.size());
+  for (std::size_t f = 0; f < cut.boundaryShare.size(); ++f) cut.boundaryShare[f] = inside[full.boundaryOwner[f]] ? 1.0 : 0.0;
+  cut.centroid = full.cellCentre;
+  return maskedOf(line, box, full, cut, kept);
 }
 
 Mesh cutVesselMesh(const Vessel &vessel, const BoxSpec &box) {

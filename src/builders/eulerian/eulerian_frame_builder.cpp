@@ -1,6 +1,7 @@
 // The Eulerian frame builder (eulerian_frames.hpp): options checked, frames
 // fed in time order, one database frame emitted per pair, and the report.
 #include "builders/eulerian/eulerian_frames.hpp"
+#include "builders/eulerian/eulerian_cells.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -30,6 +31,8 @@ void validateEulerianBuildOptions(const EulerianBuildOptions &o) {
     throw std::invalid_argument("the mesh needs at least one cell along each axis");
   if (!(o.dtRec > 0) || !std::isfinite(o.dtRec))
     throw std::invalid_argument("-dt_rec must be a positive time [s]");
+  if (!o.cellVolume.empty() && o.cellVolume.size() != static_cast<std::size_t>(o.mesh.numCells()))
+    throw std::invalid_argument("the Eulerian build's cell volumes do not match the mesh's cells");
   if (o.tracersPerCell < 1) throw std::invalid_argument("-tracers_per_cell must be at least 1");
   if (!(o.courant > 0) || o.courant > 1)
     throw std::invalid_argument("-tracer_courant must be in (0, 1]");
@@ -100,6 +103,13 @@ void EulerianFrameBuilder::add(EulerianFrame frame) {
   if (static_cast<int>(frame.alphaS.size()) != N)
     throw std::invalid_argument("EulerianFrameBuilder: frame '" + frame.source +
                                 "' does not match the mesh's cells");
+  if (!opt.cellVolume.empty()) // in a vessel: no solid where there is no vessel
+    for (int c = 0; c < N; ++c)
+      if (!(opt.cellVolume[c] > 0) && frame.alphaS[c] > opt.emptyAlphaS)
+        throw std::runtime_error("Eulerian frame '" + frame.source + "' has solid (alpha_s = " +
+                                 eulerian::number(frame.alphaS[c]) + ") in " + eulerian::cellName(opt.mesh, c) +
+                                 ", which lies outside the vessel; give frames of this vessel, or a vessel that "
+                                 "holds every cell with solid.");
   ++rep.files;
   for (double a : frame.alphaS) rep.maxAlphaS = std::max(rep.maxAlphaS, a);
   if (prev) {

@@ -108,6 +108,10 @@ enum class TracerInterpolation { trilinear, cell };
 
 struct EulerianBuildOptions {
   BoxSpec mesh;
+  /// In a vessel (docs/vessels.md): each box cell's inside volume [m^3], 0 outside; the
+  /// solid of a cell is V_inside alpha_s, and a frame with solid outside is refused.
+  /// Empty: every box cell whole.
+  std::vector<double> cellVolume;
   double dtRec = 0.0;           // time between frames [s], > 0
   int tracersPerCell = 8;       // per occupied cell and frame
   std::uint64_t seed = 1;       // tracer positions are a function of seed, frame and cell
@@ -124,6 +128,14 @@ struct EulerianBuildOptions {
 
 /// Throws std::invalid_argument naming the first bad option.
 void validateEulerianBuildOptions(const EulerianBuildOptions &options);
+
+/// Each box cell's volume inside `vessel` (a mesh cut from the box, vesselMesh), 0
+/// outside: EulerianBuildOptions::cellVolume.  Throws for a mesh not cut from a box.
+std::vector<double> insideVolumes(const Mesh &vessel);
+/// A frame built on the box (solid only in the vessel's cells) as the vessel's
+/// frame: the inside cells' alpha_s and the shift among them.  Throws when the
+/// shift moves solid between a cell inside and one outside.
+FrameRecord onVesselCells(const FrameRecord &boxFrame, const Mesh &vessel);
 
 /// What tracing and scaling did to one frame.
 struct EulerianFrameStats {

@@ -170,6 +170,8 @@ CsrMatrix traceShift(const EulerianFrame &now, const std::vector<double> &alphaN
   EulerianFrameStats st;
   const Vec3 h = box.spacing();
   const double V = h[0] * h[1] * h[2], edge = std::cbrt(V);
+  // In a vessel a cut cell holds solid in its inside part only.
+  auto volumeOf = [&](int c) { return opt.cellVolume.empty() ? V : opt.cellVolume[c]; };
   const VelocityField field(box, now, opt.interpolation, opt.emptyAlphaS);
   std::vector<char> fullNext(N);
   for (int c = 0; c < N; ++c) fullNext[c] = alphaNext[c] > opt.emptyAlphaS;
@@ -255,7 +257,7 @@ CsrMatrix traceShift(const EulerianFrame &now, const std::vector<double> &alphaN
           }
     }
     std::sort(local.begin(), local.end());
-    const double w0 = V * now.alphaS[c0];
+    const double w0 = volumeOf(c0) * now.alphaS[c0];
     for (std::size_t e = 0; e < local.size();) {
       const int32_t d = local[e].first;
       double w = 0.0;
@@ -266,7 +268,7 @@ CsrMatrix traceShift(const EulerianFrame &now, const std::vector<double> &alphaN
     }
   }
   std::vector<double> m(N), mNext(N);
-  for (int c = 0; c < N; ++c) m[c] = V * now.alphaS[c], mNext[c] = V * alphaNext[c];
+  for (int c = 0; c < N; ++c) m[c] = volumeOf(c) * now.alphaS[c], mNext[c] = volumeOf(c) * alphaNext[c];
   CsrMatrix T = balanceShift(shiftFromTransfers(N, dest, src, weight), m, mNext, fullNext, opt, &st);
   if (stats) *stats = st;
   return T;

@@ -2,6 +2,7 @@
 
 #include "base/constants.hpp"
 #include "database/csr.hpp"
+#include "builders/particles/particle_vessel.hpp"
 #include "mesh/vessel_mesh.hpp"
 
 #include <algorithm>
@@ -61,7 +62,9 @@ ParticleFrameBuilder::ParticleFrameBuilder(const ParticleBuildOptions &options, 
   if (n <= 0) throw std::invalid_argument("particle build: the mesh has no cells");
   if (opt.vessel && (!opt.vessel->onBoxLattice() || opt.vessel->boxSpec().numCells() != opt.mesh.numCells()))
     throw std::invalid_argument("particle build: the vessel's mesh is not cut from the build's box");
-  if (opt.vessel) vesselShape = parseVessel(opt.vessel->vessel());
+  // A vessel of the cells particles reached has no shapes: its cells are its inside.
+  cellsVessel = opt.vessel && VisitedCells::names(opt.vessel->vessel());
+  if (opt.vessel && !cellsVessel) vesselShape = parseVessel(opt.vessel->vessel());
   const Vec3 h = opt.mesh.spacing();
   cellVolume = h[0] * h[1] * h[2];
   if (!(cellVolume > 0.0))
@@ -83,7 +86,7 @@ void ParticleFrameBuilder::place(const ParticleSnapshot &snap) {
     const double d = snap.diameter[p];
     const Vec3 x = opt.axes.apply(snap.position[p]);
     cellShares(opt.mesh, x, d, opt.volume, scratch);
-    if (opt.vessel && !scratch.empty()) toVesselCells(vesselShape.contains(x) ? opt.mesh.locate(x) : -1);
+    if (opt.vessel && !scratch.empty()) toVesselCells(cellsVessel || vesselShape.contains(x) ? opt.mesh.locate(x) : -1);
     cur.particles[p] = {snap.id[p], snap.mass[p], cur.shares.size(), scratch.size()};
     if (scratch.empty()) ++outside;
     const double volume = kPi / 6.0 * d * d * d;

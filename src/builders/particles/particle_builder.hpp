@@ -141,6 +141,7 @@ private:
   double cellVolume = 0.0;
   int numCells = 0;
   Vessel vesselShape; // of opt.vessel, for which particles are inside it
+  bool cellsVessel = false; // opt.vessel is of the cells particles reached (VisitedCells)
   ParticleBuildReport rep;
   int64_t prevTimestep = -1;
   std::size_t nnzTotal = 0, nnzOccupied = 0, occupiedColumns = 0;
