@@ -31,6 +31,10 @@ public:
   PetscInt naturalCell(PetscInt row) const { return toNatural_[row]; }
   /// Natural indices of this rank's cells, ascending (= PETSc row order).
   const std::vector<PetscInt> &ownedNatural() const { return owned; }
+  /// Every rank's first PETSc row, and the number of cells last; the same on every rank.
+  const std::vector<PetscInt> &rowStarts() const { return starts_; }
+  /// The PETSc row of every natural cell; the same on every rank.
+  const std::vector<PetscInt> &petscRows() const { return toPetsc_; }
   /// Maximal runs [begin, end) of consecutive natural indices among the owned cells.
   std::vector<std::pair<PetscInt, PetscInt>> ownedNaturalRuns() const;
   /// Number of cells whose faces cross to another rank, summed over ranks.
@@ -56,7 +60,7 @@ public:
 private:
   MPI_Comm comm_ = MPI_COMM_NULL;
   PetscInt rstart = 0, rend = 0, cutFaces = 0;
-  std::vector<PetscInt> toPetsc_, toNatural_, owned;
+  std::vector<PetscInt> toPetsc_, toNatural_, owned, starts_;
 };
 
 /// Layout::gatherToAll of a Vec whose rows at and above a bound on each rank
@@ -76,9 +80,11 @@ public:
   PetscInt end() const { return naturalEnd; }
 
 private:
-  const Layout *of = nullptr;
+  // The layout the tables below were made for, by content rather than by address: a layout
+  // made after a database switch may reuse a freed one's address on some ranks only, and the
+  // ranks must agree on whether to remake them (content is the same on every rank).
   PetscInt blockSize = 0, naturalEnd = 0;
-  std::vector<PetscInt> starts;         // each rank's first PETSc row, and the number of cells
+  std::vector<PetscInt> starts, petscRowOf; // Layout::rowStarts, Layout::petscRows
   std::vector<int> owner;               // the rank of each natural cell
   std::vector<double> rows, natural;    // PETSc row order as received; natural order
   std::vector<PetscMPIInt> counts, displs;

@@ -50,6 +50,7 @@ PetscErrorCode Layout::create(MPI_Comm comm, const Mesh &mesh, Layout *layout,
     L.toPetsc_[c] = row;
     L.toNatural_[row] = c;
   }
+  L.starts_.assign(start.begin(), start.end());
   L.rstart = start[rank];
   L.rend = start[rank + 1];
   L.owned.assign(L.toNatural_.begin() + L.rstart, L.toNatural_.begin() + L.rend);
@@ -136,10 +137,9 @@ PetscErrorCode OccupiedGather::gather(const Layout &layout, PetscInt bs, Vec pet
   const MPI_Comm comm = layout.comm();
   const PetscInt n = layout.numCells();
   PetscCallMPI(MPI_Comm_size(comm, &size));
-  if (of != &layout || blockSize != bs) { // every rank decides alike: the same layout and block size
-    const PetscInt first = layout.rowStart();
-    starts.assign(size + 1, n);
-    PetscCallMPI(MPI_Allgather(&first, 1, MPIU_INT, starts.data(), 1, MPIU_INT, comm));
+  if (blockSize != bs || starts != layout.rowStarts() || petscRowOf != layout.petscRows()) {
+    starts = layout.rowStarts();
+    petscRowOf = layout.petscRows();
     owner.resize(n);
     for (PetscInt c = 0; c < n; ++c) // the last rank whose first row is at or below the cell's
       owner[c] = static_cast<int>(std::upper_bound(starts.begin(), starts.begin() + size, layout.petscRow(c)) -
@@ -148,7 +148,7 @@ PetscErrorCode OccupiedGather::gather(const Layout &layout, PetscInt bs, Vec pet
     natural.assign(static_cast<std::size_t>(n) * bs, 0.0);
     counts.resize(size);
     displs.resize(size);
-    of = &layout, blockSize = bs, naturalEnd = 0;
+    blockSize = bs, naturalEnd = 0;
   }
   std::vector<PetscInt> ends(size);
   PetscCallMPI(MPI_Allgather(&localEnd, 1, MPIU_INT, ends.data(), 1, MPIU_INT, comm));
