@@ -6,8 +6,8 @@
 # de-fluidization warning fires then) shows the latest time and the warning in
 # words; one at a constant 1.25 m/s shows the time and no warning.  The same
 # page with its script broken shows no time (the check can fail).  status.json:
-# its numbers are those of bottom.csv and forecast.csv's last rows, 2 ranks
-# write 1 rank's; without -live the page is off unless -status is given.
+# its numbers are those of bottom.csv and forecast.csv's last rows (also when
+# it is written seldom), 2 ranks write 1 rank's; without -live the page is off unless -status is given.
 # Skipped (77) without chromium (tools/run-tests.sh installs it).
 # usage: test_status_page.sh RCFD CSV_COMPARE DATA_DIR SOURCE_DIR
 set -eu
@@ -21,11 +21,12 @@ source "$4/tests/script_helpers.sh"
 "$rcfd" synth -o "$work/a.h5" -synth_cells 10,2,20 -synth_frames 40 -synth_warm_up 0.2 -quiet \
   -synth_nucleation_rate 1500 -synth_seed 1 -superficial_velocity 1.1
 common=(-db "$work/a.h5" -fields 0 -plot 0 -quiet -bottom_layer -live_poll 0.02 -live_end 0.5
-  -forecast_every 0.1 -forecast_horizon 0.15 -forecast_members 2)
+  -forecast_horizon 0.15 -forecast_members 2)
 printf 'time_s,u_sup\n0,1.1\n0.3,0.9\n0.5,0.9\n' >"$work/drop.csv"
 printf 'time_s,u_sup\n0,1.25\n0.5,1.25\n' >"$work/steady.csv"
-"$rcfd" run "${common[@]}" -live "$work/drop.csv" -output_dir "$work/drop" 2>/dev/null
-"$rcfd" run "${common[@]}" -live "$work/steady.csv" -output_dir "$work/steady"
+"$rcfd" run "${common[@]}" -forecast_every 0.1 -live "$work/drop.csv" -output_dir "$work/drop" 2>/dev/null
+# (-status_every 1e9: written at its first step, at each forecast (0, 0.2, 0.4 s) and at the end)
+"$rcfd" run "${common[@]}" -forecast_every 0.2 -live "$work/steady.csv" -status_every 1e9 -output_dir "$work/steady"
 for d in drop steady; do
   [ -s "$work/$d/status.html" ] && [ -s "$work/$d/status.json" ] && ok || fail "$d: no status.html or status.json"
 done
@@ -41,9 +42,12 @@ same "status.json of the drop: the forecast's time and warning members" \
   "$(tail -n 1 "$work/drop/forecast.csv" | awk -F, '{ print $10, $1 }')" 1e-12
 grep -q '"De-fluidization: the bottom layer.s minimum fluidization velocity reached the gas velocity at t = 0.3 s' "$j" &&
   ok || fail "status.json of the drop has no de-fluidization warning: $(cat "$j")"
+same "status.json of the steady run (-status_every 1e9): time, d32" \
+  "$(value "$work/steady/status.json" time_s) $(value "$work/steady/status.json" d32_bottom_m)" \
+  "$(tail -n 1 "$work/steady/bottom.csv" | awk -F, '{ print $1, $2 }')" 1e-9
 grep -q '"warnings": \[\]' "$work/steady/status.json" && ok || fail "status.json of the steady run warns: $(cat "$work/steady/status.json")"
 export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
-mpiexec -n 2 "$rcfd" run "${common[@]}" -live "$work/drop.csv" -output_dir "$work/drop2" 2>/dev/null
+mpiexec -n 2 "$rcfd" run "${common[@]}" -forecast_every 0.1 -live "$work/drop.csv" -output_dir "$work/drop2" 2>/dev/null
 cmp -s "$j" "$work/drop2/status.json" && ok || fail "2 ranks: $(diff "$j" "$work/drop2/status.json")"
 
 # Off without -live, on with -status.
