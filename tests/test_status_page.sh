@@ -59,6 +59,8 @@ same "-status without -live: status.json's time" "$(value "$work/plain-status/st
 RCFD_STATUS_PAGE=$work/none.html expect_error \
   "-status: cannot read the status page '$work/none.html'; install rcfd, set RCFD_STATUS_PAGE to the page, or give -status 0" \
   run "${plain[@]}" -status -output_dir "$work/refused"
+RCFD_STATUS_PAGE=$work expect_error "input file '$work' is a directory, not a regular file" \
+  run "${plain[@]}" -status -output_dir "$work/refused"
 
 # The browser: serve each directory, load the page, read the DOM once its script has polled.
 page() { # page DIR: the DOM of DIR/status.html as chromium shows it

@@ -3,6 +3,7 @@
 
 #include "base/checked_options.hpp"
 #include "base/collective.hpp"
+#include "base/input_file.hpp"
 #include "observable/answers.hpp"
 #include "observable/cog_monitor.hpp"
 #include "run/forecast_monitor.hpp"
@@ -78,16 +79,18 @@ PetscErrorCode StatusMonitor::setUp(const RunContext &run, const FractionState &
   PetscErrorCode status = PETSC_SUCCESS;
   if (rank == 0) {
     const std::string source = statusPageSource();
-    std::ifstream in(source, std::ios::binary);
-    std::stringstream page;
-    page << in.rdbuf();
-    if (!in || page.str().empty())
-      status = PetscError(PETSC_COMM_SELF, __LINE__, PETSC_FUNCTION_NAME, __FILE__, PETSC_ERR_FILE_OPEN,
-                          PETSC_ERROR_INITIAL,
-                          "-status: cannot read the status page '%s'; install rcfd, set RCFD_STATUS_PAGE to the "
-                          "page, or give -status 0", source.c_str());
-    else
-      status = writeFileAtomically(dir + "/status.html", page.str());
+    std::string page;
+    status = collectively(PETSC_COMM_SELF, [&] {
+      requireRegularFile(source);
+      std::ifstream in(source, std::ios::binary);
+      std::stringstream text;
+      text << in.rdbuf();
+      page = text.str();
+      if (!in || page.empty())
+        throw std::runtime_error("-status: cannot read the status page '" + source +
+                                 "'; install rcfd, set RCFD_STATUS_PAGE to the page, or give -status 0");
+    }, PETSC_ERR_FILE_OPEN);
+    if (status == PETSC_SUCCESS) status = writeFileAtomically(dir + "/status.html", page);
   }
   PetscCall(agreeOnStatus(comm, status));
   PetscFunctionReturn(PETSC_SUCCESS);
