@@ -45,6 +45,11 @@ grep -q '"De-fluidization: the bottom layer.s minimum fluidization velocity reac
 same "status.json of the steady run (-status_every 1e9): time, d32" \
   "$(value "$work/steady/status.json" time_s) $(value "$work/steady/status.json" d32_bottom_m)" \
   "$(tail -n 1 "$work/steady/bottom.csv" | awk -F, '{ print $1, $2 }')" 1e-9
+# The gas back up at 0.35 s: the warning stays on the page, said to be over.
+printf 'time_s,u_sup\n0,1.1\n0.3,0.9\n0.35,1.25\n0.5,1.25\n' >"$work/back.csv"
+"$rcfd" run "${common[@]}" -forecast_every 0.1 -live "$work/back.csv" -output_dir "$work/back" 2>/dev/null
+grep -q '"De-fluidization from t = 0.3 s, over now: the bottom layer.s u_mf = [0-9.]* m/s is below u_sup = 1.25 m/s again' \
+  "$work/back/status.json" && ok || fail "status.json after the recovery: $(cat "$work/back/status.json")"
 grep -q '"warnings": \[\]' "$work/steady/status.json" && ok || fail "status.json of the steady run warns: $(cat "$work/steady/status.json")"
 export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
 mpiexec -n 2 "$rcfd" run "${common[@]}" -forecast_every 0.1 -live "$work/drop.csv" -output_dir "$work/drop2" 2>/dev/null

@@ -111,9 +111,15 @@ std::string StatusMonitor::json(double t, long k, bool end) const {
         << ",\n  \"defluidized\": " << (r[4] > 0.5 ? "true" : "false");
       const DefluidizationDetector &w = bottom->warning();
       if (w.fired()) {
-        warnings.push_back(format("De-fluidization: the bottom layer's minimum fluidization velocity reached the gas "
-                                  "velocity at t = %.6g s (now u_mf = %.4g m/s for u_sup = %.4g m/s, bottom d32 = "
-                                  "%.4g mm).", w.firstTime(), r[2], r[3], 1e3 * r[1]));
+        // The detector remembers that it fired; the bed may have recovered since (the gas back up).
+        if (r[4] > 0.5)
+          warnings.push_back(format("De-fluidization: the bottom layer's minimum fluidization velocity reached the gas "
+                                    "velocity at t = %.6g s and is at or above it now (u_mf = %.4g m/s for u_sup = "
+                                    "%.4g m/s, bottom d32 = %.4g mm).", w.firstTime(), r[2], r[3], 1e3 * r[1]));
+        else
+          warnings.push_back(format("De-fluidization from t = %.6g s, over now: the bottom layer's u_mf = %.4g m/s is "
+                                    "below u_sup = %.4g m/s again (bottom d32 = %.4g mm).", w.firstTime(), r[2], r[3],
+                                    1e3 * r[1]));
       }
     } else if (const auto *fc = dynamic_cast<const ForecastMonitor *>(m)) {
       const std::vector<double> &r = fc->latestRow(); // forecast.csv's columns (docs/live.md)
