@@ -131,6 +131,9 @@ public:
   std::vector<double> saveState() const override;
   PetscErrorCode restoreState(const std::vector<double> &state) override;
   const DefluidizationDetector &warning() const { return detector; }
+  /// The latest row of bottom.csv's first five columns (time, d32, u_mf, u_sup,
+  /// de-fluidized), empty before the first sample: the status page's.
+  const std::vector<double> &latestRow() const { return latest; }
   /// With a scalar named moisture (docs/scalars.md): bottom.csv gains the
   /// bottom layer's moisture (moisture_bottom, kg per kg solid), and a warning
   /// is printed once when it passes `threshold` (> 0) while u_mf of the bottom
@@ -145,6 +148,7 @@ private:
   std::shared_ptr<LayerSampler> sampler;
   FluidizationModel model; // the case's conditions (NaN: the database's in use) and correlation
   DefluidizationDetector detector;
+  std::vector<double> latest;
   const ZoneSet *zones;
   bool quiet;
   MPI_Comm comm = MPI_COMM_NULL;

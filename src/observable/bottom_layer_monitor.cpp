@@ -54,6 +54,7 @@ PetscErrorCode BottomLayerMonitor::sample(const MonitorContext &ctx) {
                           "= %.4g m/s reached the superficial velocity %.4g m/s\n",
                           ctx.time, 1e3 * d32, model.correlation.name.c_str(), umf, detector.superficialVelocity()));
   std::vector<double> row{ctx.time, d32, umf, detector.superficialVelocity(), umf >= detector.superficialVelocity() ? 1.0 : 0.0};
+  latest = row;
   if (!zones->all().empty()) { // each zone's mass per fraction, one reduction for all zones
     std::vector<double> local(zones->all().size() * nf, 0.0), global(local.size());
     const PetscScalar *m;

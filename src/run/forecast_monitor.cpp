@@ -182,6 +182,7 @@ PetscErrorCode ForecastMonitor::sample(const MonitorContext &ctx) {
   row.push_back(mean); // NaN: no member's bottom layer de-fluidizes within the horizon
   row.push_back(first); // what it costs is the run's summary's (monitors: forecast.csv)
   PetscCall(csv->add(numberRow(row)));
+  latest = row;
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 

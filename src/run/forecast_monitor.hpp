@@ -42,6 +42,8 @@ public:
   std::vector<double> saveState() const override;
   PetscErrorCode restoreState(const std::vector<double> &state) override;
   PetscErrorCode view(PetscViewer viewer) const override;
+  /// The latest forecast's row of forecast.csv (empty before the first): the status page's.
+  const std::vector<double> &latestRow() const { return latest; }
 
 private:
   /// One member from the state of `ctx`: its Delta z, bottom d32 and u_mf/u_sup at
@@ -64,6 +66,7 @@ private:
   CentreOfGravity cog;
   std::vector<std::unique_ptr<FramePath>> memberPaths; // each member's, continued from forecast to forecast
   std::unique_ptr<CsvSeries> csv;
+  std::vector<double> latest;
 };
 
 } // namespace rcfd

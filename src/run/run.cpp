@@ -215,6 +215,8 @@ PetscErrorCode Run::setFromOptions() {
   r.forecast = std::make_unique<ForecastMonitor>(r.registry, r.paths, r.ops, names, r.answers.fluidization(),
                                                  r.switching == nullptr);
   PetscCall(r.forecast->setFromOptions(r.comm));
+  r.status = std::make_unique<StatusMonitor>(r.live.enabled()); // on by default beside a process
+  PetscCall(r.status->setFromOptions(r.comm));
   PetscCheck(r.scalars.size() == 0 || !r.switching, r.comm, PETSC_ERR_USER_INPUT,
              "-scalars cannot be carried across database switches yet; give one database with -db");
   // An operator's options per scalar, -<prefix>scalar_NAME (the feed's values), are read at its set-up,
@@ -355,6 +357,12 @@ PetscErrorCode Run::setUp() {
   std::vector<OperatorMonitor> brought; // e.g. the discharge's product size distribution
   for (const auto &op : r.ops.operators()) PetscCall(op->monitors(ctx, &brought));
   for (auto &b : brought) r.monitors.push_back({std::move(b.monitor), b.every, b.name});
+  if (r.status && r.status->enabled()) { // last: it shows the latest values of the monitors before it
+    std::vector<const Monitor *> watched;
+    for (const auto &m : r.monitors) watched.push_back(m.monitor.get());
+    r.status->watch(std::move(watched));
+    r.monitors.push_back({std::move(r.status), r.cog->every(), "status.json"});
+  }
   for (auto &m : r.monitors) PetscCall(m.monitor->setUp(ctx, r.fstate, r.outputDir));
   for (auto &m : r.monitors)
     if (!m.monitor->optionsPrefix().empty()) PetscCall(viewFromOptions(r.comm, m.monitor->optionsPrefix(), *m.monitor));

@@ -10,6 +10,7 @@
 #include "run/jumps_file.hpp"
 #include "run/forecast_monitor.hpp"
 #include "run/live_input.hpp"
+#include "run/status_monitor.hpp"
 #include "state/scalars.hpp"
 #include "switching/database_switcher.hpp"
 
@@ -127,6 +128,7 @@ struct Run::Impl {
   bool liveVelocity = false;           // ... whether it is so
   std::size_t liveRowsScheduled = 0;   // rows handed to the switching rule
   std::unique_ptr<ForecastMonitor> forecast; // -forecast_every: moved into `monitors` at setUp
+  std::unique_ptr<StatusMonitor> status;     // -status: moved into `monitors`, last, at setUp
   double ledgerSeconds = 0.0; // wall time of the mass ledger's checks while stepping
 };
 
