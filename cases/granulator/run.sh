@@ -38,6 +38,6 @@ if "$python" -c "import matplotlib" 2>/dev/null; then
     --title "bottom and top halves, mean over 50-60 s"
   "$python" "$root/src/cli/figures/scalar_profiles.py" "$out/spray-dry/scalar_profiles.csv" \
     --scalars moisture,temperature --product "$out/spray-dry/steady_state.csv" -o "$out/spray-dry/scalar_profiles.png" \
-    --title "spray and dry: mean over 50-60 s"
+    --title "spray and dry, plug-flow gas: mean over 50-60 s"
 fi
 echo "Wrote $out/{still,growth,granulator,spray-dry}/ (halves, cog, product, mass_account; scalars) and $out/fig7-halves.png"

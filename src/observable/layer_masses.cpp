@@ -24,6 +24,7 @@ PetscErrorCode HorizontalLayers::setUp(const Database &db) {
   const BoxSpec &b = mesh.boxSpec();
   const int n = axis == 0 ? b.nx : axis == 1 ? b.ny : b.nz;
   const double h = b.length[axis] / n;
+  layerThickness = h;
   centre.resize(n);
   for (int l = 0; l < n; ++l) { // layer 0 at the bottom
     const int k = upward ? l : n - 1 - l;

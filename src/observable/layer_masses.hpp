@@ -20,6 +20,10 @@ public:
   int numLayers() const { return static_cast<int>(centre.size()); }
   /// Coordinate of layer l's centre along the vertical axis [m] (rcfd's z on a z-up mesh).
   double height(int l) const { return centre[l]; }
+  /// The layer of local cell c (an owned cell, in the local order).
+  int localLayer(PetscInt c) const { return layerOfLocal[c]; }
+  /// Thickness of a layer along gravity [m].
+  double thickness() const { return layerThickness; }
   /// Volume of layer l [m^3], whole mesh.
   double volume(int l) const { return layerVolume[l]; }
   /// Collective: mass [kg] of each fraction in each layer, [l * nf + i], the same on every rank.
@@ -38,6 +42,7 @@ private:
   MPI_Comm comm = MPI_COMM_NULL;
   std::vector<int> layerOfLocal;
   std::vector<double> localVolume, centre, layerVolume;
+  double layerThickness = 0.0;
 };
 
 /// What follows from the masses per layer ([l * nf + i]).

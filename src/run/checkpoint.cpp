@@ -303,7 +303,12 @@ PetscErrorCode Run::Impl::readCheckpoint() {
                             " scalar amounts, expected " + std::to_string(cells) + " cells x " + std::to_string(na));
           if (f.checksums() == h5::Checksums::fletcher32) f.read<double>("/scalar_amounts");
           scalarReference = f.read<double>("/scalar_ledger_reference", na + scalars.size());
-          if (scalars.sources().any()) sourceAccount = f.read<double>("/scalar_sources", 5);
+          if (scalars.sources().any()) { // 5 numbers before the plug-flow gas's two
+            sourceAccount = f.read<double>("/scalar_sources");
+            if (sourceAccount.size() != 5 && sourceAccount.size() != 7)
+              throw h5::Error("-restart '" + restartFile + "' holds " + std::to_string(sourceAccount.size()) +
+                              " numbers in /scalar_sources, expected 7 (or 5 from before the plug-flow gas)");
+          }
         }
         restorePathState(*path, std::vector<std::uint64_t>(words.begin(), words.end()));
         for (std::size_t m = 0; m < monitors.size(); ++m) {

@@ -1,8 +1,11 @@
 // Sources of the scalars carried with the fractions (docs/scalars.md), beside
 // the first-order decay: a spray zone that adds liquid to the moisture, and
 // the exchange of heat and moisture with the gas (Gunn 1978, or constant
-// coefficients), with the gas well mixed at its inlet state.
+// coefficients), with the gas well mixed at its inlet state or in plug flow
+// through the bed's horizontal layers with its own energy and vapour balance.
 #pragma once
+
+#include "observable/layer_masses.hpp"
 
 #include "rcfd/database.hpp"
 #include "rcfd/fractions.hpp"
@@ -13,6 +16,33 @@
 #include <vector>
 
 namespace rcfd {
+
+/// The plug-flow gas's exchange with one layer (docs/scalars.md, "The gas"): the layer's gas is mixed
+/// and takes the step's flow G dt; the exchange is implicit (backward Euler) in the gas and the
+/// particles together, so every result is a convex combination of the states it starts from.
+namespace gas_layer {
+/// Heat a particle group of conductance UA dt [J/K] and capacity C = m c_p [J/K] takes per kelvin of
+/// T_g - T: g = UA dt C / (C + UA dt) (its new temperature is (C T + UA dt T_g) / (C + UA dt)).
+inline double share(double conductanceDt, double capacity) {
+  return conductanceDt * capacity / (capacity + conductanceDt);
+}
+/// The layer's gas (and outlet) state from its inlet state `in`, its flow's capacity F (G c_p,g dt
+/// [J/K], or G dt [kg] for the humidity) and the particles' sums S = sum g_k, SX = sum g_k x_k:
+/// (F in + SX) / (F + S), between the inlet and the particles' states.
+inline double outlet(double in, double flow, double sum, double weighted) {
+  return (flow * in + weighted) / (flow + sum);
+}
+/// The upward sweep: from the inlet state (T_in, Y_in), each layer l's gas state (T_l, Y_l) from its sums
+/// sums[4 l ..] = {sum g, sum g T, sum k, sum k Y_s} (k = beta rho_g S dt [kg], Y_s the saturation
+/// humidity at the particle's surface), with heatFlow = G c_p,g dt [J/K], vapourFlow = G dt [kg]; the
+/// layer's outlet is the next layer's inlet.
+void sweep(double inletT, double inletY, double heatFlow, double vapourFlow, const std::vector<double> &sums,
+           std::vector<double> *T, std::vector<double> *Y);
+/// Saturation humidity [kg vapour per kg dry gas] of water at temperature T [K] and pressure p [Pa]:
+/// 0.622 p_s / (p - p_s), p_s from Antoine's equation for water (log10 p_s[mmHg] = 8.07131 -
+/// 1730.63 / (233.426 + theta[C]), 1-100 C); T is clipped to that range (99 C at most, where p_s < p).
+double saturationHumidity(double T, double pressure);
+} // namespace gas_layer
 
 class ScalarSources {
 public:
@@ -26,7 +56,11 @@ public:
   ///  -scalar_gas_temperature [K], -scalar_gas_humidity_deficit (Y_s - Y_g, kg/kg),
   ///  -scalar_gas_conductivity, -scalar_gas_prandtl, -scalar_gas_schmidt, and the
   ///  solid's -scalar_solid_heat_capacity [J/kg/K] and the liquid's
-  ///  -scalar_heat_of_evaporation [J/kg] (taken from the temperature as it dries).
+  ///  -scalar_heat_of_evaporation [J/kg] (taken from the temperature as it dries);
+  ///  -scalar_gas_model inlet|plug: the gas well mixed at its inlet state, or rising layer by layer
+  ///   with its own energy and vapour balance (-scalar_gas_humidity Y_in [kg/kg],
+  ///   -scalar_gas_pressure [Pa]; drying toward the saturation humidity of water at the particle's
+  ///   temperature).
   PetscErrorCode setFromOptions(MPI_Comm comm, const std::vector<std::string> &names);
   bool any() const { return sprayRate > 0.0 || model != Model::None; }
   /// Collective.  The spray zone on the mesh, the diameters, the gas (-superficial_velocity,
@@ -41,7 +75,18 @@ public:
   /// liquid that missed an empty spray zone [kg], liquid dried [kg], heat into
   /// the solid from the gas [J], heat of evaporation taken [J].
   const std::vector<double> &account() const { return totals; }
-  void restoreAccount(const std::vector<double> &a) { totals = a; }
+  /// With the plug-flow gas, [5] the heat the gas gave by its own balance, sum G c_p,g dt (T_in -
+  /// T_out) [J] (= [3] to round-off), and [6] the water leaving with it at the top, sum G dt Y_out [kg].
+  void restoreAccount(const std::vector<double> &a) {
+    totals = a;
+    totals.resize(7, 0.0);
+  }
+  bool plugGas() const { return gasModel == Gas::Plug; }
+  /// The plug-flow gas at the top of the bed after the last step: temperature [K] and humidity [kg/kg].
+  double gasOutletTemperature() const { return outletTemperature; }
+  double gasOutletHumidity() const { return outletHumidity; }
+  double gasInletHumidity() const { return inletHumidity; }
+  double gasPressure() const { return pressure; }
   /// Heat-transfer coefficient h [W/m^2/K] and mass-transfer coefficient
   /// beta [m/s] of particles of diameter d in a cell of voidage eps.
   double heatCoefficient(double d, double eps) const;
@@ -59,6 +104,17 @@ public:
 
 private:
   enum class Model { None, Gunn, Constant };
+  enum class Gas { Inlet, Plug };
+  /// The step's exchange with the plug-flow gas (apply's part for -scalar_gas_model plug).
+  PetscErrorCode applyPlug(double dt, int frame, PetscInt end, const PetscScalar *m, PetscScalar *a,
+                           std::vector<double> &sums);
+  /// Takes min(wanted, X) [kg] from the moisture of class i in a cell's amounts (never below zero;
+  /// negative: condensation), and its heat of evaporation from the temperature (never below 0 K);
+  /// adds both to the step's change [scalar][fraction] and to the liquid dried and heat taken.
+  void dry(double wanted, int i, PetscScalar *cell, double *change, double *dried, double *evaporated) const;
+  Gas gasModel = Gas::Inlet;
+  HorizontalLayers layers;
+  double inletHumidity = 0.0, pressure = 101325.0, gasFlow = 0.0, outletTemperature = 0.0, outletHumidity = 0.0;
   /// Gunn (1978): Nu (or Sh, with Sc for Pr) of a particle in a bed of voidage eps.
   double gunn(double reynolds, double prandtl, double eps) const;
   /// Gunn's Nu = (7 - 10 eps + 5 eps^2) a + (1.33 - 2.4 eps + 1.2 eps^2) b with a, b of the class
@@ -81,7 +137,7 @@ private:
   std::vector<double> diameter;
   const Database *db = nullptr;
   MPI_Comm comm = MPI_COMM_NULL;
-  std::vector<double> totals = std::vector<double>(5, 0.0);
+  std::vector<double> totals = std::vector<double>(7, 0.0);
 };
 
 } // namespace rcfd

@@ -277,6 +277,17 @@ PetscErrorCode ScalarSet::report(const FractionState &state, double time) const 
                               "held %.6g kg, brought in (+) or taken out (-) by feed and discharge %.6g kg; heat from "
                               "the gas %.6g J, of evaporation %.6g J\n",
                         sourceTerms.describe().c_str(), a[0], a[1], a[2], held, carried, a[3], a[4]));
+  if (sourceTerms.plugGas() && time > 0.0) {
+    const double flow = sourceTerms.gasCapacityFlow();
+    PetscCall(PetscPrintf(comm, "  gas (plug flow): %.4g W given to the solid on average by its own balance (%.4g W by the "
+                                "particles'), capacity flow %.4g W/K; leaving at %.6g K and %.4g kg/kg (saturation at "
+                                "that temperature %.4g kg/kg), water out %.6g kg (%.4g kg/s)\n",
+                          a[5] / time, a[3] / time, flow, sourceTerms.gasOutletTemperature(),
+                          sourceTerms.gasOutletHumidity(),
+                          gas_layer::saturationHumidity(sourceTerms.gasOutletTemperature(), sourceTerms.gasPressure()),
+                          a[6], a[6] / time));
+    PetscFunctionReturn(PETSC_SUCCESS);
+  }
   // The gas is taken well mixed at its inlet state: it gives heat as if it never cooled.  What it gave,
   // spread over its flow, is the mean drop of its temperature that heat needs; past the difference
   // between the gas and the bed, a real gas could not have given it (docs/scalars.md, "Sources").

@@ -14,7 +14,9 @@ def main():
     args = rf.parse(parser)
     table = rf.read_csv(args.csv)
     time = table["time_s"]
-    labels = [name[len("product_"):] for name in table if name.startswith("product_")]
+    # The classes: product_<class> with its holdup_<class> (a run with scalars adds product_<scalar>).
+    labels = [name[len("product_"):] for name in table
+              if name.startswith("product_") and "holdup_" + name[len("product_"):] in table]
     fig, (top, bottom) = rf.plt.subplots(2, 1, figsize=(7.0, 7.0), sharex=True)
     colors = rf.plt.cm.viridis(rf.np.linspace(0.0, 0.9, len(labels)))
     for label, color in zip(labels, colors):
