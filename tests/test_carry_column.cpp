@@ -13,7 +13,9 @@
 //  - one carry, jump after jump onto lower, shifted and higher beds: the
 //    state's bound said (only the occupied rows gathered and computed) or
 //    not, the same bits, every row above the bound it leaves empty;
-//  - gravity along no axis of the mesh is refused with one sentence.
+//  - gravity along no axis of the mesh is refused with one sentence;
+//  - OccupiedGather follows a layout made again in the same object (another
+//    partition at the same address, as at a database switch).
 // Runs at 1 and 2 ranks.
 #include "check.hpp"
 #include "box_meshes.hpp"
@@ -282,6 +284,37 @@ void tiltedGravityRefused() {
 
 } // namespace
 
+// OccupiedGather after the layout it gathered for is made again in the same object (the same
+// address, as a layout made at a database switch may be on some ranks): with another partition
+// (METIS weighted by work) it must gather by the new one, every cell's value in its place.
+void gatherFollowsLayoutContent() {
+  const MPI_Comm comm = PETSC_COMM_WORLD;
+  const Mesh mesh = rcfd::test::boxMesh(kBox);
+  Layout layout;
+  OccupiedGather gather;
+  std::vector<PetscInt> firstStarts;
+  for (int pass = 0; pass < 2; ++pass) {
+    std::vector<int> work(mesh.numCells(), 1);
+    if (pass == 1) // the top half a hundred times the work: the ranks' shares move
+      for (int c = 0; c < mesh.numCells(); ++c) work[c] = level(mesh.cellCentre[c]) >= 6 ? 100 : 1;
+    PetscCallAbort(comm, Layout::create(comm, mesh, &layout, &work));
+    if (pass == 0) firstStarts = layout.rowStarts();
+    OwnedVec v;
+    PetscCallAbort(comm, VecCreateMPI(comm, layout.numLocal(), layout.numCells(), v.put()));
+    for (PetscInt r = layout.rowStart(); r < layout.rowEnd(); ++r)
+      PetscCallAbort(comm, VecSetValue(v, r, static_cast<double>(layout.naturalCell(r) + 1), INSERT_VALUES));
+    PetscCallAbort(comm, VecAssemblyBegin(v));
+    PetscCallAbort(comm, VecAssemblyEnd(v));
+    PetscCallAbort(comm, gather.gather(layout, 1, v, layout.numLocal()));
+    int wrong = 0;
+    for (PetscInt c = 0; c < mesh.numCells(); ++c) wrong += gather.values()[c] != static_cast<double>(c + 1);
+    RCFD_CHECK(wrong == 0);
+  }
+  PetscMPIInt size;
+  MPI_Comm_size(comm, &size);
+  if (size > 1) RCFD_CHECK(firstStarts != layout.rowStarts()); // else the test proves nothing
+}
+
 int main(int argc, char **argv) {
   PetscCall(PetscInitialize(&argc, &argv, nullptr, nullptr));
   dir = rcfd::test::rankCountDirectory(argc, argv, "carry_column");
@@ -292,6 +325,7 @@ int main(int argc, char **argv) {
   occupiedCellsOnly("bounds", {0.0, 0.0, -9.81});
   occupiedCellsOnly("bounds-up", {0.0, 0.0, 9.81});
   tiltedGravityRefused();
+  gatherFollowsLayoutContent();
   const int total = rcfd::test::globalFailures();
   PetscCall(PetscFinalize());
   return total == 0 ? 0 : 1;
