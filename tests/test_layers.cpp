@@ -7,7 +7,7 @@
 #include "base/petsc_compat.hpp"
 #include "state_access.hpp"
 
-#include "observable/layer_masses.hpp"
+#include "state/layer_masses.hpp"
 
 #include <cmath>
 

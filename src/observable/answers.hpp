@@ -19,7 +19,7 @@
 #pragma once
 
 #include "database/fluidization_model.hpp"
-#include "observable/layer_masses.hpp"
+#include "state/layer_masses.hpp"
 #include "rcfd/observables.hpp"
 #include "rcfd/zone.hpp"
 

@@ -5,7 +5,7 @@
 #pragma once
 
 #include "observable/answers.hpp"
-#include "observable/layer_masses.hpp"
+#include "state/layer_masses.hpp"
 
 #include <string>
 #include <vector>

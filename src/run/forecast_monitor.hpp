@@ -12,7 +12,7 @@
 #include "rcfd/path.hpp"
 
 #include "database/fluidization_model.hpp"
-#include "observable/layer_masses.hpp"
+#include "state/layer_masses.hpp"
 
 #include <memory>
 #include <string>

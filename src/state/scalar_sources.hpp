@@ -5,7 +5,7 @@
 // through the bed's horizontal layers with its own energy and vapour balance.
 #pragma once
 
-#include "observable/layer_masses.hpp"
+#include "state/layer_masses.hpp"
 
 #include "rcfd/database.hpp"
 #include "rcfd/fractions.hpp"

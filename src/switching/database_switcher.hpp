@@ -8,7 +8,7 @@
 #include "rcfd/observables.hpp"
 #include "rcfd/switching.hpp"
 
-#include "observable/layer_masses.hpp"
+#include "state/layer_masses.hpp"
 #include "database/fluidization_model.hpp"
 
 #include <limits>

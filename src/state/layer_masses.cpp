@@ -1,4 +1,4 @@
-#include "observable/layer_masses.hpp"
+#include "state/layer_masses.hpp"
 #include "base/petsc_compat.hpp"
 
 #include "rcfd/zone.hpp"
