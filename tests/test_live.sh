@@ -53,13 +53,20 @@ drift=(-drift_size_law drag -drift_kd 0.06 -drift_excess_gas -fractions_diameter
   -fractions_mass_shares 0.5,0.5)
 printf 'time_s,u_sup\n0,0.05\n0.2,1.3\n0.5,1.3\n' >"$work/rise.csv"
 printf 'time_s,u_sup\n0,0.05\n0.5,0.05\n' >"$work/low.csv"
-"$rcfd" run -db "$a" "${common[@]}" "${drift[@]}" -live "$work/rise.csv" -live_end 0.5 -output_dir "$work/l-rise"
+"$rcfd" run -db "$a" "${common[@]}" "${drift[@]}" -live "$work/rise.csv" -live_end 0.5 -output_dir "$work/l-rise" \
+  -forecast_every 0.1 -forecast_members 1 -forecast_horizon 0.2
 "$rcfd" run -db "$a" "${common[@]}" "${drift[@]}" -live "$work/low.csv" -live_end 0.5 -output_dir "$work/l-low"
 same "rows of cog.csv up to 0.2 s, drift below u_mf either way" \
   "$(awk -F, '!/^[#t]/ && $1 <= 0.2' "$work/l-low/cog.csv" | md5sum)" "$(awk -F, '!/^[#t]/ && $1 <= 0.2' "$work/l-rise/cog.csv" | md5sum)"
 paste -d, "$work/l-low/cog.csv" "$work/l-rise/cog.csv" | awk -F, -v n="$(head -n 1 "$work/l-low/cog.csv" | awk -F, '{ print NF }')" '
   !/^[#t]/ && $1 > 0.3 { if ($(n + 5) - $5 > 1e-4) parted++ }
   END { exit !(parted > 0) }' && ok || fail "the drift did not follow the live u_sup from 0.2 s on"
+# ... and so do the forecast's members (set up at t = 0, below u_mf): the one issued at 0.3 s parts
+# the classes by more than a millimetre beyond the live state's delta z then (held below u_mf, a
+# mixed bed's delta z stays 0).
+awk -F, -v live="$(awk -F, '!/^[#t]/ && $1 > 0.299 && $1 < 0.301 { print $5 }' "$work/l-rise/cog.csv")" \
+  '!/^[#t]/ && $1 > 0.299 && $1 < 0.301 { found = 1; grew = $4 - live > 1e-3 } END { exit !(found && grew) }' \
+  "$work/l-rise/forecast.csv" && ok || fail "the forecast's members did not drift at the live u_sup: $(cat "$work/l-rise/forecast.csv")"
 
 # The granulator's rates: constant ones give the options' bits; a feed rate changing at 0.1 and
 # 0.3 s feeds 0.2 x 0.1 + 0.5 x 0.2 + 0.1 x 0.2 = 0.14 kg by 0.5 s.

@@ -128,6 +128,7 @@ PetscErrorCode ForecastMonitor::member(const MonitorContext &ctx, int m, double 
   std::vector<double> perLayer;
   StepInfo info;
   info.dt = dt;
+  info.conditions = &run.operatingConditions(); // held: the drift's excess gas is the moment's
   for (long s = 0; s < steps; ++s) {
     const int next = path.next() % db.numFrames();
     info.step = ctx.step + s;
