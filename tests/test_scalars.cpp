@@ -14,12 +14,13 @@
 //    writes the same scalars.csv, byte for byte;
 //  - initial values from a file (a value per cell and fraction) give amount =
 //    mass x value exactly;
-//  - an operator that does not carry scalars, a negative or NaN initial value
+//  - a negative or NaN initial value
 //    (given or in a file), a file of another shape are refused with one sentence.
 // Runs at 1 and 2 ranks.  usage: test_scalars DIR -db SMALL.h5 [run options]
 #include "check.hpp"
 #include "scoped_options.hpp"
 #include "state_access.hpp"
+#include "scalar_runs.hpp"
 #include "base/petsc_compat.hpp"
 #include "base/h5.hpp"
 #include "rcfd/run.hpp"
@@ -42,38 +43,12 @@ const std::string kScalars =
     " -dispersion_coefficient 2e-4 -path_type random"
     " -path_seed 5 -monitor_digits 17";
 
-struct Outcome {
-  std::vector<double> masses, amounts; // natural order
-  std::vector<double> initialMass;     // per fraction
-  int jumps = 0;
-  std::vector<std::string> labels; // of the fractions
-};
+using Outcome = test::ScalarOutcome;
+using test::fileBytes;
 
 PetscErrorCode runCase(MPI_Comm comm, const std::string &options, const std::string &dir, Outcome *out,
                        bool fields = false) {
-  PetscFunctionBeginUser;
-  ScopedOptions scoped(options + " -output_dir " + dir);
-  const OperatorRegistry registry = OperatorRegistry::withBuiltins();
-  Run run(comm, registry);
-  PetscCall(run.setFromOptions());
-  run.setQuiet(true);
-  run.keepHistory(true);
-  run.setWriteFields(fields);
-  PetscCall(run.setUp());
-  PetscCall(run.state().totals(&out->initialMass));
-  PetscCall(run.solve());
-  const int nf = run.state().numFractions(), na = nf * run.state().numScalars();
-  out->masses = test::gatherNatural(run.database(), run.state().masses(), nf);
-  out->amounts = test::gatherNatural(run.database(), run.state().amounts(), na);
-  const std::vector<int> &frames = run.framesUsed();
-  for (std::size_t k = 1; k < frames.size(); ++k) out->jumps += frames[k] != frames[k - 1] + 1;
-  for (int i = 0; i < nf; ++i) out->labels.push_back(run.fractions().label(i));
-  PetscFunctionReturn(PETSC_SUCCESS);
-}
-
-std::string fileBytes(const std::string &path) {
-  std::ifstream in(path, std::ios::binary);
-  return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+  return test::runScalarCase(comm, OperatorRegistry::withBuiltins(), options, dir, out, fields);
 }
 
 } // namespace
@@ -92,34 +67,9 @@ int main(int argc, char **argv) {
     RCFD_CHECK(all.jumps >= 5);
     RCFD_CHECK(all.amounts.size() == cells * w);
 
-    // Uniform stays uniform; the zone's values stay within their bounds; no negative amount.
-    double worstUniform = 0.0, lowMoisture = 1e300, highMoisture = -1e300, lowest = 0.0;
-    std::vector<double> total(w, 0.0), mass(nf, 0.0);
-    for (std::size_t c = 0; c < cells; ++c)
-      for (int i = 0; i < nf; ++i) {
-        const double m = all.masses[c * nf + i];
-        mass[i] += m;
-        for (int s = 0; s < ns; ++s) {
-          const double a = all.amounts[c * w + s * nf + i];
-          total[s * nf + i] += a;
-          lowest = std::fmin(lowest, a);
-        }
-        if (!(m > 1e-12 * all.initialMass[i])) continue; // a trace: its value is round-off over round-off
-        worstUniform = std::fmax(worstUniform, std::fabs(all.amounts[c * w + i] / m / 300.0 - 1.0));
-        const double moisture = all.amounts[c * w + nf + i] / m;
-        lowMoisture = std::fmin(lowMoisture, moisture);
-        highMoisture = std::fmax(highMoisture, moisture);
-      }
-    RCFD_CHECK_CLOSE(worstUniform, 0.0, 1e-12);
-    RCFD_CHECK(lowest >= 0.0);
-    RCFD_CHECK(lowMoisture >= 0.1 * (1.0 - 1e-12) && highMoisture <= 0.4 * (1.0 + 1e-12));
-    RCFD_CHECK(highMoisture - lowMoisture > 0.01); // the hot zone is not mixed away: the bound is tested
-    for (int i = 0; i < nf; ++i) {
-      RCFD_CHECK_CLOSE(total[i] / (300.0 * all.initialMass[i]), 1.0, 1e-12);
-      // The tracer: 2 x mass at the start, times exp(-k t).
-      RCFD_CHECK_CLOSE(total[2 * nf + i] / (2.0 * all.initialMass[i]), std::exp(-kDecay * kT), 1e-12);
-      RCFD_CHECK_CLOSE(total[2 * nf + i] / (2.0 * all.initialMass[i] * std::exp(-kDecay * kT)), 1.0, 1e-12);
-    }
+    // Uniform stays uniform; the zone's values stay within their bounds; no negative amount; totals kept
+    // (the tracer's: 2 x mass at the start, times exp(-k t)).
+    test::checkScalarsCarried(all, kT, kDecay, true, "stitched");
 
     // The last field file: the uniform scalar's value per fraction and cell is
     // 300 where the fraction has mass (NaN elsewhere), the zone's within its bounds.
@@ -141,14 +91,7 @@ int main(int argc, char **argv) {
     // ledgers', the drift's limits) round in another order.
     Outcome alone;
     PetscCall(runCase(PETSC_COMM_SELF, opts, dir + "/alone" + std::to_string(rank), &alone));
-    double worstRanks = 0.0;
-    for (std::size_t k = 0; k < all.amounts.size(); ++k)
-      worstRanks = std::fmax(worstRanks, std::fabs(alone.amounts[k] - all.amounts[k]) /
-                                             std::fmax(1e-300, std::fabs(all.amounts[k])));
-    for (std::size_t k = 0; k < all.masses.size(); ++k)
-      if (all.masses[k] > 1e-12 * all.initialMass[k % nf]) // traces: round-off over round-off
-        worstRanks = std::fmax(worstRanks, std::fabs(alone.masses[k] / all.masses[k] - 1.0));
-    RCFD_CHECK_CLOSE(worstRanks, 0.0, 1e-12);
+    RCFD_CHECK_CLOSE(test::largestDifference(alone, all), 0.0, 1e-12);
 
     // Restarted at half time: the same bits and the same scalars.csv.
     Outcome first, second;
@@ -217,7 +160,6 @@ int main(int argc, char **argv) {
             "-feed_scalar_temperature is not given; the feed needs the value of every scalar it brings");
     refused(" -restart " + dir + "/first/checkpoint.h5 -scalar_tracer_decay 1",
             "continues a run made with other scalars or scalar options");
-    refused(" -carry_type remap", "-scalars: the operator 'carry' of -pipeline does not carry scalars yet");
     refused(" -scalar_temperature_initial -1", "-scalar_temperature_initial");
     refused(" -scalar_temperature_initial nan", "-scalar_temperature_initial");
     refused(" -scalar_moisture_zone_values -0.5", "-scalar_moisture_zone_values");

@@ -12,6 +12,7 @@ public:
   std::string type() const override { return "remap"; }
   PetscErrorCode apply(const CarryContext &ctx, const StepInfo &step, FractionState &state) override;
   PetscErrorCode view(PetscViewer viewer) const override;
+  bool carriesScalars() const override { return true; }
 
 private:
   PetscErrorCode remap(const CarryContext &ctx, Vec targetAlpha, FractionState &state);
@@ -31,15 +32,30 @@ PetscErrorCode RemapCarry::apply(const CarryContext &ctx, const StepInfo &step, 
 // the bed's.  Factors s_i = (total of fraction i before) / (total after), the
 // same in every cell, then conserve every fraction exactly; they differ from 1
 // by the difference between the frames, so the bulk is matched up to that.
+// With scalars a cell's amounts take the factor M* / M of its masses (a mass
+// keeps its value; an empty cell takes its neighbours' amounts with their
+// masses, so their mass-weighted values, or the bed's), and each scalar and
+// fraction its own factor sigma = (amount before) / (after), the masses' rule on
+// the amounts, so that every total is kept; for a uniform value sigma = s_i to
+// round-off, so it stays uniform (docs/scalars.md).
 PetscErrorCode RemapCarry::remap(const CarryContext &ctx, Vec targetAlpha, FractionState &state) {
   PetscFunctionBeginUser;
   FaceExchange &x = ctx.exchange;
-  const int nf = ctx.numFractions;
+  FaceExchange *ax = state.numScalars() > 0 ? ctx.amountExchange : nullptr;
+  const int nf = ctx.numFractions, na = nf * state.numScalars();
+  PetscCheck(!ax == !(na > 0), ctx.db.layout().comm(), PETSC_ERR_ARG_WRONGSTATE,
+             "The remap carry was set up without the state's scalars");
   const double rho = ctx.solidDensity;
-  // Neighbour masses summed per owned cell: gather, add each face's other
-  // side, and add the sums into a zeroed work state.
+  // Neighbour masses (and amounts) summed per owned cell: gather, add each
+  // face's other side, and add the sums into a zeroed work state.
   FractionState neighbours;
   PetscCall(neighbours.create(ctx.db.layout(), nf));
+  Vec neighbourAmounts = ax ? state.amountsScratch() : nullptr; // the scratch is free between operators
+  if (ax) {
+    PetscCall(VecZeroEntries(neighbourAmounts));
+    PetscCall(ax->gatherBegin(state.amounts()));
+    PetscCall(ax->gatherEnd());
+  }
   PetscCall(x.sweep(
       state.masses(),
       [&] {
@@ -50,32 +66,58 @@ PetscErrorCode RemapCarry::remap(const CarryContext &ctx, Vec targetAlpha, Fract
             sumLower[i] += mUpper[i];
             sumUpper[i] += mLower[i];
           }
+          if (!ax) continue;
+          PetscScalar *aSumLower = ax->changeAt(f.lower), *aSumUpper = ax->changeAt(f.upper);
+          const PetscScalar *aLower = ax->massAt(f.lower), *aUpper = ax->massAt(f.upper);
+          for (int k = 0; k < na; ++k) {
+            aSumLower[k] += aUpper[k];
+            aSumUpper[k] += aLower[k];
+          }
         }
       },
       neighbours.masses()));
+  if (ax) {
+    PetscCall(ax->endKernel());
+    PetscCall(ax->addChanges(neighbourAmounts));
+  }
 
-  std::vector<double> before;
+  std::vector<double> before, amountsBefore;
   PetscCall(state.totals(&before));
+  if (ax) PetscCall(state.amountTotals(&amountsBefore));
   double bedTotal = 0.0;
   for (double b : before) bedTotal += b;
-  PetscScalar *m;
-  const PetscScalar *nb, *a;
+  PetscScalar *m, *am = nullptr;
+  const PetscScalar *nb, *a, *nba = nullptr;
   const auto &vol = ctx.db.localVolumes();
   PetscCall(VecGetArray(state.masses(), &m));
   PetscCall(VecGetArrayRead(neighbours.masses(), &nb));
   PetscCall(VecGetArrayRead(targetAlpha, &a));
+  if (ax) {
+    PetscCall(VecGetArray(state.amounts(), &am));
+    PetscCall(VecGetArrayRead(neighbourAmounts, &nba));
+  }
   for (size_t c = 0; c < vol.size(); ++c) {
     PetscScalar *mc = m + c * nf;
     const PetscScalar *source = mc;
     double M = 0.0;
     for (int i = 0; i < nf; ++i) M += mc[i];
-    if (!(M > 0.0)) { // empty cell: the neighbours' composition
+    const bool own = M > 0.0;
+    if (!own) { // empty cell: the neighbours' composition
       source = nb + c * nf;
       for (int i = 0; i < nf; ++i) M += source[i];
     }
     const double target = rho * a[c] * vol[c];
     for (int i = 0; i < nf; ++i)
       mc[i] = M > 0.0 ? target * source[i] / M : target * before[i] / bedTotal;
+    if (!ax) continue;
+    PetscScalar *ac = am + c * na;
+    const PetscScalar *amountSource = own ? ac : nba + c * na;
+    for (int k = 0; k < na; ++k)
+      ac[k] = M > 0.0 ? target * amountSource[k] / M : target * amountsBefore[k] / bedTotal;
+  }
+  if (ax) {
+    PetscCall(VecRestoreArrayRead(neighbourAmounts, &nba));
+    PetscCall(VecRestoreArray(state.amounts(), &am));
   }
   PetscCall(VecRestoreArrayRead(targetAlpha, &a));
   PetscCall(VecRestoreArrayRead(neighbours.masses(), &nb));
@@ -89,6 +131,13 @@ PetscErrorCode RemapCarry::remap(const CarryContext &ctx, Vec targetAlpha, Fract
   PetscCall(VecGetArray(state.masses(), &m));
   for (PetscInt k = 0; k < n; ++k) m[k] *= factor[k % nf];
   PetscCall(VecRestoreArray(state.masses(), &m));
+  if (ax) {
+    std::vector<double> amountsAfter;
+    PetscCall(state.amountTotals(&amountsAfter));
+    std::vector<double> sigma(na, 1.0);
+    for (int k = 0; k < na; ++k) sigma[k] = amountsAfter[k] > 0 ? amountsBefore[k] / amountsAfter[k] : 1.0;
+    PetscCall(state.scaleAmounts(sigma));
+  }
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
