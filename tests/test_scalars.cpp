@@ -10,8 +10,10 @@
 //  - a first-order decay's total is exp(-k t) times its start, to 1e-12;
 //  - the run on the ranks of the test equals the same run on one rank
 //    (PETSC_COMM_SELF) to 1e-12, masses and amounts (as rcfd's masses do);
+//  - profiles.csv and halves.csv gain each scalar's value per layer and per
+//    class and half (the uniform one's 300, the zone's scalar_profiles.csv's);
 //  - a run restarted from its mid-run checkpoint ends with the same bits, and
-//    writes the same scalars.csv, byte for byte;
+//    writes the same scalars.csv, profiles.csv and halves.csv, byte for byte;
 //  - initial values from a file (a value per cell and fraction) give amount =
 //    mass x value exactly;
 //  - a negative or NaN initial value
@@ -22,6 +24,7 @@
 #include "state_access.hpp"
 #include "scalar_runs.hpp"
 #include "base/petsc_compat.hpp"
+#include "base/csv.hpp"
 #include "base/h5.hpp"
 #include "rcfd/run.hpp"
 
@@ -41,7 +44,7 @@ const std::string kScalars =
     " -zones hot -zone_hot_layers 0,3 -scalar_moisture_zones hot -scalar_moisture_zone_values 0.4"
     " -scalar_tracer_initial 2 -scalar_tracer_decay 1.7 -pipeline shift,drift,dispersion,carry"
     " -dispersion_coefficient 2e-4 -path_type random"
-    " -path_seed 5 -monitor_digits 17";
+    " -path_seed 5 -monitor_digits 17 -profiles -halves -halves_split 0.1 -scalar_profiles";
 
 using Outcome = test::ScalarOutcome;
 using test::fileBytes;
@@ -49,6 +52,48 @@ using test::fileBytes;
 PetscErrorCode runCase(MPI_Comm comm, const std::string &options, const std::string &dir, Outcome *out,
                        bool fields = false) {
   return test::runScalarCase(comm, OperatorRegistry::withBuiltins(), options, dir, out, fields);
+}
+
+/// profiles.csv and halves.csv (rank 0): each scalar's value per layer and per half, mass-weighted over
+/// the classes and the window: the uniform temperature 300 wherever there is solid (NaN elsewhere),
+/// the moisture per layer scalar_profiles.csv's moisture_all, and per class and half the mass-weighted
+/// mean of scalar_profiles.csv's values per layer below and above the split (z <= 0.1 m), to the
+/// digits the files hold (9).
+void checkProfilesAndHalves(const std::string &dir, const std::vector<std::string> &labels) {
+  const csv::Table profiles = csv::Table::read(dir + "/profiles.csv"),
+                   halves = csv::Table::read(dir + "/halves.csv"),
+                   scalar = csv::Table::read(dir + "/scalar_profiles.csv");
+  RCFD_CHECK(profiles.columns().back() == "tracer" && profiles.find({"alpha_total"}) + 4 ==
+                                                          static_cast<int>(profiles.columns().size()));
+  RCFD_CHECK(profiles.numRows() == scalar.numRows());
+  int solid = 0, wrong = 0;
+  for (std::size_t r = 0; r < profiles.numRows(); ++r) {
+    const double T = profiles.numberOrNan(r, profiles.find({"temperature"}));
+    const double X = profiles.numberOrNan(r, profiles.find({"moisture"}));
+    const double all = scalar.numberOrNan(r, scalar.find({"moisture_all"}));
+    if (!(profiles.number(r, profiles.find({"alpha_total"})) > 0.0)) {
+      wrong += !std::isnan(T);
+      continue;
+    }
+    ++solid;
+    wrong += !(std::fabs(T / 300.0 - 1.0) < 1e-9) || !(std::fabs(X / all - 1.0) < 1e-8);
+  }
+  RCFD_CHECK(solid >= 5 && wrong == 0);
+  for (std::size_t c = 0; c < labels.size(); ++c) {
+    double mass[2] = {0.0, 0.0}, amount[2] = {0.0, 0.0}; // bottom, top
+    for (std::size_t r = 0; r < scalar.numRows(); ++r) {
+      const double m = scalar.number(r, scalar.find({"mass_" + labels[c]}));
+      if (!(m > 0.0)) continue;
+      const int half = scalar.number(r, 0) <= 0.1 ? 0 : 1;
+      mass[half] += m;
+      amount[half] += m * scalar.number(r, scalar.find({"moisture_" + labels[c]}));
+    }
+    RCFD_CHECK(halves.field(c, 0) == labels[c]);
+    RCFD_CHECK_CLOSE(halves.number(c, halves.find({"bottom_moisture"})) / (amount[0] / mass[0]), 1.0, 1e-8);
+    RCFD_CHECK_CLOSE(halves.number(c, halves.find({"top_moisture"})) / (amount[1] / mass[1]), 1.0, 1e-8);
+    RCFD_CHECK(halves.number(c, halves.find({"bottom_moisture"})) > 0.15); // the wet zone is at the bottom
+    RCFD_CHECK(halves.number(c, halves.find({"top_temperature"})) == 300.0);
+  }
 }
 
 } // namespace
@@ -100,10 +145,12 @@ int main(int argc, char **argv) {
     PetscCall(runCase(PETSC_COMM_WORLD, opts + " -restart " + dir + "/first/checkpoint.h5", dir + "/first", &second));
     RCFD_CHECK(second.masses == all.masses);
     RCFD_CHECK(second.amounts == all.amounts);
-    if (rank == 0) {
-      const std::string a = fileBytes(dir + "/all/scalars.csv"), b = fileBytes(dir + "/first/scalars.csv");
-      RCFD_CHECK(!a.empty() && a == b);
-    }
+    if (rank == 0)
+      for (const std::string name : {"scalars.csv", "profiles.csv", "halves.csv"}) {
+        const std::string a = fileBytes(dir + "/all/" + name), b = fileBytes(dir + "/first/" + name);
+        RCFD_CHECK(!a.empty() && a == b);
+      }
+    if (rank == 0) checkProfilesAndHalves(dir + "/all", all.labels);
 
     auto refused = [&](const std::string &more, const std::string &sentence) {
       ErrorCapture capture;

@@ -40,6 +40,18 @@ PetscErrorCode LayerSampler::masses(const MonitorContext &ctx, const std::vector
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
+PetscErrorCode LayerSampler::amounts(const MonitorContext &ctx, const std::vector<double> **perLayer) {
+  PetscFunctionBeginUser;
+  if (ctx.step != cachedAmountStep || ctx.time != cachedAmountTime) {
+    const int na = ctx.state.numScalars() * ctx.state.numFractions();
+    PetscCall(layers.fractionMasses(ctx.state.amounts(), na, &cachedAmounts));
+    cachedAmountStep = ctx.step;
+    cachedAmountTime = ctx.time;
+  }
+  *perLayer = &cachedAmounts;
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
 namespace {
 
 /// Reads "t0,t1" into a window; refuses other counts and t0 > t1.

@@ -49,17 +49,21 @@ public:
   const HorizontalLayers &geometry() const { return layers; }
   /// Collective: [l * nf + i], the same on every rank.
   PetscErrorCode masses(const MonitorContext &ctx, const std::vector<double> **perLayer);
+  /// Collective, with scalars (docs/scalars.md): their amounts per layer,
+  /// [(l * ns + s) * nf + i], the same on every rank (a pass and a reduction per step).
+  PetscErrorCode amounts(const MonitorContext &ctx, const std::vector<double> **perLayer);
 
 private:
   HorizontalLayers layers;
-  long cachedStep = -1;
-  double cachedTime = 0.0;
-  std::vector<double> cached;
+  long cachedStep = -1, cachedAmountStep = -1;
+  double cachedTime = 0.0, cachedAmountTime = 0.0;
+  std::vector<double> cached, cachedAmounts;
 };
 
 /// profiles.csv: the window mean of each fraction's volume fraction per cell
 /// layer (its mass / (rho_p V_layer)) and their sum alpha_total, in the layout
-/// of rcfd reference's profiles.csv.
+/// of rcfd reference's profiles.csv; with scalars, then a column per scalar:
+/// its value in the layer, mass-weighted over the classes and the window.
 class ProfilesMonitor final : public Monitor {
 public:
   ProfilesMonitor(std::shared_ptr<LayerSampler> sampler, TimeWindow window)
@@ -79,11 +83,15 @@ private:
   std::string path;
   double count = 0.0;       // samples in the window
   std::vector<double> sums; // [l * nf + i] summed masses [kg]
+  std::vector<std::string> scalars; // their names; none without -scalars
+  std::vector<double> amountSums;   // [l * ns + s] summed over the classes
 };
 
 /// halves.csv: the window mean of each class's mass fraction in the bottom
 /// half (layers up to the split) and the top half, with d_i / d32 of the
 /// inventory; the layout of rcfd reference's halves.csv plus that column.
+/// With scalars, then per scalar the class's value in the bottom and the top
+/// half (bottom_NAME, top_NAME), mass-weighted over the window.
 class HalvesMonitor final : public Monitor {
 public:
   /// splitHeight NaN: split at the mass-median layer of each sample.
@@ -105,6 +113,9 @@ private:
   std::string path;
   double count = 0.0;
   std::vector<double> bottomSum, topSum;
+  std::vector<std::string> scalars; // their names; none without -scalars
+  // With scalars: each half's summed masses [i] and amounts [s * nf + i].
+  std::vector<double> bottomMass, topMass, bottomAmount, topAmount;
 };
 
 /// bottom.csv: time_s,d32_bottom_m,umf_m_s,usup_m_s,defluidized[,d32_<zone>_m...]
