@@ -124,6 +124,8 @@ expect_error "-feed_scalar_tracer is not given; the feed needs the value of ever
   -scalars tracer -pipeline shift,drift,carry,feed -zones f -zone_f_layers 0,3 -feed_zone f -feed_rate 0.1 \
   -output_dir "$work/sc"
 [ ! -e "$work/sc" ] && ok || fail "a refused run with scalars left $work/sc behind"
+expect_error "-moisture_umf_coefficient needs a scalar named moisture in -scalars" run -db "$db" -bottom_layer \
+  -moisture_umf_coefficient 50 -output_dir "$work/wet-umf"
 # Help from the program itself, not "unknown command".
 if "$rcfd" -help | grep -q "usage: rcfd <command>"; then ok; else fail "rcfd -help"; fi
 

@@ -107,6 +107,10 @@ PetscErrorCode Answers::setFromOptions(MPI_Comm c) {
   PetscCall(checkedReal(PetscOptionsObject, "-moisture_warning_umf_share",
                         "Near de-fluidization for the moisture warning: u_mf of the bottom layer at least this share "
                         "of u_sup", &moistureUmfShare, kPositive));
+  PetscCall(checkedReal(PetscOptionsObject, "-moisture_umf_coefficient",
+                        "kappa of the bottom layer's u_mf raised by its moisture X (a scalar named moisture): "
+                        "u_mf (1 + kappa X), fitted to the material (0: u_mf by size alone)", &moistureUmf,
+                        kNonNegative));
   PetscCall(PetscOptionsString("-umf_correlation", "Minimum fluidization correlation", "", correlation.c_str(),
                                text, sizeof text, &set));
   if (set) correlation = text;
@@ -173,6 +177,7 @@ PetscErrorCode Answers::createMonitors(const RunContext &run, double tEnd, bool 
   {
     auto monitor = std::make_unique<BottomLayerMonitor>(sampler, fluidization_, &zones, quiet);
     monitor->setMoistureWarning(moistureWarning, moistureUmfShare);
+    monitor->setMoistureUmf(moistureUmf);
     out->push_back({std::move(monitor), every, "bottom.csv"});
   }
   }

@@ -150,12 +150,17 @@ public:
   /// is printed once when it passes `threshold` (> 0) while u_mf of the bottom
   /// layer is at least `umfShare` of u_sup (near de-fluidization by size).
   void setMoistureWarning(double threshold, double umfShare) { wetThreshold = threshold, nearShare = umfShare; }
+  /// With a scalar named moisture and kappa > 0 (docs/scalars.md, "Wet bottom"): the bottom layer's
+  /// u_mf raised by its moisture X, u_mf,wet = u_mf (1 + kappa X); bottom.csv gains umf_wet_m_s and
+  /// the de-fluidization flag and warning use it (u_mf by size stays in umf_m_s).
+  void setMoistureUmf(double kappa) { wetUmf = kappa; }
   /// Time of the moisture warning [s] (NaN: not given).
   double wetSince() const { return wetTime; }
 
 private:
   int moisture = -1, ns = 0; // the moisture's column among the scalars, their number
   double wetThreshold = 0.0, nearShare = 0.8, wetTime = std::numeric_limits<double>::quiet_NaN();
+  double wetUmf = 0.0; // kappa of u_mf (1 + kappa X); 0: u_mf by size alone
   std::shared_ptr<LayerSampler> sampler;
   FluidizationModel model; // the case's conditions (NaN: the database's in use) and correlation
   DefluidizationDetector detector;
@@ -254,6 +259,7 @@ private:
   MPI_Comm comm = MPI_COMM_NULL;
   PetscInt every = 1;
   double moistureWarning = 0.0, moistureUmfShare = 0.8; // -moisture_warning, -moisture_warning_umf_share
+  double moistureUmf = 0.0;                              // -moisture_umf_coefficient
   PetscBool profiles = PETSC_FALSE, halves = PETSC_FALSE, bottom = PETSC_FALSE, mixing = PETSC_FALSE,
             dynamics = PETSC_FALSE;
   TimeWindow profilesWindow, halvesWindow;
