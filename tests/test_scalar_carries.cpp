@@ -101,7 +101,7 @@ PetscErrorCode run(const std::string &dir, const std::string &small) {
     Outcome all;
     PetscCall(runCase(PETSC_COMM_WORLD, opts + " -t_end 0.6", out, &all));
     RCFD_CHECK(all.jumps >= 5);
-    test::checkScalarsCarried(all, t, kDecay, kind == "level", kind);
+    test::checkScalarsCarried(all, t, kDecay, true, kind);
     PetscCall(checkRanks(all, opts + " -t_end 0.6", out));
     if (kind == "remap") PetscCall(checkRestart(all, opts, "0.6", "0.3", out + "/restarted", out));
   }
@@ -120,7 +120,7 @@ PetscErrorCode run(const std::string &dir, const std::string &small) {
   for (std::size_t r = 0; r < switches.numRows(); ++r)
     count += switches.field(r, switches.find({"event"})) == "switch";
   RCFD_CHECK(count == 2);
-  test::checkScalarsCarried(all, 0.07, kDecay, false, "switched");
+  test::checkScalarsCarried(all, 0.07, kDecay, true, "switched");
   PetscCall(checkRanks(all, switched + " -t_end 0.07", dir + "/switched"));
   PetscCall(checkRestart(all, switched, "0.07", "0.03", dir + "/switched/restarted", dir + "/switched"));
 

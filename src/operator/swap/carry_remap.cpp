@@ -16,6 +16,7 @@ public:
 
 private:
   PetscErrorCode remap(const CarryContext &ctx, Vec targetAlpha, FractionState &state);
+  PetscErrorCode carryAmounts(MPI_Comm comm, const std::vector<double> &old, FractionState &state);
   long jumps = 0;
 };
 
@@ -32,30 +33,31 @@ PetscErrorCode RemapCarry::apply(const CarryContext &ctx, const StepInfo &step, 
 // the bed's.  Factors s_i = (total of fraction i before) / (total after), the
 // same in every cell, then conserve every fraction exactly; they differ from 1
 // by the difference between the frames, so the bulk is matched up to that.
-// With scalars a cell's amounts take the factor M* / M of its masses (a mass
-// keeps its value; an empty cell takes its neighbours' amounts with their
-// masses, so their mass-weighted values, or the bed's), and each scalar and
-// fraction its own factor sigma = (amount before) / (after), the masses' rule on
-// the amounts, so that every total is kept; for a uniform value sigma = s_i to
-// round-off, so it stays uniform (docs/scalars.md).
+// With scalars (docs/scalars.md) the remap is read as a transport: of each
+// fraction, the mass a cell loses takes the cell's value along into one pool
+// per fraction over the bed, and the mass a cell gains comes from that pool
+// with the pool's mean value.  A cell that loses keeps its value, one that
+// gains takes a mass-weighted mean of its value and the pool's: no value
+// leaves the range it had, a uniform one stays uniform, and every amount's
+// total is kept (what the losers give, the gainers take).
 PetscErrorCode RemapCarry::remap(const CarryContext &ctx, Vec targetAlpha, FractionState &state) {
   PetscFunctionBeginUser;
   FaceExchange &x = ctx.exchange;
-  FaceExchange *ax = state.numScalars() > 0 ? ctx.amountExchange : nullptr;
-  const int nf = ctx.numFractions, na = nf * state.numScalars();
-  PetscCheck(!ax == !(na > 0), ctx.db.layout().comm(), PETSC_ERR_ARG_WRONGSTATE,
-             "The remap carry was set up without the state's scalars");
+  const int nf = ctx.numFractions;
+  std::vector<double> old; // with scalars: the own cells' masses before
+  if (state.numScalars() > 0) {
+    const PetscScalar *m;
+    PetscInt n;
+    PetscCall(VecGetLocalSize(state.masses(), &n));
+    PetscCall(VecGetArrayRead(state.masses(), &m));
+    old.assign(m, m + n);
+    PetscCall(VecRestoreArrayRead(state.masses(), &m));
+  }
   const double rho = ctx.solidDensity;
-  // Neighbour masses (and amounts) summed per owned cell: gather, add each
-  // face's other side, and add the sums into a zeroed work state.
+  // Neighbour masses summed per owned cell: gather, add each face's other
+  // side, and add the sums into a zeroed work state.
   FractionState neighbours;
   PetscCall(neighbours.create(ctx.db.layout(), nf));
-  Vec neighbourAmounts = ax ? state.amountsScratch() : nullptr; // the scratch is free between operators
-  if (ax) {
-    PetscCall(VecZeroEntries(neighbourAmounts));
-    PetscCall(ax->gatherBegin(state.amounts()));
-    PetscCall(ax->gatherEnd());
-  }
   PetscCall(x.sweep(
       state.masses(),
       [&] {
@@ -66,58 +68,32 @@ PetscErrorCode RemapCarry::remap(const CarryContext &ctx, Vec targetAlpha, Fract
             sumLower[i] += mUpper[i];
             sumUpper[i] += mLower[i];
           }
-          if (!ax) continue;
-          PetscScalar *aSumLower = ax->changeAt(f.lower), *aSumUpper = ax->changeAt(f.upper);
-          const PetscScalar *aLower = ax->massAt(f.lower), *aUpper = ax->massAt(f.upper);
-          for (int k = 0; k < na; ++k) {
-            aSumLower[k] += aUpper[k];
-            aSumUpper[k] += aLower[k];
-          }
         }
       },
       neighbours.masses()));
-  if (ax) {
-    PetscCall(ax->endKernel());
-    PetscCall(ax->addChanges(neighbourAmounts));
-  }
 
-  std::vector<double> before, amountsBefore;
+  std::vector<double> before;
   PetscCall(state.totals(&before));
-  if (ax) PetscCall(state.amountTotals(&amountsBefore));
   double bedTotal = 0.0;
   for (double b : before) bedTotal += b;
-  PetscScalar *m, *am = nullptr;
-  const PetscScalar *nb, *a, *nba = nullptr;
+  PetscScalar *m;
+  const PetscScalar *nb, *a;
   const auto &vol = ctx.db.localVolumes();
   PetscCall(VecGetArray(state.masses(), &m));
   PetscCall(VecGetArrayRead(neighbours.masses(), &nb));
   PetscCall(VecGetArrayRead(targetAlpha, &a));
-  if (ax) {
-    PetscCall(VecGetArray(state.amounts(), &am));
-    PetscCall(VecGetArrayRead(neighbourAmounts, &nba));
-  }
   for (size_t c = 0; c < vol.size(); ++c) {
     PetscScalar *mc = m + c * nf;
     const PetscScalar *source = mc;
     double M = 0.0;
     for (int i = 0; i < nf; ++i) M += mc[i];
-    const bool own = M > 0.0;
-    if (!own) { // empty cell: the neighbours' composition
+    if (!(M > 0.0)) { // empty cell: the neighbours' composition
       source = nb + c * nf;
       for (int i = 0; i < nf; ++i) M += source[i];
     }
     const double target = rho * a[c] * vol[c];
     for (int i = 0; i < nf; ++i)
       mc[i] = M > 0.0 ? target * source[i] / M : target * before[i] / bedTotal;
-    if (!ax) continue;
-    PetscScalar *ac = am + c * na;
-    const PetscScalar *amountSource = own ? ac : nba + c * na;
-    for (int k = 0; k < na; ++k)
-      ac[k] = M > 0.0 ? target * amountSource[k] / M : target * amountsBefore[k] / bedTotal;
-  }
-  if (ax) {
-    PetscCall(VecRestoreArrayRead(neighbourAmounts, &nba));
-    PetscCall(VecRestoreArray(state.amounts(), &am));
   }
   PetscCall(VecRestoreArrayRead(targetAlpha, &a));
   PetscCall(VecRestoreArrayRead(neighbours.masses(), &nb));
@@ -131,13 +107,45 @@ PetscErrorCode RemapCarry::remap(const CarryContext &ctx, Vec targetAlpha, Fract
   PetscCall(VecGetArray(state.masses(), &m));
   for (PetscInt k = 0; k < n; ++k) m[k] *= factor[k % nf];
   PetscCall(VecRestoreArray(state.masses(), &m));
-  if (ax) {
-    std::vector<double> amountsAfter;
-    PetscCall(state.amountTotals(&amountsAfter));
-    std::vector<double> sigma(na, 1.0);
-    for (int k = 0; k < na; ++k) sigma[k] = amountsAfter[k] > 0 ? amountsBefore[k] / amountsAfter[k] : 1.0;
-    PetscCall(state.scaleAmounts(sigma));
-  }
+  if (state.numScalars() > 0) PetscCall(carryAmounts(ctx.db.layout().comm(), old, state));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+// The amounts with the masses' changes (the remap's comment): `old` the own
+// cells' masses before, the state's masses after.  One pass gives the losers'
+// amounts (value kept) and the pools, one reduction of (ns + 1) nf numbers, and
+// a second pass gives the gainers theirs.
+PetscErrorCode RemapCarry::carryAmounts(MPI_Comm comm, const std::vector<double> &old, FractionState &state) {
+  PetscFunctionBeginUser;
+  const int nf = state.numFractions(), na = nf * state.numScalars();
+  const PetscScalar *m;
+  PetscScalar *a;
+  std::vector<double> pool(na + nf, 0.0); // the amounts lost [s][i], then the masses lost [i]
+  double *lost = pool.data() + na;
+  PetscCall(VecGetArrayRead(state.masses(), &m));
+  PetscCall(VecGetArray(state.amounts(), &a));
+  const std::size_t cells = old.size() / nf;
+  for (std::size_t c = 0; c < cells; ++c)
+    for (int i = 0; i < nf; ++i) {
+      const double before = old[c * nf + i], after = m[c * nf + i];
+      if (!(after < before)) continue;
+      lost[i] += before - after;
+      for (int k = i; k < na; k += nf) { // k = s nf + i
+        PetscScalar &ak = a[c * na + k];
+        const double kept = after > 0.0 ? ak * (after / before) : 0.0;
+        pool[k] += ak - kept;
+        ak = kept;
+      }
+    }
+  PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, pool.data(), na + nf, MPI_DOUBLE, MPI_SUM, comm));
+  for (std::size_t c = 0; c < cells; ++c)
+    for (int i = 0; i < nf; ++i) {
+      const double gained = m[c * nf + i] - old[c * nf + i];
+      if (!(gained > 0.0) || !(lost[i] > 0.0)) continue;
+      for (int k = i; k < na; k += nf) a[c * na + k] += gained * (pool[k] / lost[i]);
+    }
+  PetscCall(VecRestoreArray(state.amounts(), &a));
+  PetscCall(VecRestoreArrayRead(state.masses(), &m));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
