@@ -360,6 +360,13 @@ int main(int argc, char **argv) {
       double worst, lowest;
       valueSpread(plug, 0, 300.0, &worst, &lowest);
       RCFD_CHECK(lowest >= 0.0);
+      // With a critical moisture above what the bed holds, its drying falls with its moisture: it dries
+      // less, and its balances close as before.
+      Outcome falling;
+      PetscCall(runCase(PETSC_COMM_WORLD, plugOptions + " -scalar_critical_moisture 0.1", dir + "/plug_falling", &falling));
+      RCFD_CHECK(falling.account[2] > 0.0 && falling.account[2] < 0.5 * dried);
+      RCFD_CHECK_CLOSE((scalarTotal(falling, 1) + falling.account[2]) / falling.account[0], 1.0, 1e-12);
+      RCFD_CHECK_CLOSE(falling.account[5] / falling.account[3], 1.0, 1e-12);
     }
 
     // The ranks of the test equal one rank to 1e-12 (granulator, spray and dry, plug-flow gas).
