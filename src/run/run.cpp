@@ -361,6 +361,7 @@ PetscErrorCode Run::setUp() {
     std::vector<const Monitor *> watched;
     for (const auto &m : r.monitors) watched.push_back(m.monitor.get());
     r.status->watch(std::move(watched));
+    r.status->nameDatabase([&r] { return r.databaseInUse(); }); // after a switch, the new one
     r.monitors.push_back({std::move(r.status), r.cog->every(), "status.json"});
   }
   for (auto &m : r.monitors) PetscCall(m.monitor->setUp(ctx, r.fstate, r.outputDir));
