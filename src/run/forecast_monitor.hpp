@@ -3,9 +3,10 @@
 // -forecast_horizon seconds, holding the conditions of the moment (or
 // following a what-if schedule, -forecast_schedule), and writes
 // OUTPUT_DIR/forecast.csv: the members' mean and spread of the answers users
-// act on, with a discharge the product's mass and size distribution.  A monitor of the run's list: it reads the live state and the
-// operators' saved state and changes neither (the members have their own
-// operators, made from the same options, and their own copies of the state).
+// act on, with a discharge the product's mass and size distribution.  A
+// monitor of the run's list: it reads the live state and the operators' saved
+// state and changes neither (the members have their own operators, made from
+// the same options, and their own copies of the state).
 #pragma once
 
 #include "rcfd/observables.hpp"
