@@ -92,6 +92,10 @@ awk -F, 'NR == 1 { for (i = 1; i <= NF; ++i) c[$i] = i; next }
     m = $c["product_mass_mean_kg"]; if (m - 0.06 > 1e-14 || 0.06 - m > 1e-14 || s - 1 > 3e-10 || 1 - s > 3e-10) bad++; n++ }
   END { exit !(n == 3 && !bad) }' "$work/l-gran-fc/forecast.csv" && ok ||
   fail "forecast.csv's product (0.06 kg, shares summing to 1): $(cat "$work/l-gran-fc/forecast.csv")"
+mpiexec -n 2 "$rcfd" run "${gran[@]}" -live "$work/rates.csv" -live_end 0.5 -forecast_every 0.25 -forecast_horizon 0.3 \
+  -forecast_members 2 -output_dir "$work/l-gran-fc2"
+if "$compare" "$work/l-gran-fc/forecast.csv" "$work/l-gran-fc2/forecast.csv" 1e-9 1e-14 >/dev/null; then ok; else
+  fail "the granulator's forecast.csv at 2 ranks: $("$compare" "$work/l-gran-fc/forecast.csv" "$work/l-gran-fc2/forecast.csv" 1e-9 1e-14)"; fi
 # A what-if schedule equal to the held conditions: the same forecasts, bit for bit; one that stops the
 # discharge: no product (shares unknown); neither changes the live state.
 "$rcfd" run "${gran[@]}" -live "$work/rates.csv" -live_end 0.5 -forecast_every 0.25 -forecast_horizon 0.3 \

@@ -9,6 +9,7 @@
 //    the file's first rate 0 at set-up) sprays its integral, and sprayed = held + dried, to 1e-12;
 //  - a step of u_sup (1.1, then 1.5 m/s from 0.15 s) changes Gunn's coefficients from that step on:
 //    the heat from the gas lies strictly between the runs held at 1.1 and at 1.5 m/s;
+//  - a run stopped by its stop file and restarted from its checkpoint gives the uninterrupted bits;
 //  - the ranks of the test equal one rank to 1e-12.
 // Runs at 1 and 2 ranks.  usage: test_live_scalars DIR -db SMALL.h5
 #include "check.hpp"
@@ -16,6 +17,7 @@
 #include "base/petsc_compat.hpp"
 
 #include <cmath>
+#include <cstdio>
 #include <fstream>
 #include <string>
 #include <vector>
@@ -129,6 +131,28 @@ int main(int argc, char **argv) {
       if (!(heat[0] < heat[1] && heat[1] < heat[2]))
         PetscCall(PetscPrintf(PETSC_COMM_WORLD, "heat from the gas at 1.1, stepped, 1.5 m/s: %.17g %.17g %.17g J\n",
                               heat[0], heat[1], heat[2]));
+    }
+
+    // Stopped by its stop file at 0.15 s and restarted from its checkpoint with the rest of the file:
+    // the uninterrupted run's bits and sources' account.
+    {
+      const std::string part = dir + "/part.csv", stop = dir + "/stop";
+      writeLive(part, "time_s,u_sup,spray_rate,gas_temperature\n0,1.1,0,330\n0.1,1.3,0.05,340\n0.15,1.3,0.05,340\n");
+      writeLive(stop, "");
+      Outcome first, second;
+      PetscCall(runCase(PETSC_COMM_WORLD, kBed + " -scalar_spray_rate 0 -live " + part + " -live_stop_file " + stop +
+                                              " -live_poll 0.01", dir + "/restarted", &first));
+      if (rank == 0) {
+        std::remove(stop.c_str());
+        std::ofstream(part, std::ios::app) << "0.2,1.5,0.1,320\n0.3,1.5,0.1,320\n";
+      }
+      PetscCallMPI(MPI_Barrier(PETSC_COMM_WORLD));
+      PetscCall(runCase(PETSC_COMM_WORLD, kBed + " -scalar_spray_rate 0" + live(part, 0.3) + " -restart " + dir +
+                                              "/restarted/checkpoint.h5", dir + "/restarted", &second));
+      RCFD_CHECK(first.account[0] > 0.0 && first.account[0] < spray.account[0]); // stopped part-way
+      RCFD_CHECK(second.masses == spray.masses);
+      RCFD_CHECK(second.amounts == spray.amounts);
+      RCFD_CHECK(second.account == spray.account);
     }
 
     // The ranks of the test equal one rank to 1e-12.
