@@ -585,6 +585,9 @@ PetscErrorCode Run::Impl::march() {
                              r.switching ? r.switching->activeName() : std::string(), &before, &after));
     } else PetscCall(r.ops.apply(info, r.fstate));
     if (r.scalars.size() > 0) {
+      // The exchange's gas (Gunn's Re, the plug-flow gas's flow) at the u_sup the run follows now, a live
+      // file's or a schedule's; otherwise the case's or the database's, resolved at set-up.
+      if (r.switching || r.liveVelocity) r.scalars.sources().setSuperficialVelocity(info.conditions->superficialVelocity);
       PetscCall(r.scalars.applySources(dt, r.dbFrame(next), r.fstate));
       r.ops.addedAmounts(&addedAmounts);
       r.scalars.advanceLedger(addedAmounts);

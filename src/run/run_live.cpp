@@ -2,7 +2,7 @@
 // src/run/live_input reach what a schedule drives -- the switching rule's u_sup
 // (switching and blending), the conditions the monitors see (bottom-layer u_mf
 // and the de-fluidization warning) -- the granulator's rates and the scalars'
-// spray, gas temperature and u_sup (Gunn's Reynolds number, the plug-flow gas's flow).  A row
+// spray rate and gas temperature (their u_sup follows in the time loop, run.cpp).  A row
 // holds from its time on, so a step starting at t uses the row at or before t,
 // exactly as a -db_switch_schedule entry: a live run fed a schedule's
 // conditions gives the schedule run's bits.
@@ -67,7 +67,6 @@ PetscErrorCode Run::Impl::liveFollow(double time) {
     ScalarSources &sources = scalars.sources();
     if (live.has(LiveInput::SprayRate)) sources.setSprayRate(live.at(LiveInput::SprayRate, time));
     if (live.has(LiveInput::GasTemperature)) sources.setGasTemperature(live.at(LiveInput::GasTemperature, time));
-    if (liveVelocity) sources.setSuperficialVelocity(liveConditions.superficialVelocity); // Gunn's Re, the gas's flow
   }
   setGranulatorRates(live, time, ops);
   PetscFunctionReturn(PETSC_SUCCESS);

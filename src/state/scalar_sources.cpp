@@ -90,7 +90,7 @@ PetscErrorCode ScalarSources::setUp(const Database &database, const FractionSet 
     const OperatingConditions resolved = gas.resolve(database.metadata().conditions);
     gasDensity = resolved.gasDensity;
     viscosity = resolved.gasKinematicViscosity;
-    velocity = followedVelocity > 0.0 ? followedVelocity : resolved.superficialVelocity;
+    velocity = resolved.superficialVelocity;
     if (gasModel == Gas::Plug) PetscCall(layers.setUp(database)); // the layers of the answers
   }
   gasFromVelocity();
@@ -134,11 +134,7 @@ void ScalarSources::gasFromVelocity() {
 }
 
 void ScalarSources::setSuperficialVelocity(double u) {
-  if (!db) { // before setUp: it replaces the case's and the database's
-    followedVelocity = u;
-    return;
-  }
-  if (u == velocity) return;
+  if (!db || !(u > 0.0) || u == velocity) return; // an unknown u_sup (NaN) leaves the set-up's
   velocity = u;
   gasFromVelocity();
 }

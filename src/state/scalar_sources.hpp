@@ -65,8 +65,8 @@ public:
   bool any() const { return sprayRate > 0.0 || sprayFollowed || model != Model::None; }
   /// Conditions that change during a run (a live file, docs/live.md), for the steps from now on.
   /// followSpray(), before setUp: the spray rate will be set, so the spray zone is set up even
-  /// when -scalar_spray_rate is 0.  setSuperficialVelocity(): Gunn's Reynolds numbers and the
-  /// gas's flow follow u_sup [m/s] (given before setUp, it replaces the case's or the database's).
+  /// when -scalar_spray_rate is 0.  setSuperficialVelocity(), after setUp: Gunn's Reynolds numbers
+  /// and the gas's flow follow u_sup [m/s].
   void followSpray() { sprayFollowed = true; }
   void setSprayRate(double kgPerSecond) { sprayRate = kgPerSecond; }
   void setGasTemperature(double kelvin) { gasTemperature = kelvin; }
@@ -140,7 +140,7 @@ private:
   /// h [W/m^2/K] and beta [m/s] of class i in a cell of voidage eps.
   void classCoefficients(int i, double eps, double *heat, double *mass) const;
   int temperature = -1, moisture = -1, ns = 0, nf = 0;
-  double sprayRate = 0.0, followedVelocity = -1.0; // followedVelocity: set before setUp, or -1
+  double sprayRate = 0.0;
   bool sprayFollowed = false;
   std::string sprayZoneName = "spray";
   std::unique_ptr<Zone> sprayZone;
