@@ -258,6 +258,12 @@ expect_error "-forecast_schedule $work/whatif-held.csv: the column u_sup and -su
   -output_dir "$work/refused"
 expect_error "-forecast_schedule $work/none.csv: cannot read the file" \
   run -db "$a" "${common[@]}" -t_end 0.1 "${fc[@]}" -forecast_schedule "$work/none.csv" -output_dir "$work/refused"
+printf 'time_s,u_sup\n0.1,1.1\n' >"$work/whatif-late.csv"
+expect_error "-forecast_schedule $work/whatif-late.csv line 2: the first row must be at time 0 s (the forecast's start), got 0.1 s" \
+  run -db "$a" "${common[@]}" -t_end 0.1 "${fc[@]}" -forecast_schedule "$work/whatif-late.csv" -output_dir "$work/refused"
+printf 'time_s,u_sup\n' >"$work/whatif-empty.csv"
+expect_error "-forecast_schedule $work/whatif-empty.csv: the file holds no row; expected a header (time_s and the conditions) and a row at time 0" \
+  run -db "$a" "${common[@]}" -t_end 0.1 "${fc[@]}" -forecast_schedule "$work/whatif-empty.csv" -output_dir "$work/refused"
 printf 'time_s,u_sup\n0,1.1\n0.05,-1\n' >"$work/whatif-neg.csv"
 expect_error "-forecast_schedule $work/whatif-neg.csv line 3: u_sup -1 is not a positive velocity in m/s" \
   run -db "$a" "${common[@]}" -t_end 0.1 "${fc[@]}" -forecast_schedule "$work/whatif-neg.csv" -output_dir "$work/refused"

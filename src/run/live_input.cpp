@@ -163,7 +163,8 @@ std::string LiveInput::parseRow(const std::string &line, long number, double pre
   const double t = (*row)[0];
   char text[160];
   if (previous < 0 && t != 0.0) {
-    std::snprintf(text, sizeof text, "the first row must be at time 0 s (the run's start), got %.9g s", t);
+    std::snprintf(text, sizeof text, "the first row must be at time 0 s (the %s start), got %.9g s",
+                  whole_ ? "forecast's" : "run's", t);
     return at + text;
   }
   // Rows closer than round-off could not be told apart by the run's clock.
