@@ -10,7 +10,8 @@
 # it is written seldom), 2 ranks write 1 rank's; without -live the page is off unless -status is given.
 # The database in use: named in status.json and on the page, b.h5 after a switch, a.h5 after the switch
 # back (a restart), a blend's two with their weights.  The granulator's forecast product: in status.json
-# as in forecast.csv, on the page as a row and a bar per class.
+# as in forecast.csv, on the page as a row and a bar per class.  A forecast under a what-if schedule
+# names it (status.json's warning, the page), one without says it holds the latest conditions.
 # Skipped (77) without chromium (tools/run-tests.sh installs it).
 # usage: test_status_page.sh RCFD CSV_COMPARE DATA_DIR SOURCE_DIR
 set -eu
@@ -58,6 +59,12 @@ export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
 mpiexec -n 2 "$rcfd" run "${common[@]}" -forecast_every 0.1 -live "$work/drop.csv" -output_dir "$work/drop2" 2>/dev/null
 cmp -s "$j" "$work/drop2/status.json" && ok || fail "2 ranks: $(diff "$j" "$work/drop2/status.json")"
 
+# A forecast under a what-if schedule says so (status.json's warning, the page's row).
+printf 'time_s,u_sup\n0,1.1\n0.05,0.9\n' >"$work/whatif.csv"
+"$rcfd" run "${common[@]}" -forecast_every 0.1 -live "$work/steady.csv" -forecast_schedule "$work/whatif.csv" \
+  -output_dir "$work/whatif" 2>/dev/null
+grep -qF "Forecast: 2 of 2 members de-fluidize within 0.15 s, in about 0.055 s (forecast issued at t = 0.5 s, under the what-if $work/whatif.csv)." \
+  "$work/whatif/status.json" && ok || fail "status.json of a what-if forecast: $(grep -A 3 warnings "$work/whatif/status.json")"
 # The database in use: a live run on two databases switching with its u_sup (a.h5 to b.h5 at 0.2 s,
 # back at 0.35 s), stopped by its stop file at 0.3 s, names b.h5; continued to 0.5 s, a.h5 again; a
 # blend names both with their weights.
@@ -126,6 +133,11 @@ page "$work/steady" >"$work/steady.dom"
 grep -q '<b id="time">0.500000</b>' "$work/steady.dom" && ok || fail "the steady page does not show t = 0.5 s"
 if grep -q "De-fluidization" "$work/steady.dom"; then fail "the steady page shows a warning"; else ok; fi
 grep -q "No warning: the bed is fluidized." "$work/steady.dom" && ok || fail "the steady page does not say there is no warning"
+grep -q "<td>0.500000 s, 0.1500 s ahead, 2 members, holding the latest conditions</td>" "$work/drop.dom" && ok ||
+  fail "the drop's page does not say its forecast holds the latest conditions"
+page "$work/whatif" >"$work/whatif.dom"
+grep -qF "<td>0.500000 s, 0.1500 s ahead, 2 members, under the what-if $work/whatif.csv</td>" "$work/whatif.dom" && ok ||
+  fail "the what-if page does not name its schedule: $(grep -o '<th>forecast issued at</th><td>[^<]*' "$work/whatif.dom")"
 page "$work/switch-at-stop" >"$work/switch-at-stop.dom"
 grep -qF "<b id=\"database\">$work/b.h5</b>" "$work/switch-at-stop.dom" && ok ||
   fail "the page at the stop does not name b.h5: $(grep -o '<b id="database">[^<]*' "$work/switch-at-stop.dom")"

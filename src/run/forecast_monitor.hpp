@@ -52,6 +52,8 @@ public:
   /// With a discharge: the fractions' labels of the product's columns, which follow the first
   /// 12 of a row (product mass mean and spread, then each fraction's share mean and spread); else empty.
   const std::vector<std::string> &productLabels() const { return labels; }
+  /// -forecast_schedule's file, or "" when the members hold the latest conditions.
+  const std::string &whatIf() const { return scheduleFile; }
 
 private:
   /// One member from the state of `ctx`: its Delta z, bottom d32 and u_mf/u_sup at

@@ -125,7 +125,9 @@ std::string StatusMonitor::json(double t, long k, bool end) const {
     } else if (const auto *fc = dynamic_cast<const ForecastMonitor *>(m)) {
       const std::vector<double> &r = fc->latestRow(); // forecast.csv's columns (docs/live.md)
       if (r.size() < 12) continue;
-      j << ",\n  \"forecast\": {\"time_s\": " << number(r[0]) << ", \"horizon_s\": " << number(r[1])
+      // A forecast under a what-if says so: its numbers are not those of the conditions held.
+      const std::string whatIf = fc->whatIf().empty() ? "null" : jsonString(fc->whatIf());
+      j << ",\n  \"forecast\": {\"time_s\": " << number(r[0]) << ", \"what_if\": " << whatIf << ", \"horizon_s\": " << number(r[1])
         << ", \"members\": " << number(r[2]) << ", \"delta_z_mean_m\": " << number(r[3])
         << ", \"delta_z_spread_m\": " << number(r[4]) << ", \"d32_bottom_mean_m\": " << number(r[5])
         << ", \"d32_bottom_spread_m\": " << number(r[6]) << ", \"umf_usup_mean\": " << number(r[7])
@@ -143,7 +145,8 @@ std::string StatusMonitor::json(double t, long k, bool end) const {
       j << "}";
       if (r[9] > 0)
         warnings.push_back(format("Forecast: %.0f of %.0f members de-fluidize within %.4g s", r[9], r[2], r[1]) +
-                           format(", in about %.4g s (forecast issued at t = %.6g s).", r[10], r[0]));
+                           format(", in about %.4g s (forecast issued at t = %.6g s", r[10], r[0]) +
+                           (fc->whatIf().empty() ? std::string(").") : ", under the what-if " + fc->whatIf() + ")."));
     }
   }
   j << ",\n  \"warnings\": [";
