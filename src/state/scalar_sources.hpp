@@ -74,7 +74,6 @@ public:
   /// Whether a spray has a scalar to add to (moisture) and the gas an exchange to drive.
   bool canSpray() const { return moisture >= 0; }
   bool exchanges() const { return model != Model::None; }
-  double sprayRateNow() const { return sprayRate; }
   /// Collective.  The spray zone on the mesh, the diameters, the gas (-superficial_velocity,
   /// -gas_density, -gas_kinematic_viscosity, else the database's, else air at 1.1 m/s).
   PetscErrorCode setUp(const Database &db, const FractionSet &fractions, double solidDensity);
