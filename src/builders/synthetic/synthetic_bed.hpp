@@ -23,8 +23,11 @@ struct SyntheticBedOptions {
   BoxSpec box;              ///< 0.2 x 0.05 x 0.7 m, 40 x 10 x 140 cells
   /// The whole box, or one vertical cylinder (no caps) inside the box's
   /// cross-section: the bed then runs in a square of the cylinder's area and
-  /// its parcels are mapped into the cylinder by an equal-area map
-  /// (docs/vessels.md); the frames are on vesselMesh(vessel, box)'s cells.
+  /// its parcels are mapped into the cylinder by an equal-area map; or any
+  /// other vessel (a conical bottom, a box minus tubes): the bed runs in a host
+  /// box of the vessel's volume, mapped into it by a volume-preserving map
+  /// (builders/synthetic/vessel_map.hpp, docs/vessels.md).  The frames are on
+  /// vesselMesh(vessel, box)'s cells.
   Vessel vessel;
   int numFrames = 300;      ///< K frames are written
   double dtRec = 5e-3;      ///< time between frames
