@@ -6,7 +6,8 @@ volume fraction of each class over them, and writes to the run's directory:
   tube_map.csv      x_m, z_m, alpha_small, alpha_large, large_share (alpha_large / alpha_total)
   tube_regions.csv  region, cells, alpha_total, large_share: on top of the tubes, under
                     them, at their flanks (within 1 cm of a tube), the rest of the bank's
-                    height, below the bank and above it (the bed only: alpha_total > 0.2)
+                    height, below the bank and above it (the bed only: alpha_total > 0.2;
+                    without tubes, the places of the tubes are left out)
   tube_map.png      the large class's share over the mid-plane, tubes drawn
 A region's share is sum(alpha_large) / sum(alpha_total) over its cells (each mid-plane
 cell counts once; the cut cells next to a tube count like whole ones).
@@ -49,6 +50,8 @@ def region(x, z):
     for tx, tz, r in TUBES:
         dx, dz = x - tx, z - tz
         d = (dx * dx + dz * dz) ** 0.5
+        if d < r:  # without tubes: where one would be (left out)
+            return None
         if d <= r + NEAR:
             if abs(dx) <= 0.7 * r:
                 return "on top of a tube" if dz > 0 else "under a tube"
@@ -75,6 +78,8 @@ def write(run, cells):
         if s + l <= 0.2:
             continue
         k = region(x, z)
+        if k is None:
+            continue
         n, a, large = sums.get(k, (0, 0.0, 0.0))
         sums[k] = (n + 1, a + s + l, large + l)
     with open(os.path.join(run, "tube_regions.csv"), "w") as f:

@@ -183,7 +183,7 @@ bool cylinderThroughBox(const SyntheticBedOptions &o) {
 
 } // namespace
 
-void validateSyntheticBedOptions(const SyntheticBedOptions &o) {
+void validateSyntheticBedOptions(const SyntheticBedOptions &o, const Mesh *vesselMesh) {
   const BoxSpec &box = o.box;
   require(box.nx >= 1 && box.ny >= 1 && box.nz >= 2, "the box needs at least 1 x 1 x 2 cells.");
   require(box.length[0] > 0.0 && box.length[1] > 0.0 && box.length[2] > 0.0,
@@ -227,7 +227,7 @@ void validateSyntheticBedOptions(const SyntheticBedOptions &o) {
   require(o.gravity > 0.0, "gravity must be positive.");
   if (o.vessel.isWholeBox()) return;
   if (!cylinderThroughBox(o)) { // the host box must hold a bed (it checks itself)
-    synthetic::hostBedOptions(o, cutVesselMesh(o.vessel, box));
+    synthetic::hostBedOptions(o, vesselMesh ? *vesselMesh : cutVesselMesh(o.vessel, box));
     return;
   }
   const auto &p = o.vessel.shapes()[0].p;
@@ -242,14 +242,15 @@ namespace {
 /// The kinematic run behind both entry points: frames go to `sink` when it is
 /// given; without it only the report (the per-frame series) is made, and the
 /// shifts, the costly part, are not built.  The bed's motion is the same.
-SyntheticBedReport runSyntheticBed(const SyntheticBedOptions &options, const FrameSink *sink) {
+SyntheticBedReport runSyntheticBed(const SyntheticBedOptions &options, const FrameSink *sink,
+                                   const Mesh *vesselMesh) {
   const BoxSpec &box = options.box;
   // In a cylinder the bed runs in a square of the same area (CylinderMap), in
   // any other vessel in a host box of the vessel's volume (VesselMap), and its
   // frames are on the vessel's cells; in the box, as it always did.
   const bool inVessel = !options.vessel.isWholeBox();
   const bool shaped = inVessel && !cylinderThroughBox(options);
-  const Mesh mesh = inVessel ? cutVesselMesh(options.vessel, box) : Mesh();
+  const Mesh mesh = !inVessel ? Mesh() : vesselMesh ? *vesselMesh : cutVesselMesh(options.vessel, box);
   SyntheticBedOptions square = shaped ? synthetic::hostBedOptions(options, mesh) : options;
   if (inVessel && !shaped)
     square.box.length[0] = square.box.length[1] = options.vessel.shapes()[0].p[2] * std::sqrt(kPi);
@@ -328,15 +329,16 @@ SyntheticBedReport runSyntheticBed(const SyntheticBedOptions &options, const Fra
 
 } // namespace
 
-SyntheticBedReport generateSyntheticBed(const SyntheticBedOptions &options, const FrameSink &sink) {
-  validateSyntheticBedOptions(options);
+SyntheticBedReport generateSyntheticBed(const SyntheticBedOptions &options, const FrameSink &sink,
+                                        const Mesh *vesselMesh) {
+  validateSyntheticBedOptions(options, vesselMesh);
   if (!sink) throw std::invalid_argument("synthetic bed: the frame sink is empty.");
-  return runSyntheticBed(options, &sink);
+  return runSyntheticBed(options, &sink, vesselMesh);
 }
 
-SyntheticBedReport generateSyntheticBedSeries(const SyntheticBedOptions &options) {
-  validateSyntheticBedOptions(options);
-  return runSyntheticBed(options, nullptr);
+SyntheticBedReport generateSyntheticBedSeries(const SyntheticBedOptions &options, const Mesh *vesselMesh) {
+  validateSyntheticBedOptions(options, vesselMesh);
+  return runSyntheticBed(options, nullptr, vesselMesh);
 }
 
 } // namespace rcfd

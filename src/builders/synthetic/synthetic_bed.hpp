@@ -84,19 +84,22 @@ struct SyntheticBedReport {
 };
 
 /// Throws std::invalid_argument with a sentence naming the first bad option.
-void validateSyntheticBedOptions(const SyntheticBedOptions &options);
+/// `vesselMesh`, when given, is vesselMesh(options.vessel, options.box), not cut
+/// again (a vessel with many cut cells takes seconds to cut); the same below.
+void validateSyntheticBedOptions(const SyntheticBedOptions &options, const Mesh *vesselMesh = nullptr);
 
 /// Run the kinematic bed and hand frames k = 0 .. numFrames-1 to `sink`, one
 /// at a time: frame k holds alpha_s at t_k and the exact shift t_k -> t_{k+1}
 /// built from parcel identities (so T_k alpha_k = alpha_{k+1} to round-off).
 /// Serial; deterministic for given options.  Throws std::invalid_argument for
 /// bad options.
-SyntheticBedReport generateSyntheticBed(const SyntheticBedOptions &options, const FrameSink &sink);
+SyntheticBedReport generateSyntheticBed(const SyntheticBedOptions &options, const FrameSink &sink,
+                                        const Mesh *vesselMesh = nullptr);
 
 /// The same run without frames: only the report, whose per-frame series
 /// (surface height, centre of gravity) are those generateSyntheticBed gives for
 /// the same options.  For long spans (stationarity, docs/synthetic.md): it skips
 /// the shifts, most of a frame's cost.  Throws std::invalid_argument for bad options.
-SyntheticBedReport generateSyntheticBedSeries(const SyntheticBedOptions &options);
+SyntheticBedReport generateSyntheticBedSeries(const SyntheticBedOptions &options, const Mesh *vesselMesh = nullptr);
 
 } // namespace rcfd
