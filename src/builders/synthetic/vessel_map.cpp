@@ -10,17 +10,21 @@
 namespace rcfd::synthetic {
 namespace {
 
-/// The i in [0, n) with b(i) <= v < b(i + 1) for an increasing b with b(n) > b(0):
-/// the last bin starting at or below v, stepped back over empty bins at the top.
-template <typename Bound> int binOf(int n, double v, Bound &&b) {
-  int lo = 0, hi = n;
-  while (hi - lo > 1) {
-    const int mid = (lo + hi) / 2;
-    (b(mid) <= v ? lo : hi) = mid;
-  }
-  while (lo > 0 && !(b(lo + 1) > b(lo))) --lo;
-  return lo;
+/// The i in [0, n) with b(i) <= v < b(i + 1) for a non-decreasing b with b(0) <= v
+/// and b(n) > b(0): the last bin starting at or below v, stepped back over empty
+/// bins at the top.  Walked to from `guess` (bins of about equal size: a step
+/// or two; a binary search over the cells, at random places, was most of a
+/// frame's cost).
+template <typename Bound> int binOf(int n, double v, int guess, Bound &&b) {
+  int i = std::min(n - 1, std::max(0, guess));
+  while (i > 0 && b(i) > v) --i;
+  while (i + 1 < n && b(i + 1) <= v) ++i;
+  while (i > 0 && !(b(i + 1) > b(i))) --i;
+  return i;
 }
+
+/// The bin a share s in [0, 1] of n about equal bins falls in.
+int guessOf(double s, int n) { return static_cast<int>(s * n); }
 
 std::vector<double> layerVolumes(const BoxSpec &box, const Mesh &mesh) {
   std::vector<double> layer(box.nz, 0.0);
@@ -74,6 +78,8 @@ VesselMap::VesselMap(const BoxSpec &box, const BoxSpec &host, const Mesh &mesh, 
     capacity_[c] = static_cast<int32_t>(std::floor(mesh.cellVolume[c] / parcelVolume * (1.0 + 1e-12)));
   }
   for (size_t r = 0; r + 1 < rowStart_.size(); ++r) rowStart_[r + 1] += rowStart_[r];
+  rowBound_.resize(rowStart_.size());
+  for (size_t r = 0; r < rowStart_.size(); ++r) rowBound_[r] = cumulative_[rowStart_[r]];
   adjacencyStart_.assign(n + 1, 0);
   for (int f = 0; f < mesh.numFaces(); ++f) ++adjacencyStart_[mesh.faceOwner[f] + 1], ++adjacencyStart_[mesh.faceNeighbour[f] + 1];
   for (int c = 0; c < n; ++c) adjacencyStart_[c + 1] += adjacencyStart_[c];
@@ -95,15 +101,14 @@ VesselMap &VesselMap::start() {
 
 int32_t VesselMap::cellAt(double x, double y, double z) const {
   auto clamp01 = [](double s) { return std::min(1.0, std::max(0.0, s)); };
-  auto atRow = [&](int row) { return cumulative_[rowStart_[row]]; };
-  const int k = binOf(nz_, clamp01(z * hostArea_ / cumulative_.back()) * cumulative_.back(),
-                      [&](int layer) { return atRow(layer * ny_); });
-  const double layerLow = atRow(k * ny_), layerHigh = atRow((k + 1) * ny_);
-  const int j = binOf(ny_, layerLow + clamp01(y / hostLength_[1]) * (layerHigh - layerLow),
-                      [&](int row) { return atRow(k * ny_ + row); });
+  const double total = cumulative_.back(), sz = clamp01(z * hostArea_ / total);
+  const int k = binOf(nz_, sz * total, guessOf(sz, nz_), [&](int layer) { return rowBound_[layer * ny_]; });
+  const double layerLow = rowBound_[k * ny_], layerHigh = rowBound_[(k + 1) * ny_], sy = clamp01(y / hostLength_[1]);
+  const int j = binOf(ny_, layerLow + sy * (layerHigh - layerLow), guessOf(sy, ny_),
+                      [&](int row) { return rowBound_[k * ny_ + row]; });
   const int32_t first = rowStart_[k * ny_ + j], count = rowStart_[k * ny_ + j + 1] - first;
-  const double rowLow = cumulative_[first], rowHigh = cumulative_[first + count];
-  return first + binOf(count, rowLow + clamp01(x / hostLength_[0]) * (rowHigh - rowLow),
+  const double rowLow = cumulative_[first], rowHigh = cumulative_[first + count], sx = clamp01(x / hostLength_[0]);
+  return first + binOf(count, rowLow + sx * (rowHigh - rowLow), guessOf(sx, count),
                        [&](int i) { return cumulative_[first + i]; });
 }
 
@@ -137,7 +142,7 @@ double VesselMap::height(double z) const {
   const double total = cumulative_.back();
   const double v = std::min(1.0, std::max(0.0, z * hostArea_ / total)) * total;
   auto atLayer = [&](int layer) { return cumulative_[rowStart_[layer * ny_]]; };
-  const int k = binOf(nz_, v, atLayer);
+  const int k = binOf(nz_, v, guessOf(v / total, nz_), atLayer);
   return (k + std::min(1.0, (v - atLayer(k)) / (atLayer(k + 1) - atLayer(k)))) * layerHeight_;
 }
 

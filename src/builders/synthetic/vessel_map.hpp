@@ -58,6 +58,7 @@ private:
   int nx_, ny_, nz_;
   std::vector<double> cumulative_;          // inside volume of the cells before each cell (numCells + 1)
   std::vector<int32_t> rowStart_;           // first cell of each (row, layer), ny nz + 1 of them
+  std::vector<double> rowBound_;            // cumulative_ at each rowStart_
   std::vector<int32_t> capacity_, held_;
   std::vector<int32_t> adjacencyStart_, adjacency_; // open-face neighbours, by cell index
   std::vector<int32_t> queue_, seen_;
