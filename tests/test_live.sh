@@ -11,7 +11,10 @@
 # a run stopped by its stop file and one stopped by SIGTERM while waiting,
 # both restarted from their checkpoints, give the uninterrupted run's files
 # (no row lost or repeated); 2 ranks give 1 rank's numbers.  Forecasts: the live state's bits
-# unchanged, the latest conditions held, 1 = 2 ranks, a restart across them.
+# unchanged, the latest conditions held, 1 = 2 ranks, a restart across them; the granulator's product
+# over the horizon (its mass and shares); a what-if schedule (-forecast_schedule) equal to the held
+# conditions gives the same bits, one that differs (u_sup dropping, no discharge) is followed, neither
+# changes the live state; its refusals.
 # usage: test_live.sh RCFD CSV_COMPARE DATA_DIR SOURCE_DIR
 set -eu
 rcfd=$1 compare=$2
@@ -82,6 +85,30 @@ same_files "live granulator rates" "$work/s-gran" "$work/l-gran" cog.csv mass_ac
 "$rcfd" run "${gran[@]}" -live "$work/rates.csv" -live_end 0.5 -forecast_every 0.25 -forecast_horizon 0.3 \
   -forecast_members 2 -output_dir "$work/l-gran-fc"
 same_files "granulator with forecasts" "$work/s-gran" "$work/l-gran-fc" cog.csv mass_account.csv product.csv
+# The product over each forecast's horizon: 0.2 kg/s x 0.3 s in every member, its shares summing to 1
+# (to the 10 digits forecast.csv prints).
+awk -F, 'NR == 1 { for (i = 1; i <= NF; ++i) c[$i] = i; next }
+  { s = $c["product_share_d1.500mm_mean"] + $c["product_share_d2.500mm_mean"] + $c["product_share_d3.500mm_mean"]
+    m = $c["product_mass_mean_kg"]; if (m - 0.06 > 1e-14 || 0.06 - m > 1e-14 || s - 1 > 3e-10 || 1 - s > 3e-10) bad++; n++ }
+  END { exit !(n == 3 && !bad) }' "$work/l-gran-fc/forecast.csv" && ok ||
+  fail "forecast.csv's product (0.06 kg, shares summing to 1): $(cat "$work/l-gran-fc/forecast.csv")"
+mpiexec -n 2 "$rcfd" run "${gran[@]}" -live "$work/rates.csv" -live_end 0.5 -forecast_every 0.25 -forecast_horizon 0.3 \
+  -forecast_members 2 -output_dir "$work/l-gran-fc2"
+if "$compare" "$work/l-gran-fc/forecast.csv" "$work/l-gran-fc2/forecast.csv" 1e-9 1e-14 >/dev/null; then ok; else
+  fail "the granulator's forecast.csv at 2 ranks: $("$compare" "$work/l-gran-fc/forecast.csv" "$work/l-gran-fc2/forecast.csv" 1e-9 1e-14)"; fi
+# A what-if schedule equal to the held conditions: the same forecasts, bit for bit; one that stops the
+# discharge: no product (shares unknown); neither changes the live state.
+"$rcfd" run "${gran[@]}" -live "$work/rates.csv" -live_end 0.5 -forecast_every 0.25 -forecast_horizon 0.3 \
+  -forecast_members 2 -forecast_schedule "$work/rates.csv" -output_dir "$work/l-gran-same"
+same_files "what-if schedule equal to the held conditions" "$work/l-gran-fc" "$work/l-gran-same" forecast.csv cog.csv \
+  mass_account.csv product.csv
+printf 'time_s,discharge_rate\n0,0\n' >"$work/no-discharge.csv"
+"$rcfd" run "${gran[@]}" -live "$work/rates.csv" -live_end 0.5 -forecast_every 0.25 -forecast_horizon 0.3 \
+  -forecast_members 2 -forecast_schedule "$work/no-discharge.csv" -output_dir "$work/l-gran-nod"
+same_files "a what-if forecast changes nothing in the live state" "$work/s-gran" "$work/l-gran-nod" cog.csv \
+  mass_account.csv product.csv
+same --nan "what-if without discharge: product mass and first share" \
+  "$(awk -F, 'NR > 1 { printf "%s %s ", $13, $15 }' "$work/l-gran-nod/forecast.csv")" "0 nan 0 nan 0 nan"
 printf 'time_s,feed_rate,feed_share_d1.500mm,feed_share_d2.500mm,feed_share_d3.500mm\n0,0.2,1,0,0\n0.1,0.5,1,0,0\n0.3,0.1,0,0,1\n0.5,0.1,0,0,1\n' \
   >"$work/feed.csv"
 "$rcfd" run "${gran[@]}" -live "$work/feed.csv" -live_end 0.5 -output_dir "$work/l-feed"
@@ -116,8 +143,16 @@ live_error() { # live_error "expected" CONTENT [options...]
   expect_error "$expected" run "${two[@]}" -live "$work/bad.csv" -live_stop_file "$work/bad.csv" -live_end 0.5 \
     -output_dir "$work/refused" "$@"
 }
-live_error "-live $work/bad.csv: the column 'spray_rate' is not a condition rcfd follows; the columns it knows are time_s, u_sup" \
-  'time_s,u_sup,spray_rate\n0,1.1,3\n'
+live_error "-live $work/bad.csv: the column 'humidity' is not a condition rcfd follows; the columns it knows are time_s, u_sup" \
+  'time_s,u_sup,humidity\n0,1.1,3\n'
+live_error "-live $work/bad.csv: the column spray_rate needs a scalar named moisture in -scalars (the liquid it adds, kg per kg solid)" \
+  'time_s,spray_rate\n0,0.1\n'
+live_error "-live $work/bad.csv: the column gas_temperature needs the scalars' exchange with the gas (-scalars temperature and -scalar_exchange_model gunn or constant)" \
+  'time_s,gas_temperature\n0,330\n'
+live_error "-live $work/bad.csv line 3: gas_temperature 0 is not a positive temperature in K (-live_on_bad_line fail)" \
+  'time_s,gas_temperature\n0,330\n0.1,0\n'
+live_error "-live $work/bad.csv line 2: spray_rate -0.1 is not a rate >= 0 in kg/s (-live_on_bad_line fail)" \
+  'time_s,spray_rate\n0,-0.1\n'
 live_error "-live $work/bad.csv line 3: u_sup is nan; expected a finite number (-live_on_bad_line fail)" \
   'time_s,u_sup\n0,1.1\n0.1,nan\n0.5,1.1\n'
 live_error "-live $work/bad.csv line 4: time 0.1 s is not after the previous row's 0.2 s; times must increase" \
@@ -199,6 +234,39 @@ same "forecast warnings (time:members warning:first warning in s)" "$warned" \
 same "bottom.csv: the live warning at 0.3 s" "$(awk -F, 'NR > 1 && $5 == 1 { print $1; exit }' "$work/drop1/bottom.csv")" 0.3
 if "$compare" "$work/drop1/forecast.csv" "$work/drop2/forecast.csv" 1e-10 1e-14 >/dev/null; then ok; else
   fail "forecast.csv at 2 ranks: $("$compare" "$work/drop1/forecast.csv" "$work/drop2/forecast.csv" 1e-10 1e-14)"; fi
+# A what-if u_sup: 1.1 m/s, then 0.9 from 0.05 s after each forecast's start: every forecast sees the
+# warning after 11 steps (0.055 s), whatever the live file holds; one equal to the held 1.25 m/s
+# changes no bit of forecast.csv.
+printf 'time_s,u_sup\n0,1.1\n0.05,0.9\n' >"$work/whatif-drop.csv"
+"$rcfd" run -db "$a" "${common[@]}" -live "$work/drop.csv" -live_end 0.5 "${fc[@]}" \
+  -forecast_schedule "$work/whatif-drop.csv" -output_dir "$work/drop-whatif" 2>/dev/null
+same "what-if forecast warnings (time:members warning:first warning in s)" \
+  "$(awk -F, 'NR > 1 { printf "%s:%s:%s ", $1, $10, $12 }' "$work/drop-whatif/forecast.csv")" \
+  "0:2:0.055 0.1:2:0.055 0.2:2:0.055 0.3:2:0.055 0.4:2:0.055 0.5:2:0.055" 1e-9
+same_files "what-if u_sup: the live state" "$work/drop1" "$work/drop-whatif" cog.csv bottom.csv
+printf 'time_s,u_sup\n0,1.25\n' >"$work/whatif-held.csv"
+"$rcfd" run -db "$a" "${common[@]}" -live "$work/one.csv" -live_end 0.5 "${fc[@]}" -output_dir "$work/one-fc"
+"$rcfd" run -db "$a" "${common[@]}" -live "$work/one.csv" -live_end 0.5 "${fc[@]}" \
+  -forecast_schedule "$work/whatif-held.csv" -output_dir "$work/one-whatif"
+same_files "what-if u_sup equal to the held one" "$work/one-fc" "$work/one-whatif" forecast.csv cog.csv bottom.csv
+# Refusals of the what-if schedule, one sentence each.
+printf 'time_s,u_sup,spray_rate\n0,1.1,0.1\n' >"$work/whatif-bad.csv"
+expect_error "-forecast_schedule $work/whatif-bad.csv: the column spray_rate drives the scalars, which a forecast's members do not carry; leave it out" \
+  run -db "$a" "${common[@]}" -t_end 0.1 "${fc[@]}" -forecast_schedule "$work/whatif-bad.csv" -output_dir "$work/refused"
+expect_error "-forecast_schedule $work/whatif-held.csv: the column u_sup and -superficial_velocity 1.2 both give the forecast's u_sup; give it once" \
+  run -db "$a" "${common[@]}" -t_end 0.1 -superficial_velocity 1.2 "${fc[@]}" -forecast_schedule "$work/whatif-held.csv" \
+  -output_dir "$work/refused"
+expect_error "-forecast_schedule $work/none.csv: cannot read the file" \
+  run -db "$a" "${common[@]}" -t_end 0.1 "${fc[@]}" -forecast_schedule "$work/none.csv" -output_dir "$work/refused"
+printf 'time_s,u_sup\n0.1,1.1\n' >"$work/whatif-late.csv"
+expect_error "-forecast_schedule $work/whatif-late.csv line 2: the first row must be at time 0 s (the forecast's start), got 0.1 s" \
+  run -db "$a" "${common[@]}" -t_end 0.1 "${fc[@]}" -forecast_schedule "$work/whatif-late.csv" -output_dir "$work/refused"
+printf 'time_s,u_sup\n' >"$work/whatif-empty.csv"
+expect_error "-forecast_schedule $work/whatif-empty.csv: the file holds no row; expected a header (time_s and the conditions) and a row at time 0" \
+  run -db "$a" "${common[@]}" -t_end 0.1 "${fc[@]}" -forecast_schedule "$work/whatif-empty.csv" -output_dir "$work/refused"
+printf 'time_s,u_sup\n0,1.1\n0.05,-1\n' >"$work/whatif-neg.csv"
+expect_error "-forecast_schedule $work/whatif-neg.csv line 3: u_sup -1 is not a positive velocity in m/s" \
+  run -db "$a" "${common[@]}" -t_end 0.1 "${fc[@]}" -forecast_schedule "$work/whatif-neg.csv" -output_dir "$work/refused"
 head -n 2 "$work/drop.csv" >"$work/drop-part.csv"
 printf '0.25,1.1\n' >>"$work/drop-part.csv"
 touch "$work/stop-drop"

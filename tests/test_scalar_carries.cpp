@@ -23,7 +23,7 @@
 #include "scoped_options.hpp"
 #include "state_access.hpp"
 #include "synthetic_beds.hpp"
-#include "scalar_runs.hpp"
+#include "scalar_run.hpp"
 #include "base/csv.hpp"
 #include "base/petsc_compat.hpp"
 #include "rcfd/run.hpp"
@@ -59,7 +59,7 @@ public:
 PetscErrorCode runCase(MPI_Comm comm, const std::string &options, const std::string &dir, Outcome *out) {
   OperatorRegistry registry = OperatorRegistry::withBuiltins();
   registered(registry.carryKinds(), "still", [] { return std::make_unique<StillCarry>(); }, "changes nothing");
-  return test::runScalarCase(comm, registry, options, dir, out);
+  return test::runScalarCaseWith(comm, registry, options, dir, out);
 }
 
 /// The same run on one rank (PETSC_COMM_SELF) against the ranks of the test, to 1e-12.

@@ -24,11 +24,9 @@
 //    the same product.csv and scalars.csv, with scalars and sources.
 // Runs at 1 and 2 ranks.  usage: test_scalar_sources DIR -db SMALL.h5
 #include "check.hpp"
-#include "scoped_options.hpp"
-#include "state_access.hpp"
+#include "scalar_run.hpp"
 #include "base/csv.hpp"
 #include "base/petsc_compat.hpp"
-#include "rcfd/run.hpp"
 #include "state/scalar_sources.hpp"
 
 #include <cmath>
@@ -58,34 +56,10 @@ const std::string kSpray =
     " -scalar_spray_rate 0.05 -scalar_exchange_model constant -scalar_exchange_h 100 -scalar_exchange_beta 0.05"
     " -scalar_gas_temperature 330 -scalar_gas_humidity_deficit 0.02 -scalar_heat_of_evaporation 2.26e6";
 
-struct Outcome {
-  std::vector<double> masses, amounts; // natural order
-  std::vector<double> account;         // of the sources
-  int nf = 0, ns = 0;
-};
+using Outcome = test::ScalarOutcome;
+constexpr auto &runCase = test::runScalarCase;
 
-PetscErrorCode runCase(MPI_Comm comm, const std::string &options, const std::string &dir, Outcome *out) {
-  PetscFunctionBeginUser;
-  ScopedOptions scoped(options + " -output_dir " + dir);
-  const OperatorRegistry registry = OperatorRegistry::withBuiltins();
-  Run run(comm, registry);
-  PetscCall(run.setFromOptions());
-  run.setQuiet(true);
-  run.setWriteFields(false);
-  PetscCall(run.setUp());
-  PetscCall(run.solve());
-  out->nf = run.state().numFractions();
-  out->ns = run.state().numScalars();
-  out->masses = test::gatherNatural(run.database(), run.state().masses(), out->nf);
-  out->amounts = test::gatherNatural(run.database(), run.state().amounts(), out->nf * out->ns);
-  out->account = run.scalarSourceAccount();
-  PetscFunctionReturn(PETSC_SUCCESS);
-}
-
-std::string fileBytes(const std::string &path) {
-  std::ifstream in(path, std::ios::binary);
-  return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
-}
+using test::fileBytes;
 
 // The last row's value of a CSV column (NaN when there is none).
 double lastValue(const std::string &path, const std::string &column) {
@@ -117,13 +91,7 @@ void valueSpread(const Outcome &o, int s, double value, double *worst, double *l
     }
 }
 
-double scalarTotal(const Outcome &o, int s) {
-  double sum = 0.0;
-  const int w = o.nf * o.ns;
-  for (std::size_t c = 0; c < o.masses.size() / o.nf; ++c)
-    for (int i = 0; i < o.nf; ++i) sum += o.amounts[c * w + s * o.nf + i];
-  return sum;
-}
+using test::scalarTotal;
 
 // A well-mixed bed (its first scalar at `expected` in every cell holding more than a trace, to 1e-12, and
 // its total mass x expected); returns the bed's mass.

@@ -22,7 +22,7 @@
 #include "check.hpp"
 #include "scoped_options.hpp"
 #include "state_access.hpp"
-#include "scalar_runs.hpp"
+#include "scalar_run.hpp"
 #include "base/petsc_compat.hpp"
 #include "base/csv.hpp"
 #include "base/h5.hpp"
@@ -51,7 +51,7 @@ using test::fileBytes;
 
 PetscErrorCode runCase(MPI_Comm comm, const std::string &options, const std::string &dir, Outcome *out,
                        bool fields = false) {
-  return test::runScalarCase(comm, OperatorRegistry::withBuiltins(), options, dir, out, fields);
+  return test::runScalarCaseWith(comm, OperatorRegistry::withBuiltins(), options, dir, out, fields);
 }
 
 /// profiles.csv and halves.csv (rank 0): each scalar's value per layer and per half, mass-weighted over

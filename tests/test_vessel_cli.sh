@@ -6,13 +6,7 @@
 # writes field files of the cylinder's cells only; a set of databases of two
 # vessels is refused; bad vessel options are refused with one sentence.
 # usage: test_vessel_cli.sh RCFD CSV_COMPARE DATA_DIR SOURCE_DIR
-set -eu
-export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
-rcfd=$1 compare=$2 data=$3
-h5print=$(dirname "$compare")/h5_print
-work=$(mktemp -d)
-trap 'rm -rf "$work"' EXIT
-fail() { echo "FAIL: $*"; exit 1; }
+source "$(dirname "${BASH_SOURCE[0]}")/vessel_script_setup.sh"
 bed=(-synth_cells 12,12,24 -synth_length 0.12,0.12,0.24 -synth_bed_height 0.08 -synth_frames 30 -quiet)
 
 # The whole box, named or as a shape holding the box: the same frames, the same content hash.
@@ -76,12 +70,7 @@ awk -F, 'NR == 2 { a = $6; b = $7 } NR > 2 && (($6 - a) ^ 2 > (1e-12 * a) ^ 2 ||
 # on 2 ranks (the carry jumps between frames, so the column carry over the cylinder's columns runs).
 restart=(-db "$work/cyl.h5" -quiet -fields 0 -plot 0 -monitor_digits 17 -path_type random -path_seed 3
   -fractions_diameters 1.5e-3,3e-3 -fractions_mass_shares 0.5,0.5 -bottom_layer)
-mpiexec -n 2 "$rcfd" run "${restart[@]}" -t_end 1 -output_dir "$work/full"
-mpiexec -n 2 "$rcfd" run "${restart[@]}" -t_end 0.8 -checkpoint_every 0.5 -output_dir "$work/first"
-mpiexec -n 2 "$rcfd" run "${restart[@]}" -t_end 1 -restart "$work/first/checkpoint.h5" -output_dir "$work/second"
-for f in cog.csv bottom.csv path.txt jumps.csv; do
-  cmp -s "$work/full/$f" "$work/second/$f" || fail "the restarted run's $f differs from the uninterrupted one's"
-done
+restart_repeats "the cylinder" "${restart[@]}"
 awk 'NR > 2 && $1 != prev + 1 { j++ } { prev = $1 } END { exit !(j >= 3) }' "$work/full/path.txt" ||
   fail "the stitched path on the cylinder did not jump"
 
@@ -158,5 +147,5 @@ refused() { # expected text, then options
 refused "has no shape" -vessel body
 refused "needs a positive radius" -vessel body -vessel_body_cylinder 0.06,0.06,-1
 refused "belong to -vessel cylinder" -vessel box -vessel_radius 0.05
-refused "one vertical cylinder" -vessel body -vessel_body_cone 0.06,0.06,0,0.02,0.24,0.06
+refused "above the settled bed" -vessel body -vessel_body_cylinder 0.06,0.06,0.06,0,0.1
 echo "vessel cli: passed"

@@ -24,3 +24,18 @@ run_on_ranks() {
       if (low && $low < 0) { print "negative cell mass " $low; bad = 1 } }
     END { exit bad }' "$work/np1/cog.csv" || fail "the run on $label lost mass or made a negative cell"
 }
+
+# restart_repeats LABEL RUN_OPTIONS...: a run of the options to 1 s on 2 ranks, and the same run
+# stopped at 0.8 s with a checkpoint at 0.5 s and restarted from it to 1 s: cog.csv, bottom.csv,
+# path.txt and jumps.csv the same byte for byte (the options must give -bottom_layer), or the test
+# fails naming LABEL.
+restart_repeats() {
+  local label=$1
+  shift
+  mpiexec -n 2 "$rcfd" run "$@" -t_end 1 -output_dir "$work/full"
+  mpiexec -n 2 "$rcfd" run "$@" -t_end 0.8 -checkpoint_every 0.5 -output_dir "$work/first"
+  mpiexec -n 2 "$rcfd" run "$@" -t_end 1 -restart "$work/first/checkpoint.h5" -output_dir "$work/second"
+  for f in cog.csv bottom.csv path.txt jumps.csv; do
+    cmp -s "$work/full/$f" "$work/second/$f" || fail "the restarted run on $label: $f differs from the uninterrupted one's"
+  done
+}

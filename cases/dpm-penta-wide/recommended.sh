@@ -25,7 +25,7 @@ declare -A classes=(
 for bed in bi-narrow bi-wide penta-wide; do
   ref=$shared/dpm-$bed
   input=(-dumps "$ref/dump/dump.*.gz" -times "$ref/dump/times.txt" -mesh_cells 16,2,60)
-  [ -f "$out/$bed.h5" ] || "$rcfd" build "${input[@]}" -window 39,-1 -superficial_velocity "${usup[$bed]}" \
+  [ -f "$out/$bed.h5" ] || "$rcfd" build "${input[@]}" -window 39,-1 -superficial_velocity "${usup[$bed]}" -particle_volume overlap \
     -o "$out/$bed.h5" -init_out "$out/$bed-init.h5" -quiet
   [ -f "$out/$bed-ref/cog.csv" ] || "$rcfd" reference "${input[@]}" -average_window 0.5,1.5 -o "$out/$bed-ref" >/dev/null
 done

@@ -176,7 +176,7 @@ PetscErrorCode buildEulerianCommand(MPI_Comm comm) {
     EulerianFrame frame0 = mapOntoMesh(first, box);
     const Vessel inBox = vesselInBox(vessel, box);
     const Mesh mesh = inBox.isWholeBox() ? boxMesh(box) : cutVesselMesh(inBox, box);
-    if (mesh.isMasked()) opt.cellVolume = insideVolumes(mesh);
+    if (mesh.isMasked()) opt.cellVolume = insideVolumes(mesh), opt.vessel = inBox;
 
     DatabaseMetadata meta;
     meta.dtRec = opt.dtRec;

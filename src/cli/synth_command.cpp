@@ -216,15 +216,19 @@ PetscErrorCode synthCommand(MPI_Comm comm) {
   PetscCallMPI(MPI_Comm_rank(comm, &rank));
   PetscCall(readSynthOptions(comm, &options, &path, &point, &series, &quiet));
   PetscCall(options.vessel.setFromOptions(comm, options.box)); // -vessel: the whole box unless given
+  Mesh vesselMesh; // the vessel's cells, cut once here (many cut cells take seconds to cut)
   PetscCall(collectively(comm, [&] { // shapes that hold every cell whole are the box: today's bed
-    if (!options.vessel.isWholeBox() && cutVesselMesh(options.vessel, options.box).isBox()) options.vessel = Vessel();
+    if (options.vessel.isWholeBox()) return;
+    vesselMesh = cutVesselMesh(options.vessel, options.box);
+    if (vesselMesh.isBox()) options.vessel = Vessel();
   }, PETSC_ERR_USER_INPUT));
+  const Mesh *cut = options.vessel.isWholeBox() ? nullptr : &vesselMesh;
   OperatingConditions conditions; // recorded in the file when given (format version 2)
   PetscCall(OperatingConditions::fromOptions(comm, &conditions));
   if (helpRequested()) PetscFunctionReturn(PETSC_SUCCESS);
   PetscCall(rejectUnusedOptions(comm, "synth"));
   if (point.given()) PetscCall(applyOperatingPoint(comm, point, &conditions, &options, &pointNote));
-  PetscCall(collectively(comm, [&] { validateSyntheticBedOptions(options); }, PETSC_ERR_USER_INPUT));
+  PetscCall(collectively(comm, [&] { validateSyntheticBedOptions(options, cut); }, PETSC_ERR_USER_INPUT));
 
   // The generator is serial: rank 0 makes and writes the file, the others wait.
   SyntheticBedReport report;
@@ -232,7 +236,7 @@ PetscErrorCode synthCommand(MPI_Comm comm) {
   PetscCall(collectively(comm, [&] {
     if (rank != 0) return;
     if (series.only) {
-      report = generateSyntheticBedSeries(options);
+      report = generateSyntheticBedSeries(options, cut);
       writeSeries(series.path, options.dtRec, report);
       return;
     }
@@ -247,8 +251,7 @@ PetscErrorCode synthCommand(MPI_Comm comm) {
       std::snprintf(at, sizeof at, ", at u_sup = %g m/s", conditions.superficialVelocity);
       meta.source += at;
     }
-    const Mesh mesh =
-        options.vessel.isWholeBox() ? boxMesh(options.box) : cutVesselMesh(options.vessel, options.box);
+    const Mesh mesh = cut ? *cut : boxMesh(options.box);
     cells = mesh.numCells();
     DatabaseFileWriter writer(path, mesh, meta);
     if (!pointNote.empty()) writer.setNote("synth_operating_point", pointNote);
@@ -256,7 +259,7 @@ PetscErrorCode synthCommand(MPI_Comm comm) {
       writer.append(frame);
       if (!quiet && (writer.numFrames() % 50 == 0 || writer.numFrames() == options.numFrames))
         std::printf("  frame %d/%d\n", writer.numFrames(), options.numFrames), std::fflush(stdout);
-    });
+    }, cut);
     writer.finish();
     if (!series.path.empty()) writeSeries(series.path, options.dtRec, report);
   }));

@@ -3,8 +3,25 @@
 
 
 #include <algorithm>
+#include <vector>
 
 namespace rcfd {
+
+namespace {
+
+/// Whether every cell of the graph (CSR: degree as row starts) reaches cell 0.
+bool connected(const std::vector<idx_t> &start, const std::vector<idx_t> &adjacency) {
+  const idx_t n = static_cast<idx_t>(start.size()) - 1;
+  std::vector<char> seen(n, 0);
+  std::vector<idx_t> queue(1, 0);
+  seen[0] = 1;
+  for (std::size_t q = 0; q < queue.size(); ++q)
+    for (idx_t e = start[queue[q]]; e < start[queue[q] + 1]; ++e)
+      if (!seen[adjacency[e]]) seen[adjacency[e]] = 1, queue.push_back(adjacency[e]);
+  return static_cast<idx_t>(queue.size()) == n;
+}
+
+} // namespace
 
 // Part of each cell from METIS (k-way, contiguous parts, fixed seed so that
 // every run of the same mesh on the same number of ranks is identical).
@@ -36,7 +53,10 @@ PetscErrorCode partitionCells(const Mesh &mesh, PetscMPIInt nparts, const std::v
   if (work && std::any_of(work->begin(), work->end(), [](int w) { return w > 0; }))
     weights.assign(work->begin(), work->end());
   options[METIS_OPTION_SEED] = 7;
-  options[METIS_OPTION_CONTIG] = 1;
+  // Contiguous parts need a connected graph: a vessel's mesh may hold a cut
+  // cell that touches the others only along an edge (a cone's rim: no open
+  // face), and METIS then refuses to partition at all.
+  if (connected(degree, adjacency)) options[METIS_OPTION_CONTIG] = 1;
   idx_t nv = n;
   const int status = METIS_PartGraphKway(&nv, &ncon, degree.data(), adjacency.data(),
                                          weights.empty() ? nullptr : weights.data(),

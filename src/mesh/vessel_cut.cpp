@@ -8,6 +8,8 @@
 
 #include <cmath>
 #include <stdexcept>
+#include <utility>
+#include <vector>
 
 namespace rcfd {
 namespace {
@@ -79,6 +81,51 @@ double shareOf(const Vessel &v, const Vec3 &lo, const Vec3 &h, Vec3 *centroid) {
   return inside / total;
 }
 
+/// Whether a cell [lo, lo + h] lies wholly inside (1) or wholly outside (0) the
+/// vessel, or neither is settled (-1), shape by shape in the vessel's order: a
+/// box shape by its faces, exactly, and any other by its level at the centre
+/// against the half diagonal.  Only a shortcut past the sub-sampling: a cell
+/// on the wall of a box shape (every cell along the mesh's walls when the
+/// vessel's box is the mesh's, as for a tube bank) lies within a half diagonal
+/// of the vessel's wall, so shareOf samples it, and its samples give 1 (or 0)
+/// all the same (a tube bank of 56,000 cells: 2.2 s of cutting before).
+class WholeCells {
+public:
+  explicit WholeCells(const Vessel &vessel) {
+    for (const auto &s : vessel.shapes()) {
+      Vessel one;
+      throwOnError([&] { return one.add(s.kind, s.p); });
+      single_.emplace_back(s, std::move(one));
+    }
+  }
+  int operator()(const Vec3 &lo, const Vec3 &h, double halfDiagonal) const {
+    const Vec3 centre{lo[0] + 0.5 * h[0], lo[1] + 0.5 * h[1], lo[2] + 0.5 * h[2]};
+    int state = -1;
+    for (std::size_t k = 0; k < single_.size(); ++k) {
+      const Vessel::Shape &s = single_[k].first;
+      int in = -1; // this shape: 1 holds the cell, 0 misses it
+      if (s.kind == Vessel::Kind::Box) {
+        bool holds = true, misses = false;
+        for (int a = 0; a < 3; ++a) {
+          holds = holds && lo[a] >= s.p[2 * a] && lo[a] + h[a] <= s.p[2 * a + 1];
+          misses = misses || lo[a] >= s.p[2 * a + 1] || lo[a] + h[a] <= s.p[2 * a];
+        }
+        in = holds ? 1 : misses ? 0 : -1;
+      } else {
+        const double level = single_[k].second.level(centre);
+        in = level >= halfDiagonal ? 1 : level <= -halfDiagonal ? 0 : -1;
+      }
+      if (k == 0) state = in; // as Vessel::level: the first shape, then each united or taken away
+      else if (!s.subtract) state = state == 1 || in == 1 ? 1 : state == 0 && in == 0 ? 0 : -1;
+      else state = state == 0 || in == 1 ? 0 : state == 1 && in == 0 ? 1 : -1;
+    }
+    return state;
+  }
+
+private:
+  std::vector<std::pair<Vessel::Shape, Vessel>> single_;
+};
+
 } // namespace
 
 namespace {
@@ -98,7 +145,18 @@ VesselCut cutOf(const Vessel &vessel, const BoxSpec &box, const Mesh &full) {
     return x;
   };
   auto axisOf = [](const Vec3 &area) { return area[0] != 0.0 ? 0 : area[1] != 0.0 ? 1 : 2; };
-  for (int c = 0; c < N; ++c) cut.cellShare[c] = shareOf(vessel, corner(c, 0, 0.0), h, &cut.centroid[c]);
+  const WholeCells whole(vessel);
+  const double halfDiagonal = 0.5 * std::sqrt(h[0] * h[0] + h[1] * h[1] + h[2] * h[2]);
+  for (int c = 0; c < N; ++c) {
+    const Vec3 lo = corner(c, 0, 0.0);
+    const int settled = whole(lo, h, halfDiagonal);
+    if (settled >= 0) {
+      cut.cellShare[c] = settled;
+      cut.centroid[c] = {lo[0] + 0.5 * h[0], lo[1] + 0.5 * h[1], lo[2] + 0.5 * h[2]};
+    } else {
+      cut.cellShare[c] = shareOf(vessel, lo, h, &cut.centroid[c]);
+    }
+  }
   cut.faceShare.assign(full.numFaces(), 0.0);
   for (int f = 0; f < full.numFaces(); ++f) {
     const int o = full.faceOwner[f], a = axisOf(full.faceArea[f]);

@@ -60,6 +60,12 @@ PetscErrorCode ForecastMonitor::setFromOptions(MPI_Comm c) {
   PetscCall(checkedInt(PetscOptionsObject, "-forecast_members", "Stitched paths per forecast", &members, 1, 10000));
   PetscCall(checkedInt(PetscOptionsObject, "-forecast_seed", "Seed of the first member's path (the others s+1, ...)",
                        &seed, 0, 2000000000));
+  char file[PETSC_MAX_PATH_LEN] = "";
+  PetscBool given = PETSC_FALSE;
+  PetscCall(PetscOptionsString("-forecast_schedule", "What-if conditions the members follow instead of holding the "
+                               "latest (CSV as -live's, times from each forecast's start)", "", file, file, sizeof file,
+                               &given));
+  if (given) scheduleFile = file;
   PetscOptionsEnd();
   PetscFunctionReturn(PETSC_SUCCESS);
 }
@@ -86,13 +92,45 @@ PetscErrorCode ForecastMonitor::setUp(const RunContext &run, const FractionState
     PetscCall(path->setUp(PathContext{run.db, true}));
     memberPaths.push_back(std::move(path));
   }
+  if (!scheduleFile.empty()) PetscCall(readSchedule(run));
   std::string header = "time_s,horizon_s,members,delta_z_mean_m,delta_z_spread_m,d32_bottom_mean_m,d32_bottom_spread_m,"
                        "umf_usup_mean,umf_usup_spread,warning_members,warning_in_mean_s,warning_in_first_s";
+  labels.clear();
+  if (findOperator<DischargeOperator>(live)) { // the product over the horizon
+    header += ",product_mass_mean_kg,product_mass_spread_kg";
+    for (int i = 0; i < run.fractions.size(); ++i) {
+      labels.push_back(run.fractions.label(i));
+      header += ",product_share_" + labels.back() + "_mean,product_share_" + labels.back() + "_spread";
+    }
+  }
   csv = std::make_unique<CsvSeries>(comm, dir + "/forecast.csv", header);
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
-PetscErrorCode ForecastMonitor::member(const MonitorContext &ctx, int m, double out[4]) {
+PetscErrorCode ForecastMonitor::readSchedule(const RunContext &run) {
+  PetscFunctionBeginUser;
+  PetscCall(schedule.readWhole(comm, "-forecast_schedule", scheduleFile, run.fractions));
+  const std::string file = "-forecast_schedule " + scheduleFile + ": ";
+  for (auto [q, name] : {std::make_pair(LiveInput::SprayRate, "spray_rate"),
+                         std::make_pair(LiveInput::GasTemperature, "gas_temperature")})
+    PetscCheck(!schedule.has(q), comm, PETSC_ERR_USER_INPUT,
+               "%sthe column %s drives the scalars, which a forecast's members do not carry; leave it out",
+               file.c_str(), name);
+  const std::string missing = granulatorColumnWithoutOperator(schedule, live);
+  PetscCheck(missing.empty(), comm, PETSC_ERR_USER_INPUT, "%s%s", file.c_str(), missing.c_str());
+  // Two answers to "what is u_sup": -superficial_velocity wins over any other wherever the gas is resolved.
+  PetscCheck(!schedule.has(LiveInput::SuperficialVelocity) || !std::isfinite(fluidization.given.superficialVelocity),
+             comm, PETSC_ERR_USER_INPUT, "%sthe column u_sup and -superficial_velocity %g both give the forecast's u_sup; "
+             "give it once", file.c_str(), fluidization.given.superficialVelocity);
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+void ForecastMonitor::followSchedule(double t, const Pipeline &ops, OperatingConditions *gas) const {
+  if (schedule.has(LiveInput::SuperficialVelocity)) gas->superficialVelocity = schedule.at(LiveInput::SuperficialVelocity, t);
+  setGranulatorRates(schedule, t, ops);
+}
+
+PetscErrorCode ForecastMonitor::member(const MonitorContext &ctx, int m, std::vector<double> *out) {
   const RunContext &run = ctx.run;
   const Database &db = run.db;
   const double dt = db.metadata().dtRec;
@@ -122,14 +160,23 @@ PetscErrorCode ForecastMonitor::member(const MonitorContext &ctx, int m, double 
   PetscCall(state.create(db.layout(), run.fractions.size()));
   PetscCall(VecCopy(ctx.state.masses(), state.masses()));
   FramePath &path = *memberPaths[m];
-  const OperatingConditions now = fluidization.resolve(run.operatingConditions());
+  // Held: the gas of the moment (the drift's excess gas, the bottom layer's u_mf/u_sup), unless the
+  // what-if schedule gives it.
+  OperatingConditions gas = run.operatingConditions();
+  OperatingConditions now = fluidization.resolve(gas);
+  const DischargeOperator *discharge = findOperator<DischargeOperator>(ops);
+  const std::vector<double> dischargedBefore = discharge ? discharge->discharged() : std::vector<double>{};
   int frame = ctx.frame;
   double d32 = kNaN, umfUsup = kNaN, warning = kNaN;
   std::vector<double> perLayer;
   StepInfo info;
   info.dt = dt;
-  info.conditions = &run.operatingConditions(); // held: the drift's excess gas is the moment's
+  info.conditions = &gas;
   for (long s = 0; s < steps; ++s) {
+    if (schedule.numRows() > 0) {
+      followSchedule(s * dt, ops, &gas);
+      now = fluidization.resolve(gas);
+    }
     const int next = path.next() % db.numFrames();
     info.step = ctx.step + s;
     info.time = ctx.time + s * dt;
@@ -149,24 +196,28 @@ PetscErrorCode ForecastMonitor::member(const MonitorContext &ctx, int m, double 
   }
   BedSample end;
   PetscCall(cog.measure(ctx.time + steps * dt, state.masses(), db.alphaS(frame), run.solidDensity, &end));
-  out[0] = end.deltaZ;
-  out[1] = d32;
-  out[2] = umfUsup;
-  out[3] = warning;
+  *out = {end.deltaZ, d32, umfUsup, warning};
+  if (discharge) { // the product discharged over the horizon (global sums): its mass and size distribution
+    const std::vector<double> after = discharge->discharged();
+    double mass = 0.0;
+    for (std::size_t i = 0; i < after.size(); ++i) mass += after[i] - dischargedBefore[i];
+    out->push_back(mass);
+    for (std::size_t i = 0; i < after.size(); ++i) out->push_back(mass > 0.0 ? (after[i] - dischargedBefore[i]) / mass : kNaN);
+  }
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
 PetscErrorCode ForecastMonitor::sample(const MonitorContext &ctx) {
   PetscFunctionBeginUser;
-  std::vector<double> dz, d32, ratio, warn;
+  // Per answer (Delta z, d32, u_mf/u_sup, the warning's time, then the product's), each member's value.
+  std::vector<std::vector<double>> answers;
   for (PetscInt m = 0; m < members; ++m) {
-    double out[4];
-    PetscCall(member(ctx, static_cast<int>(m), out));
-    dz.push_back(out[0]);
-    d32.push_back(out[1]);
-    ratio.push_back(out[2]);
-    warn.push_back(out[3]);
+    std::vector<double> out;
+    PetscCall(member(ctx, static_cast<int>(m), &out));
+    answers.resize(out.size());
+    for (std::size_t k = 0; k < out.size(); ++k) answers[k].push_back(out[k]);
   }
+  const std::vector<double> &dz = answers[0], &d32 = answers[1], &ratio = answers[2], &warn = answers[3];
   ++issued;
   std::vector<double> row{ctx.time, horizon, static_cast<double>(members)};
   int n;
@@ -182,6 +233,11 @@ PetscErrorCode ForecastMonitor::sample(const MonitorContext &ctx) {
   row.push_back(n);
   row.push_back(mean); // NaN: no member's bottom layer de-fluidizes within the horizon
   row.push_back(first); // what it costs is the run's summary's (monitors: forecast.csv)
+  for (std::size_t k = 4; k < answers.size(); ++k) { // the product: NaN shares where a member discharged nothing
+    meanSpread(answers[k], &mean, &spread, &n);
+    row.push_back(mean);
+    row.push_back(spread);
+  }
   PetscCall(csv->add(numberRow(row)));
   latest = row;
   PetscFunctionReturn(PETSC_SUCCESS);
@@ -225,8 +281,10 @@ PetscErrorCode ForecastMonitor::restoreState(const std::vector<double> &state) {
 
 PetscErrorCode ForecastMonitor::view(PetscViewer viewer) const {
   PetscFunctionBeginUser;
-  PetscCall(PetscViewerASCIIPrintf(viewer, "Forecast: every %g s, %d stitched members %g s ahead, seeds from %d\n",
-                                   every, static_cast<int>(members), horizon, static_cast<int>(seed)));
+  PetscCall(PetscViewerASCIIPrintf(viewer, "Forecast: every %g s, %d stitched members %g s ahead, seeds from %d, %s\n",
+                                   every, static_cast<int>(members), horizon, static_cast<int>(seed),
+                                   scheduleFile.empty() ? "holding the latest conditions"
+                                                        : ("what-if conditions of " + scheduleFile).c_str()));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 

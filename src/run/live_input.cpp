@@ -10,6 +10,8 @@
 // collectives would spin the ranks that wait for rank 0).
 #include "run/live_input.hpp"
 #include "rcfd/fractions.hpp"
+#include "rcfd/granulation.hpp"
+#include "run/find_operator.hpp"
 #include "base/checked_options.hpp"
 #include "base/petsc_compat.hpp"
 
@@ -46,8 +48,8 @@ std::vector<std::string> splitFields(const std::string &line) {
   return out;
 }
 
-const char *const kNames[LiveInput::NumQuantities] = {"u_sup", "feed_rate", "discharge_rate", "growth_rate",
-                                                      "feed_share_"};
+const char *const kNames[LiveInput::NumQuantities] = {"u_sup",       "feed_rate",       "discharge_rate", "growth_rate",
+                                                      "spray_rate", "gas_temperature", "feed_share_"};
 
 } // namespace
 
@@ -66,7 +68,8 @@ PetscErrorCode LiveInput::setFromOptions(MPI_Comm comm) {
   comm_ = comm;
   PetscOptionsBegin(comm, nullptr, "Live conditions (docs/live.md)", "rcfd");
   PetscCall(PetscOptionsString("-live", "CSV file of measured conditions the run follows as it grows (time_s, "
-                               "u_sup, feed_rate, discharge_rate, growth_rate, feed_share_<fraction>)", "", text,
+                               "u_sup, feed_rate, discharge_rate, growth_rate, spray_rate, gas_temperature, "
+                               "feed_share_<fraction>)", "", text,
                                text, sizeof text, &set));
   if (set) path_ = text;
   PetscCall(PetscOptionsString("-live_on_bad_line", "A malformed line of the live file: fail (the run stops) or "
@@ -92,7 +95,7 @@ PetscErrorCode LiveInput::setFromOptions(MPI_Comm comm) {
 }
 
 std::string LiveInput::parseHeader(const std::string &line, const FractionSet &fractions) {
-  const std::string file = "-live " + path_ + ": ";
+  const std::string file = option_ + " " + path_ + ": ";
   const std::vector<std::string> names = splitFields(line);
   std::string known = "time_s";
   for (int q = 0; q < FeedShare; ++q) known += std::string(", ") + kNames[q];
@@ -136,7 +139,7 @@ std::string LiveInput::parseRow(const std::string &line, long number, double pre
                                 std::vector<double> *row) const {
   char where[64];
   std::snprintf(where, sizeof where, " line %ld: ", number);
-  const std::string at = "-live " + path_ + where;
+  const std::string at = option_ + " " + path_ + where;
   const std::vector<std::string> fields = splitFields(line);
   if (fields.size() != names_.size())
     return at + "expected " + std::to_string(names_.size()) + " comma-separated numbers (" + [&] {
@@ -160,7 +163,8 @@ std::string LiveInput::parseRow(const std::string &line, long number, double pre
   const double t = (*row)[0];
   char text[160];
   if (previous < 0 && t != 0.0) {
-    std::snprintf(text, sizeof text, "the first row must be at time 0 s (the run's start), got %.9g s", t);
+    std::snprintf(text, sizeof text, "the first row must be at time 0 s (the %s start), got %.9g s",
+                  whole_ ? "forecast's" : "run's", t);
     return at + text;
   }
   // Rows closer than round-off could not be told apart by the run's clock.
@@ -177,8 +181,10 @@ std::string LiveInput::parseRow(const std::string &line, long number, double pre
   std::string bad;
   if (column_[SuperficialVelocity] >= 0 && bad.empty())
     bad = check(SuperficialVelocity, (*row)[1 + column_[SuperficialVelocity]] > 0, "a positive velocity in m/s");
-  for (int q : {FeedRate, DischargeRate, GrowthRate})
+  for (int q : {FeedRate, DischargeRate, GrowthRate, SprayRate})
     if (column_[q] >= 0 && bad.empty()) bad = check(q, (*row)[1 + column_[q]] >= 0, "a rate >= 0 in kg/s");
+  if (column_[GasTemperature] >= 0 && bad.empty())
+    bad = check(GasTemperature, (*row)[1 + column_[GasTemperature]] > 0, "a positive temperature in K");
   if (!bad.empty()) return bad;
   if (!shareColumns_.empty()) {
     double sum = 0.0;
@@ -200,11 +206,11 @@ std::string LiveInput::readNew(std::vector<double> *rows) {
   std::error_code ec;
   const auto size = fs::file_size(path_, ec);
   if (ec) { // not there yet: the plant starts writing later; once read, it must stay
-    if (offset_ == 0) return "";
-    return "-live " + path_ + ": the file went away after " + std::to_string(offset_) + " bytes were read";
+    if (offset_ == 0) return whole_ ? option_ + " " + path_ + ": cannot read the file (" + ec.message() + ")" : "";
+    return option_ + " " + path_ + ": the file went away after " + std::to_string(offset_) + " bytes were read";
   }
   if (static_cast<long long>(size) < offset_)
-    return "-live " + path_ + ": the file shrank to " + std::to_string(size) + " bytes after " +
+    return option_ + " " + path_ + ": the file shrank to " + std::to_string(size) + " bytes after " +
            std::to_string(offset_) + " were read; it must only grow";
   if (static_cast<long long>(size) == offset_) return "";
   std::ifstream in(path_, std::ios::binary);
@@ -212,6 +218,7 @@ std::string LiveInput::readNew(std::vector<double> *rows) {
   std::string chunk(static_cast<std::size_t>(size) - static_cast<std::size_t>(offset_), '\0');
   in.read(chunk.data(), static_cast<std::streamsize>(chunk.size()));
   chunk.resize(static_cast<std::size_t>(in.gcount()));
+  if (whole_ && !chunk.empty() && chunk.back() != '\n') chunk += '\n'; // complete: its last line too
   double previous = times_.empty() ? -1.0 : times_.back();
   std::size_t begin = 0;
   for (std::size_t nl; (nl = chunk.find('\n', begin)) != std::string::npos; begin = nl + 1) {
@@ -232,7 +239,7 @@ std::string LiveInput::readNew(std::vector<double> *rows) {
       rows->insert(rows->end(), row.begin(), row.end());
       previous = row[0];
     } else if (failOnBadLine_) {
-      return why + " (-live_on_bad_line fail)";
+      return whole_ ? why : why + " (-live_on_bad_line fail)";
     } else {
       ++skipped_;
       (void)PetscFPrintf(PETSC_COMM_SELF, stderr, "%s; skipped (-live_on_bad_line skip)\n", why.c_str());
@@ -257,7 +264,7 @@ PetscErrorCode LiveInput::exchange(double) {
     try {
       why = readNew(&rows);
     } catch (const std::exception &e) {
-      why = "-live " + path_ + ": " + e.what();
+      why = option_ + " " + path_ + ": " + e.what();
     }
     head[1] = static_cast<long long>(rows.size());
     head[2] = static_cast<long long>(why.size());
@@ -310,6 +317,21 @@ PetscErrorCode LiveInput::start(MPI_Comm comm, const FractionSet &fractions, boo
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
+PetscErrorCode LiveInput::readWhole(MPI_Comm comm, const std::string &option, const std::string &file,
+                                   const FractionSet &fractions) {
+  PetscFunctionBeginUser;
+  comm_ = comm;
+  option_ = option;
+  path_ = file;
+  fractions_ = &fractions;
+  whole_ = true;
+  PetscCall(exchange(0.0));
+  PetscCheck(!times_.empty(), comm, PETSC_ERR_USER_INPUT,
+             "%s %s: the file holds no %s; expected a header (time_s and the conditions) and a row at time 0",
+             option.c_str(), file.c_str(), names_.empty() ? "header" : "row");
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
 double LiveInput::at(Quantity q, double t, int i) const {
   const int c = q == FeedShare ? (shareColumns_.empty() ? -1 : shareColumns_[i]) : column_[q];
   if (c < 0 || times_.empty()) return std::numeric_limits<double>::quiet_NaN();
@@ -345,6 +367,32 @@ void LiveInput::sleepSeconds(double seconds) {
   ts.tv_nsec = static_cast<long>((seconds - static_cast<double>(ts.tv_sec)) * 1e9);
   while (nanosleep(&ts, &ts) == -1 && errno == EINTR && !signalled) {
   }
+}
+
+std::string granulatorColumnWithoutOperator(const LiveInput &in, const Pipeline &ops) {
+  if ((in.has(LiveInput::FeedRate) || in.has(LiveInput::FeedShare)) && !findOperator<FeedOperator>(ops))
+    return "the feed columns need the feed operator in -pipeline";
+  if (in.has(LiveInput::DischargeRate) && !findOperator<DischargeOperator>(ops))
+    return "the column discharge_rate needs the discharge operator in -pipeline";
+  if (in.has(LiveInput::GrowthRate) && !findOperator<GrowthOperator>(ops))
+    return "the column growth_rate needs the growth operator in -pipeline";
+  return "";
+}
+
+void setGranulatorRates(const LiveInput &in, double t, const Pipeline &ops) {
+  if (auto *feed = findOperator<FeedOperator>(ops)) {
+    const bool rate = in.has(LiveInput::FeedRate), shares = in.has(LiveInput::FeedShare);
+    if (rate || shares) {
+      std::vector<double> w = feed->feedShares();
+      if (shares)
+        for (std::size_t i = 0; i < w.size(); ++i) w[i] = in.at(LiveInput::FeedShare, t, static_cast<int>(i));
+      feed->setFeed(rate ? in.at(LiveInput::FeedRate, t) : feed->feedRate(), w);
+    }
+  }
+  if (auto *discharge = findOperator<DischargeOperator>(ops))
+    if (in.has(LiveInput::DischargeRate)) discharge->setRate(in.at(LiveInput::DischargeRate, t));
+  if (auto *growth = findOperator<GrowthOperator>(ops))
+    if (in.has(LiveInput::GrowthRate)) growth->setRate(in.at(LiveInput::GrowthRate, t), growth->transferFraction());
 }
 
 } // namespace rcfd

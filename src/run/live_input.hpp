@@ -20,11 +20,14 @@
 namespace rcfd {
 
 class FractionSet;
+class Pipeline;
 
 class LiveInput {
 public:
   /// The conditions rcfd follows, with the column that names each.
-  enum Quantity { SuperficialVelocity, FeedRate, DischargeRate, GrowthRate, FeedShare, NumQuantities };
+  enum Quantity {
+    SuperficialVelocity, FeedRate, DischargeRate, GrowthRate, SprayRate, GasTemperature, FeedShare, NumQuantities
+  };
   /// Why the input ended.
   enum class End { None, StopFile, Signal };
 
@@ -45,6 +48,11 @@ public:
   /// header and the first row (at time 0), refuses a column rcfd does not
   /// follow (feed shares by the fractions' labels: feed_share_d1.459mm).
   PetscErrorCode start(MPI_Comm comm, const FractionSet &fractions, bool quiet);
+  /// Collective.  Reads a whole file of the same format once, neither waiting nor
+  /// following it (a forecast's what-if schedule, -forecast_schedule): its sentences name
+  /// `option` and the file; a missing file, a malformed line or a file without rows is refused.
+  PetscErrorCode readWhole(MPI_Comm comm, const std::string &option, const std::string &file,
+                           const FractionSet &fractions);
   /// Whether the file has the column of `q` (FeedShare: all the fractions').
   bool has(Quantity q) const { return q == FeedShare ? !shareColumns_.empty() : column_[q] >= 0; }
   /// The value of q in the row that holds at time t [s] (the last at or before
@@ -96,20 +104,21 @@ private:
   static void sleepSeconds(double seconds);
 
   MPI_Comm comm_ = MPI_COMM_NULL;
+  std::string option_ = "-live"; // names the file in the sentences
   std::string path_, stopFile_;
   bool failOnBadLine_ = true, paced_ = false, quiet_ = false;
   double end_ = -1.0, poll_ = 0.2;
   // The file as read (rank 0): the bytes consumed (complete lines), the line number.
   long long offset_ = 0;
   long lineNumber_ = 0, skipped_ = 0;
-  bool headerRead_ = false;
+  bool headerRead_ = false, whole_ = false; // whole_: the file is complete (a last line without its end counts)
   const FractionSet *fractions_ = nullptr; // the feed shares' labels
   std::string header_;                     // the header line, sent to every rank
   std::vector<std::string> names_;
   // The rows, the same on every rank.
   int width_ = 0;                             // values per row (the time excluded)
   int timeColumn_ = -1;                       // in the file's order
-  int column_[NumQuantities] = {-1, -1, -1, -1, -1}; // index in a row's values
+  int column_[NumQuantities] = {-1, -1, -1, -1, -1, -1, -1}; // index in a row's values
   std::vector<int> shareColumns_;             // feed share of each fraction
   std::vector<double> times_, rows_;
   bool stopSeen_ = false;
@@ -119,5 +128,12 @@ private:
   struct sigaction previousInt_ {}, previousTerm_ {};
   bool handlersInstalled_ = false;
 };
+
+/// The granulator's rates in `conditions` at time t [s] onto the operators of `ops` that follow
+/// them (growth, feed and its shares, discharge); what it has no column for stays.
+void setGranulatorRates(const LiveInput &conditions, double t, const Pipeline &ops);
+/// Why a granulator's column of `conditions` has no operator in `ops` to follow it ("the column
+/// discharge_rate needs the discharge operator in -pipeline"), or "" when each has one.
+std::string granulatorColumnWithoutOperator(const LiveInput &conditions, const Pipeline &ops);
 
 } // namespace rcfd

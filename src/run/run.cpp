@@ -359,6 +359,7 @@ PetscErrorCode Run::setUp() {
     std::vector<const Monitor *> watched;
     for (const auto &m : r.monitors) watched.push_back(m.monitor.get());
     r.status->watch(std::move(watched));
+    r.status->nameDatabase([&r] { return r.databaseInUse(); }); // after a switch, the new one
     r.monitors.push_back({std::move(r.status), r.cog->every(), "status.json"});
   }
   for (auto &m : r.monitors) PetscCall(m.monitor->setUp(ctx, r.fstate, r.outputDir));
@@ -582,6 +583,9 @@ PetscErrorCode Run::Impl::march() {
                              r.switching ? r.switching->activeName() : std::string(), &before, &after));
     } else PetscCall(r.ops.apply(info, r.fstate));
     if (r.scalars.size() > 0) {
+      // The exchange's gas (Gunn's Re, the plug-flow gas's flow) at the u_sup the run follows now, a live
+      // file's or a schedule's; otherwise the case's or the database's, resolved at set-up.
+      if (r.switching || r.liveVelocity) r.scalars.sources().setSuperficialVelocity(info.conditions->superficialVelocity);
       PetscCall(r.scalars.applySources(dt, r.dbFrame(next), r.fstate));
       r.ops.addedAmounts(&addedAmounts);
       r.scalars.advanceLedger(addedAmounts);

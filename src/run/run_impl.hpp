@@ -55,6 +55,8 @@ struct Run::Impl {
   /// onto its frame for the path's frame `nextFrame` (dbFrame) by the composition
   /// remap of a stitching jump.
   PetscErrorCode switchTo(const SwitchDecision &target, int nextFrame, double time, bool remap);
+  /// The database in use, as the status page names it: its file, or a blend's two with their weights.
+  std::string databaseInUse() const;
   // A live run (-live FILE, src/run/run_live.cpp, docs/live.md).
   /// In setUp, before the databases open: the file's header and first row, and the columns' users.
   PetscErrorCode liveStart();

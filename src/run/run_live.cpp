@@ -1,7 +1,8 @@
 // A live run (rcfd run -live FILE, docs/live.md): the measured conditions of
 // src/run/live_input reach what a schedule drives -- the switching rule's u_sup
 // (switching and blending), the conditions the monitors see (bottom-layer u_mf
-// and the de-fluidization warning) -- and the granulator's rates.  A row
+// and the de-fluidization warning) -- the granulator's rates and the scalars'
+// spray rate and gas temperature (their u_sup follows in the time loop, run.cpp).  A row
 // holds from its time on, so a step starting at t uses the row at or before t,
 // exactly as a -db_switch_schedule entry: a live run fed a schedule's
 // conditions gives the schedule run's bits.
@@ -18,15 +19,18 @@ PetscErrorCode Run::Impl::liveStart() {
   PetscFunctionBeginUser;
   PetscCall(live.start(comm, set, quiet == PETSC_TRUE));
   const std::string file = "-live " + live.path() + ": ";
-  const std::string pipeline = " (-pipeline " + pipelineSpec + " has none)";
-  PetscCheck((!live.has(LiveInput::FeedRate) && !live.has(LiveInput::FeedShare)) ||
-               findOperator<FeedOperator>(ops), comm, PETSC_ERR_USER_INPUT,
-             "%sthe feed columns need the feed operator in -pipeline%s", file.c_str(), pipeline.c_str());
-  PetscCheck(!live.has(LiveInput::DischargeRate) || findOperator<DischargeOperator>(ops), comm,
-             PETSC_ERR_USER_INPUT, "%sthe column discharge_rate needs the discharge operator in -pipeline%s",
-             file.c_str(), pipeline.c_str());
-  PetscCheck(!live.has(LiveInput::GrowthRate) || findOperator<GrowthOperator>(ops), comm, PETSC_ERR_USER_INPUT,
-             "%sthe column growth_rate needs the growth operator in -pipeline%s", file.c_str(), pipeline.c_str());
+  const std::string missing = granulatorColumnWithoutOperator(live, ops);
+  PetscCheck(missing.empty(), comm, PETSC_ERR_USER_INPUT, "%s%s (-pipeline %s has none)", file.c_str(), missing.c_str(),
+             pipelineSpec.c_str());
+  // The scalars' sources (docs/scalars.md): spray into moisture, the gas's inlet temperature.
+  ScalarSources &sources = scalars.sources();
+  PetscCheck(!live.has(LiveInput::SprayRate) || (scalars.size() > 0 && sources.canSpray()), comm, PETSC_ERR_USER_INPUT,
+             "%sthe column spray_rate needs a scalar named moisture in -scalars (the liquid it adds, kg per kg "
+             "solid)", file.c_str());
+  PetscCheck(!live.has(LiveInput::GasTemperature) || (scalars.size() > 0 && sources.exchanges()), comm,
+             PETSC_ERR_USER_INPUT, "%sthe column gas_temperature needs the scalars' exchange with the gas "
+             "(-scalars temperature and -scalar_exchange_model gunn or constant)", file.c_str());
+  if (live.has(LiveInput::SprayRate)) sources.followSpray(); // its zone is set up even at a rate of 0
   if (live.has(LiveInput::SuperficialVelocity) && !switching) {
     // Two answers to "what is u_sup" would give bottom.csv one and the case the other.
     PetscCheck(!std::isfinite(answers.fluidization().given.superficialVelocity), comm, PETSC_ERR_USER_INPUT,
@@ -59,20 +63,12 @@ PetscErrorCode Run::Impl::liveFollow(double time) {
     if (db) liveConditions = db->metadata().conditions;
     liveConditions.superficialVelocity = live.at(LiveInput::SuperficialVelocity, time);
   }
-  if (auto *feed = findOperator<FeedOperator>(ops)) {
-    const bool rate = live.has(LiveInput::FeedRate), shares = live.has(LiveInput::FeedShare);
-    if (rate || shares) {
-      std::vector<double> w = feed->feedShares();
-      if (shares)
-        for (std::size_t i = 0; i < w.size(); ++i) w[i] = live.at(LiveInput::FeedShare, time, static_cast<int>(i));
-      feed->setFeed(rate ? live.at(LiveInput::FeedRate, time) : feed->feedRate(), w);
-    }
+  if (scalars.size() > 0) { // the sources take the conditions of the steps from `time` on
+    ScalarSources &sources = scalars.sources();
+    if (live.has(LiveInput::SprayRate)) sources.setSprayRate(live.at(LiveInput::SprayRate, time));
+    if (live.has(LiveInput::GasTemperature)) sources.setGasTemperature(live.at(LiveInput::GasTemperature, time));
   }
-  if (auto *discharge = findOperator<DischargeOperator>(ops))
-    if (live.has(LiveInput::DischargeRate)) discharge->setRate(live.at(LiveInput::DischargeRate, time));
-  if (auto *growth = findOperator<GrowthOperator>(ops))
-    if (live.has(LiveInput::GrowthRate))
-      growth->setRate(live.at(LiveInput::GrowthRate, time), growth->transferFraction());
+  setGranulatorRates(live, time, ops);
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 

@@ -3,7 +3,21 @@
 #include "run/run_impl.hpp"
 #include "base/petsc_compat.hpp"
 
+#include <cstdio>
+
 namespace rcfd {
+
+std::string Run::Impl::databaseInUse() const {
+  if (!switching) return dbPath;
+  const SwitchDecision &d = switching->active();
+  const std::string &first = switching->set().entry(d.database).path;
+  if (d.partner < 0) return first;
+  char text[64];
+  std::snprintf(text, sizeof text, " (weight %.4g) blended with ", d.weight);
+  std::string out = first + text + switching->set().entry(d.partner).path;
+  std::snprintf(text, sizeof text, " (weight %.4g)", 1.0 - d.weight);
+  return out + text;
+}
 
 PetscErrorCode Run::Impl::followSwitches(long step, double time, int nextFrame) {
   bool change = false;

@@ -100,6 +100,7 @@ std::string StatusMonitor::json(double t, long k, bool end) const {
   std::ostringstream j;
   std::vector<std::string> warnings;
   j << "{\n  \"time_s\": " << number(t) << ",\n  \"step\": " << k << ",\n  \"last\": " << (end ? "true" : "false");
+  if (!databaseName.empty()) j << ",\n  \"database\": " << jsonString(databaseName);
   for (const Monitor *m : watched) {
     if (const auto *cog = dynamic_cast<const CogMonitor *>(m)) {
       j << ",\n  \"delta_z_m\": " << number(cog->signal("delta_z"));
@@ -124,15 +125,28 @@ std::string StatusMonitor::json(double t, long k, bool end) const {
     } else if (const auto *fc = dynamic_cast<const ForecastMonitor *>(m)) {
       const std::vector<double> &r = fc->latestRow(); // forecast.csv's columns (docs/live.md)
       if (r.size() < 12) continue;
-      j << ",\n  \"forecast\": {\"time_s\": " << number(r[0]) << ", \"horizon_s\": " << number(r[1])
+      // A forecast under a what-if says so: its numbers are not those of the conditions held.
+      const std::string whatIf = fc->whatIf().empty() ? "null" : jsonString(fc->whatIf());
+      j << ",\n  \"forecast\": {\"time_s\": " << number(r[0]) << ", \"what_if\": " << whatIf << ", \"horizon_s\": " << number(r[1])
         << ", \"members\": " << number(r[2]) << ", \"delta_z_mean_m\": " << number(r[3])
         << ", \"delta_z_spread_m\": " << number(r[4]) << ", \"d32_bottom_mean_m\": " << number(r[5])
         << ", \"d32_bottom_spread_m\": " << number(r[6]) << ", \"umf_usup_mean\": " << number(r[7])
         << ", \"umf_usup_spread\": " << number(r[8]) << ", \"warning_members\": " << number(r[9])
-        << ", \"warning_in_mean_s\": " << number(r[10]) << ", \"warning_in_first_s\": " << number(r[11]) << "}";
+        << ", \"warning_in_mean_s\": " << number(r[10]) << ", \"warning_in_first_s\": " << number(r[11]);
+      const std::vector<std::string> &labels = fc->productLabels(); // the product over the horizon
+      if (!labels.empty() && r.size() >= 14 + 2 * labels.size()) {
+        j << ", \"product_mass_mean_kg\": " << number(r[12]) << ", \"product_mass_spread_kg\": " << number(r[13])
+          << ", \"product_shares\": [";
+        for (std::size_t i = 0; i < labels.size(); ++i)
+          j << (i ? ", " : "") << "{\"label\": " << jsonString(labels[i]) << ", \"mean\": " << number(r[14 + 2 * i])
+            << ", \"spread\": " << number(r[15 + 2 * i]) << "}";
+        j << "]";
+      }
+      j << "}";
       if (r[9] > 0)
         warnings.push_back(format("Forecast: %.0f of %.0f members de-fluidize within %.4g s", r[9], r[2], r[1]) +
-                           format(", in about %.4g s (forecast issued at t = %.6g s).", r[10], r[0]));
+                           format(", in about %.4g s (forecast issued at t = %.6g s", r[10], r[0]) +
+                           (fc->whatIf().empty() ? std::string(").") : ", under the what-if " + fc->whatIf() + ")."));
     }
   }
   j << ",\n  \"warnings\": [";
@@ -148,10 +162,11 @@ std::string StatusMonitor::json(double t, long k, bool end) const {
 PetscErrorCode StatusMonitor::sample(const MonitorContext &ctx) {
   PetscFunctionBeginUser;
   time = ctx.time, step = ctx.step, last = ctx.last;
+  if (database) databaseName = database();
   pending = true;
   double waited = MPI_Wtime() - lastWrite;
   PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, &waited, 1, MPI_DOUBLE, MPI_MAX, comm));
-  if (news() != seen || waited >= every) PetscCall(write()); // and at the end: flush()
+  if (news() != seen || databaseName != writtenDatabase || waited >= every) PetscCall(write()); // and at the end: flush()
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
@@ -181,6 +196,7 @@ PetscErrorCode StatusMonitor::write() {
   PetscCall(agreeOnStatus(comm, status));
   pending = false;
   seen = news();
+  writtenDatabase = databaseName;
   lastWrite = MPI_Wtime();
   PetscFunctionReturn(PETSC_SUCCESS);
 }

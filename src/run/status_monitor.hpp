@@ -1,14 +1,16 @@
 // The status page (-status, docs/live.md): OUTPUT_DIR/status.json with the
 // latest numbers people act on -- time, Delta z, the bottom layer's d32 and
 // u_mf/u_sup, the de-fluidization warning in plain words, the latest forecast
+// (with a discharge, its product's size distribution), the database in use
 // -- rewritten atomically (at most every -status_every wall seconds, at once
-// when a warning or a forecast is new, at the end), and OUTPUT_DIR/status.html, a
+// when a warning, a forecast or the database is new, at the end), and OUTPUT_DIR/status.html, a
 // self-contained page that polls it and the run's CSV files.  Any static
 // server in the output directory shows it; rcfd runs no server of its own.
 #pragma once
 
 #include "rcfd/observables.hpp"
 
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -25,6 +27,9 @@ public:
   /// The monitors whose latest values the page shows (the run's list, sampled
   /// before this one at each step); they must outlive the monitor.
   void watch(std::vector<const Monitor *> monitors) { watched = std::move(monitors); }
+  /// The name of the database in use, asked at each sample (the same on every rank); a change (a
+  /// switch) rewrites status.json at once.
+  void nameDatabase(std::function<std::string()> name) { database = std::move(name); }
   /// Collective.  Copies the page into `dir` (rank 0).
   PetscErrorCode setUp(const RunContext &run, const FractionState &state, const std::string &dir) override;
   /// Collective.  Rank 0 rewrites status.json when it is due; the ranks agree on
@@ -46,6 +51,8 @@ private:
   MPI_Comm comm = MPI_COMM_NULL;
   std::string directory;
   std::vector<const Monitor *> watched;
+  std::function<std::string()> database;
+  std::string databaseName, writtenDatabase; // the latest sample's, and the one in status.json
   double time = 0.0; // the latest sample's
   long step = 0;
   bool last = false;

@@ -94,30 +94,11 @@ PetscErrorCode ScalarSources::setUp(const Database &database, const FractionSet 
     gasDensity = resolved.gasDensity;
     viscosity = resolved.gasKinematicViscosity;
     velocity = resolved.superficialVelocity;
-    // The gas's heat capacity flow through the box's cross-section normal to gravity.
-    capacityFlow = 0.0;
-    if (database.mesh().isBox()) {
-      const Vec3 &g = database.metadata().gravity, &length = database.mesh().boxSpec().length;
-      int up = 0;
-      for (int a = 1; a < 3; ++a)
-        if (std::fabs(g[a]) > std::fabs(g[up])) up = a;
-      capacityFlow = gasDensity * velocity * length[(up + 1) % 3] * length[(up + 2) % 3] * gasHeatCapacity;
-    }
-    if (gasModel == Gas::Plug) { // the layers of the answers; the gas's mass flow through the lowest one's section
-      PetscCall(layers.setUp(database));
-      gasFlow = gasDensity * velocity * layers.volume(0) / layers.thickness();
-      capacityFlow = gasFlow * gasHeatCapacity;
-    }
+    if (gasModel == Gas::Plug) PetscCall(layers.setUp(database)); // the layers of the answers
   }
-  heatTerms.assign(nf, Terms{});
-  massTerms.assign(nf, Terms{});
-  for (int i = 0; i < nf && model == Model::Gunn; ++i) {
-    const double re = velocity * diameter[i] / viscosity;
-    heatTerms[i] = {1.0 + 0.7 * std::pow(re, 0.2) * std::cbrt(prandtl), std::pow(re, 0.7) * std::cbrt(prandtl)};
-    massTerms[i] = {1.0 + 0.7 * std::pow(re, 0.2) * std::cbrt(schmidt), std::pow(re, 0.7) * std::cbrt(schmidt)};
-  }
+  gasFromVelocity();
   sprayZone.reset();
-  if (sprayRate > 0.0) {
+  if (sprayRate > 0.0 || sprayFollowed) {
     ZoneSet zones;
     PetscCall(zones.setFromOptions(comm));
     const Zone *found = zones.find(sprayZoneName);
@@ -129,6 +110,36 @@ PetscErrorCode ScalarSources::setUp(const Database &database, const FractionSet 
     PetscCall(sprayZone->setUp(database.mesh(), database.layout(), database.metadata().gravity));
   }
   PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+void ScalarSources::gasFromVelocity() {
+  heatTerms.assign(nf, Terms{});
+  massTerms.assign(nf, Terms{});
+  if (model == Model::None) return;
+  // The gas's heat capacity flow through the box's cross-section normal to gravity.
+  capacityFlow = 0.0;
+  if (db->mesh().isBox()) {
+    const Vec3 &g = db->metadata().gravity, &length = db->mesh().boxSpec().length;
+    int up = 0;
+    for (int a = 1; a < 3; ++a)
+      if (std::fabs(g[a]) > std::fabs(g[up])) up = a;
+    capacityFlow = gasDensity * velocity * length[(up + 1) % 3] * length[(up + 2) % 3] * gasHeatCapacity;
+  }
+  if (gasModel == Gas::Plug) { // the gas's mass flow through the lowest layer's section
+    gasFlow = gasDensity * velocity * layers.volume(0) / layers.thickness();
+    capacityFlow = gasFlow * gasHeatCapacity;
+  }
+  for (int i = 0; i < nf && model == Model::Gunn; ++i) {
+    const double re = velocity * diameter[i] / viscosity;
+    heatTerms[i] = {1.0 + 0.7 * std::pow(re, 0.2) * std::cbrt(prandtl), std::pow(re, 0.7) * std::cbrt(prandtl)};
+    massTerms[i] = {1.0 + 0.7 * std::pow(re, 0.2) * std::cbrt(schmidt), std::pow(re, 0.7) * std::cbrt(schmidt)};
+  }
+}
+
+void ScalarSources::setSuperficialVelocity(double u) {
+  if (!db || !(u > 0.0) || u == velocity) return; // an unknown u_sup (NaN) leaves the set-up's
+  velocity = u;
+  gasFromVelocity();
 }
 
 // Gunn, D. J. (1978), Int. J. Heat Mass Transfer 21, 467-476: for a particle in

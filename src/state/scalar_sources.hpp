@@ -70,7 +70,18 @@ public:
   ///   -scalar_gas_pressure [Pa]; drying toward the saturation humidity of water at the particle's
   ///   temperature).
   PetscErrorCode setFromOptions(MPI_Comm comm, const std::vector<std::string> &names);
-  bool any() const { return sprayRate > 0.0 || model != Model::None; }
+  bool any() const { return sprayRate > 0.0 || sprayFollowed || model != Model::None; }
+  /// Conditions that change during a run (a live file, docs/live.md), for the steps from now on.
+  /// followSpray(), before setUp: the spray rate will be set, so the spray zone is set up even
+  /// when -scalar_spray_rate is 0.  setSuperficialVelocity(), after setUp: Gunn's Reynolds numbers
+  /// and the gas's flow follow u_sup [m/s].
+  void followSpray() { sprayFollowed = true; }
+  void setSprayRate(double kgPerSecond) { sprayRate = kgPerSecond; }
+  void setGasTemperature(double kelvin) { gasTemperature = kelvin; }
+  void setSuperficialVelocity(double metresPerSecond);
+  /// Whether a spray has a scalar to add to (moisture) and the gas an exchange to drive.
+  bool canSpray() const { return moisture >= 0; }
+  bool exchanges() const { return model != Model::None; }
   /// Collective.  The spray zone on the mesh, the diameters, the gas (-superficial_velocity,
   /// -gas_density, -gas_kinematic_viscosity, else the database's, else air at 1.1 m/s).
   PetscErrorCode setUp(const Database &db, const FractionSet &fractions, double solidDensity);
@@ -116,6 +127,8 @@ private:
   /// The step's exchange with the plug-flow gas (apply's part for -scalar_gas_model plug).
   PetscErrorCode applyPlug(double dt, int frame, PetscInt end, const PetscScalar *m, PetscScalar *a,
                            std::vector<double> &sums);
+  /// What follows from u_sup: Gunn's terms per class, the gas's flow and heat capacity flow.
+  void gasFromVelocity();
   /// Takes min(wanted, X) [kg] from the moisture of class i in a cell's amounts (never below zero;
   /// negative: condensation), and its heat of evaporation from the temperature (never below 0 K);
   /// adds both to the step's change [scalar][fraction] and to the liquid dried and heat taken.
@@ -135,6 +148,7 @@ private:
   void classCoefficients(int i, double eps, double *heat, double *mass) const;
   int temperature = -1, moisture = -1, ns = 0, nf = 0;
   double sprayRate = 0.0;
+  bool sprayFollowed = false;
   std::string sprayZoneName = "spray";
   std::unique_ptr<Zone> sprayZone;
   Model model = Model::None;

@@ -41,6 +41,7 @@
 
 #include "rcfd/frames.hpp"
 #include "rcfd/mesh.hpp"
+#include "rcfd/vessel.hpp"
 
 #include <array>
 #include <cstddef>
@@ -112,6 +113,9 @@ struct EulerianBuildOptions {
   /// solid of a cell is V_inside alpha_s, and a frame with solid outside is refused.
   /// Empty: every box cell whole.
   std::vector<double> cellVolume;
+  /// The vessel (with cellVolume): tracers that cross its wall are mirrored back in, as at
+  /// the box's walls.  The whole box: only the box's walls.
+  Vessel vessel;
   double dtRec = 0.0;           // time between frames [s], > 0
   int tracersPerCell = 8;       // per occupied cell and frame
   std::uint64_t seed = 1;       // tracer positions are a function of seed, frame and cell

@@ -112,6 +112,32 @@ void reflect(const BoxSpec &box, Vec3 &p) {
   }
 }
 
+/// Mirror a point that crossed the vessel's wall back in: the vessel's level is
+/// the distance to the wall (a lower bound of it, exact on a plane, a
+/// cylinder's or a cone's side) and its gradient the wall's normal, so
+/// p - 2 level n lies as far inside as p lay outside, and a tracer bounces off
+/// the wall as off the box's.  Where that is still outside (a rim, where two
+/// walls meet) p stays: it ends, as before, in the nearest cell with solid.
+void reflectAtVessel(const Vessel &vessel, const BoxSpec &box, double step, Vec3 &p) {
+  const double level = vessel.level(p);
+  if (!(level < 0.0)) return;
+  Vec3 normal;
+  double norm2 = 0.0;
+  for (int a = 0; a < 3; ++a) {
+    Vec3 up = p, down = p;
+    up[a] += step;
+    down[a] -= step;
+    normal[a] = (vessel.level(up) - vessel.level(down)) / (2.0 * step);
+    norm2 += normal[a] * normal[a];
+  }
+  if (!(norm2 > 0.0)) return;
+  const double scale = -2.0 * level / std::sqrt(norm2);
+  Vec3 mirrored = p;
+  for (int a = 0; a < 3; ++a) mirrored[a] += scale * normal[a];
+  reflect(box, mirrored);
+  if (vessel.level(mirrored) > 0.0) p = mirrored;
+}
+
 /// Nearest cell (centre to p) among those with `ok`, found on demand from a
 /// Chebyshev distance map to the nearest `ok` cell.
 class NearestCell {
@@ -187,6 +213,7 @@ CsrMatrix traceShift(const EulerianFrame &now, const std::vector<double> &alphaN
     if (now.alphaS[c] > opt.emptyAlphaS)
       uMax = std::max(uMax, std::hypot(now.solidVelocity[c][0], now.solidVelocity[c][1],
                                        now.solidVelocity[c][2]));
+  const bool walled = !opt.vessel.isWholeBox();
   const double cellsPerStep = uMax * opt.dtRec / hMin;
   if (cellsPerStep > 1000)
     throw std::runtime_error("Eulerian frame '" + now.source + "': a solid velocity of " +
@@ -249,6 +276,7 @@ CsrMatrix traceShift(const EulerianFrame &now, const std::vector<double> &alphaN
                   dt = opt.courant * h[ax] / std::fabs(u[ax]);
               for (int ax = 0; ax < 3; ++ax) p[ax] += u[ax] * dt;
               reflect(box, p);
+              if (walled) reflectAtVessel(opt.vessel, box, 1e-3 * hMin, p);
               remaining = dt < remaining ? remaining - dt : 0.0;
               ++steps;
             }

@@ -121,6 +121,21 @@ public:
     for (size_t p = 0; p < n; ++p)
       cells[id_[p]] = cellOf(x_[p], y_[p], airborne_[p] ? layerOf(z_[p]) : slot_[p] / ppc_);
   }
+  /// The cell cellAt(x, y, z) of every parcel (its position from the box origin),
+  /// by parcel identity: for a vessel of any shape the bed's box is mapped into
+  /// (vessel_map.hpp).  A dense parcel's height is its slot's, spread over the
+  /// slot by a fixed share of its own (the golden-ratio sequence of its identity):
+  /// a layer of the vessel thinner than a slot (a cone's tip, squeezed upwards)
+  /// then gets its share of each slot's parcels, not all of them or none.
+  template <typename CellAt> void cellsAt(std::vector<int32_t> &cells, CellAt &&cellAt) const {
+    constexpr double golden = 0.61803398874989484820;
+    const size_t n = x_.size();
+    cells.resize(n);
+    for (size_t p = 0; p < n; ++p) {
+      const double spread = id_[p] * golden - std::floor(id_[p] * golden);
+      cells[id_[p]] = cellAt(x_[p], y_[p], airborne_[p] ? z_[p] : (slot_[p] + spread) * slotHeight_);
+    }
+  }
   double meanSurfaceHeight() const;
   long numParcels() const { return static_cast<long>(x_.size()); }
   double alphaPerParcel() const { return opt_.packing / opt_.parcelsPerCell; }

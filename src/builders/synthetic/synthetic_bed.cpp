@@ -5,6 +5,7 @@
 #include "builders/synthetic/synthetic_bed.hpp"
 
 #include "builders/synthetic/kinematic_bed.hpp"
+#include "builders/synthetic/vessel_map.hpp"
 #include "mesh/vessel_mesh.hpp"
 
 #include <algorithm>
@@ -165,9 +166,24 @@ void require(bool ok, const std::string &sentence) {
   if (!ok) throw std::invalid_argument("synthetic bed: " + sentence);
 }
 
+/// One vertical cylinder through the box's height, inside its cross-section:
+/// the bed runs in a square of its area and CylinderMap takes it into the disk
+/// (its bits since the cylinder came).  Every other vessel: a host box and
+/// VesselMap (vessel_map.hpp).
+bool cylinderThroughBox(const SyntheticBedOptions &o) {
+  const BoxSpec &box = o.box;
+  const auto &shapes = o.vessel.shapes();
+  if (shapes.size() != 1 || shapes[0].kind != Vessel::Kind::Cylinder) return false;
+  const auto &p = shapes[0].p;
+  const double slack = 1e-12 * std::max(box.length[0], box.length[1]);
+  return (p.size() == 3 || (p[3] <= box.origin[2] && p[4] >= box.origin[2] + box.length[2])) &&
+         p[0] - p[2] >= box.origin[0] - slack && p[0] + p[2] <= box.origin[0] + box.length[0] + slack &&
+         p[1] - p[2] >= box.origin[1] - slack && p[1] + p[2] <= box.origin[1] + box.length[1] + slack;
+}
+
 } // namespace
 
-void validateSyntheticBedOptions(const SyntheticBedOptions &o) {
+void validateSyntheticBedOptions(const SyntheticBedOptions &o, const Mesh *vesselMesh) {
   const BoxSpec &box = o.box;
   require(box.nx >= 1 && box.ny >= 1 && box.nz >= 2, "the box needs at least 1 x 1 x 2 cells.");
   require(box.length[0] > 0.0 && box.length[1] > 0.0 && box.length[2] > 0.0,
@@ -210,15 +226,11 @@ void validateSyntheticBedOptions(const SyntheticBedOptions &o) {
   require(o.ejectionSpeed >= 0.0, "ejectionSpeed must not be negative.");
   require(o.gravity > 0.0, "gravity must be positive.");
   if (o.vessel.isWholeBox()) return;
-  const auto &shapes = o.vessel.shapes();
-  const bool cylinder = shapes.size() == 1 && shapes[0].kind == Vessel::Kind::Cylinder;
-  const auto &p = shapes[0].p;
-  const double slack = 1e-12 * std::max(box.length[0], box.length[1]);
-  require(cylinder && (p.size() == 3 || (p[3] <= box.origin[2] && p[4] >= box.origin[2] + box.length[2])) &&
-              p[0] - p[2] >= box.origin[0] - slack && p[0] + p[2] <= box.origin[0] + box.length[0] + slack &&
-              p[1] - p[2] >= box.origin[1] - slack && p[1] + p[2] <= box.origin[1] + box.length[1] + slack,
-          "the vessel must be the whole box or one vertical cylinder, through the box's height, inside its "
-          "cross-section (-vessel cylinder).");
+  if (!cylinderThroughBox(o)) { // the host box must hold a bed (it checks itself)
+    synthetic::hostBedOptions(o, vesselMesh ? *vesselMesh : cutVesselMesh(o.vessel, box));
+    return;
+  }
+  const auto &p = o.vessel.shapes()[0].p;
   SyntheticBedOptions square = o; // the square the bed runs in must hold a bed too
   square.vessel = Vessel();
   square.box.length[0] = square.box.length[1] = p[2] * std::sqrt(kPi);
@@ -230,14 +242,18 @@ namespace {
 /// The kinematic run behind both entry points: frames go to `sink` when it is
 /// given; without it only the report (the per-frame series) is made, and the
 /// shifts, the costly part, are not built.  The bed's motion is the same.
-SyntheticBedReport runSyntheticBed(const SyntheticBedOptions &options, const FrameSink *sink) {
+SyntheticBedReport runSyntheticBed(const SyntheticBedOptions &options, const FrameSink *sink,
+                                   const Mesh *vesselMesh) {
   const BoxSpec &box = options.box;
-  // In a cylinder the bed runs in a square of the same area (CylinderMap) and
-  // its frames are on the vessel's cells; in the box, as it always did.
+  // In a cylinder the bed runs in a square of the same area (CylinderMap), in
+  // any other vessel in a host box of the vessel's volume (VesselMap), and its
+  // frames are on the vessel's cells; in the box, as it always did.
   const bool inVessel = !options.vessel.isWholeBox();
-  const Mesh mesh = inVessel ? cutVesselMesh(options.vessel, box) : Mesh();
-  SyntheticBedOptions square = options;
-  if (inVessel) square.box.length[0] = square.box.length[1] = options.vessel.shapes()[0].p[2] * std::sqrt(kPi);
+  const bool shaped = inVessel && !cylinderThroughBox(options);
+  const Mesh mesh = !inVessel ? Mesh() : vesselMesh ? *vesselMesh : cutVesselMesh(options.vessel, box);
+  SyntheticBedOptions square = shaped ? synthetic::hostBedOptions(options, mesh) : options;
+  if (inVessel && !shaped)
+    square.box.length[0] = square.box.length[1] = options.vessel.shapes()[0].p[2] * std::sqrt(kPi);
   const int numCells = inVessel ? mesh.numCells() : box.numCells();
   const Vec3 h = square.box.spacing();
   const double cellVolume = h[0] * h[1] * h[2]; // of the bed's own cells
@@ -258,12 +274,19 @@ SyntheticBedReport runSyntheticBed(const SyntheticBedOptions &options, const Fra
 
   const JumpMeter jumps = inVessel ? JumpMeter(box, mesh) : JumpMeter(box);
   std::unique_ptr<CylinderMap> map;
-  if (inVessel)
+  std::unique_ptr<synthetic::VesselMap> shapedMap;
+  if (shaped) shapedMap = std::make_unique<synthetic::VesselMap>(box, square.box, mesh, report.parcelVolume);
+  else if (inVessel)
     map = std::make_unique<CylinderMap>(box, mesh, options.vessel.shapes()[0], square.box.length[0],
                                         report.parcelVolume);
   auto cellsOf = [&](std::vector<int32_t> &out) {
-    if (map) bed.cellsOf(out, map->start());
+    if (shapedMap) bed.cellsAt(out, shapedMap->start());
+    else if (map) bed.cellsOf(out, map->start());
     else bed.cellsOf(out);
+  };
+  // The surface height in the vessel: the host's mapped (the same height elsewhere).
+  auto surfaceHeight = [&] {
+    return shapedMap ? shapedMap->height(bed.meanSurfaceHeight()) : bed.meanSurfaceHeight();
   };
   auto alphaOfCells = [&](const std::vector<int32_t> &of) {
     return inVessel ? alphaIn(mesh, of, report.parcelVolume) : alphaOf(numCells, of, bed.alphaPerParcel());
@@ -277,8 +300,8 @@ SyntheticBedReport runSyntheticBed(const SyntheticBedOptions &options, const Fra
   report.surfaceHeight.reserve(options.numFrames);
   report.centreOfGravity.reserve(options.numFrames);
   for (int k = 0; k < options.numFrames; ++k) {
-    heightSum += bed.meanSurfaceHeight();
-    report.surfaceHeight.push_back(bed.meanSurfaceHeight());
+    heightSum += surfaceHeight();
+    report.surfaceHeight.push_back(surfaceHeight());
     report.centreOfGravity.push_back(centreOfGravity(box, cells, inVessel ? &mesh : nullptr));
     for (int s = 0; s < substeps; ++s) bed.advance(dt);
     cellsOf(next);
@@ -306,15 +329,16 @@ SyntheticBedReport runSyntheticBed(const SyntheticBedOptions &options, const Fra
 
 } // namespace
 
-SyntheticBedReport generateSyntheticBed(const SyntheticBedOptions &options, const FrameSink &sink) {
-  validateSyntheticBedOptions(options);
+SyntheticBedReport generateSyntheticBed(const SyntheticBedOptions &options, const FrameSink &sink,
+                                        const Mesh *vesselMesh) {
+  validateSyntheticBedOptions(options, vesselMesh);
   if (!sink) throw std::invalid_argument("synthetic bed: the frame sink is empty.");
-  return runSyntheticBed(options, &sink);
+  return runSyntheticBed(options, &sink, vesselMesh);
 }
 
-SyntheticBedReport generateSyntheticBedSeries(const SyntheticBedOptions &options) {
-  validateSyntheticBedOptions(options);
-  return runSyntheticBed(options, nullptr);
+SyntheticBedReport generateSyntheticBedSeries(const SyntheticBedOptions &options, const Mesh *vesselMesh) {
+  validateSyntheticBedOptions(options, vesselMesh);
+  return runSyntheticBed(options, nullptr, vesselMesh);
 }
 
 } // namespace rcfd

@@ -23,8 +23,11 @@ struct SyntheticBedOptions {
   BoxSpec box;              ///< 0.2 x 0.05 x 0.7 m, 40 x 10 x 140 cells
   /// The whole box, or one vertical cylinder (no caps) inside the box's
   /// cross-section: the bed then runs in a square of the cylinder's area and
-  /// its parcels are mapped into the cylinder by an equal-area map
-  /// (docs/vessels.md); the frames are on vesselMesh(vessel, box)'s cells.
+  /// its parcels are mapped into the cylinder by an equal-area map; or any
+  /// other vessel (a conical bottom, a box minus tubes): the bed runs in a host
+  /// box of the vessel's volume, mapped into it by a volume-preserving map
+  /// (builders/synthetic/vessel_map.hpp, docs/vessels.md).  The frames are on
+  /// vesselMesh(vessel, box)'s cells.
   Vessel vessel;
   int numFrames = 300;      ///< K frames are written
   double dtRec = 5e-3;      ///< time between frames
@@ -81,19 +84,22 @@ struct SyntheticBedReport {
 };
 
 /// Throws std::invalid_argument with a sentence naming the first bad option.
-void validateSyntheticBedOptions(const SyntheticBedOptions &options);
+/// `vesselMesh`, when given, is vesselMesh(options.vessel, options.box), not cut
+/// again (a vessel with many cut cells takes seconds to cut); the same below.
+void validateSyntheticBedOptions(const SyntheticBedOptions &options, const Mesh *vesselMesh = nullptr);
 
 /// Run the kinematic bed and hand frames k = 0 .. numFrames-1 to `sink`, one
 /// at a time: frame k holds alpha_s at t_k and the exact shift t_k -> t_{k+1}
 /// built from parcel identities (so T_k alpha_k = alpha_{k+1} to round-off).
 /// Serial; deterministic for given options.  Throws std::invalid_argument for
 /// bad options.
-SyntheticBedReport generateSyntheticBed(const SyntheticBedOptions &options, const FrameSink &sink);
+SyntheticBedReport generateSyntheticBed(const SyntheticBedOptions &options, const FrameSink &sink,
+                                        const Mesh *vesselMesh = nullptr);
 
 /// The same run without frames: only the report, whose per-frame series
 /// (surface height, centre of gravity) are those generateSyntheticBed gives for
 /// the same options.  For long spans (stationarity, docs/synthetic.md): it skips
 /// the shifts, most of a frame's cost.  Throws std::invalid_argument for bad options.
-SyntheticBedReport generateSyntheticBedSeries(const SyntheticBedOptions &options);
+SyntheticBedReport generateSyntheticBedSeries(const SyntheticBedOptions &options, const Mesh *vesselMesh = nullptr);
 
 } // namespace rcfd

@@ -1,5 +1,5 @@
-// Test helper: a whole run with -scalars through the public API, and what it
-// ends with in natural cell order (tests/test_scalars.cpp, test_scalar_carries.cpp).
+// Test helper: a whole run with scalars from options, and what it ends with (masses, amounts,
+// the sources' account, in natural cell order), for the tests of the scalars; and their common checks.
 #pragma once
 
 #include "base/petsc_compat.hpp"
@@ -19,15 +19,17 @@ namespace rcfd::test {
 
 struct ScalarOutcome {
   std::vector<double> masses, amounts;            // natural order, at the end
+  std::vector<double> account;                    // of the sources
+  int nf = 0, ns = 0;
   std::vector<double> initialMass, initialAmount; // per fraction; per scalar and fraction
   int jumps = 0;                                  // steps whose next frame does not follow
   std::vector<std::string> labels;                // of the fractions
 };
 
-/// Collective on `comm`.  The run of `options` (and -output_dir `dir`) made
-/// with `registry`, quiet, its history kept, field files only when `fields`.
-inline PetscErrorCode runScalarCase(MPI_Comm comm, const OperatorRegistry &registry, const std::string &options,
-                                    const std::string &dir, ScalarOutcome *out, bool fields = false) {
+/// Collective on `comm`.  Runs `options` (with -output_dir `dir`) made with `registry`, quiet, its
+/// history kept, field files only when `fields`.
+inline PetscErrorCode runScalarCaseWith(MPI_Comm comm, const OperatorRegistry &registry, const std::string &options,
+                                        const std::string &dir, ScalarOutcome *out, bool fields = false) {
   PetscFunctionBeginUser;
   ScopedOptions scoped(options + " -output_dir " + dir);
   Run run(comm, registry);
@@ -39,13 +41,30 @@ inline PetscErrorCode runScalarCase(MPI_Comm comm, const OperatorRegistry &regis
   PetscCall(run.state().totals(&out->initialMass));
   PetscCall(run.state().amountTotals(&out->initialAmount));
   PetscCall(run.solve());
-  const int nf = run.state().numFractions(), na = nf * run.state().numScalars();
-  out->masses = gatherNatural(run.database(), run.state().masses(), nf);
-  out->amounts = gatherNatural(run.database(), run.state().amounts(), na);
+  out->nf = run.state().numFractions();
+  out->ns = run.state().numScalars();
+  out->masses = gatherNatural(run.database(), run.state().masses(), out->nf);
+  out->amounts = gatherNatural(run.database(), run.state().amounts(), out->nf * out->ns);
+  out->account = run.scalarSourceAccount();
   const std::vector<int> &frames = run.framesUsed();
   for (std::size_t k = 1; k < frames.size(); ++k) out->jumps += frames[k] != frames[k - 1] + 1;
-  for (int i = 0; i < nf; ++i) out->labels.push_back(run.fractions().label(i));
+  for (int i = 0; i < out->nf; ++i) out->labels.push_back(run.fractions().label(i));
   PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/// The same with the built-in operators, without fields.
+inline PetscErrorCode runScalarCase(MPI_Comm comm, const std::string &options, const std::string &dir,
+                                    ScalarOutcome *out) {
+  return runScalarCaseWith(comm, OperatorRegistry::withBuiltins(), options, dir, out);
+}
+
+/// Scalar s's amount summed over the bed.
+inline double scalarTotal(const ScalarOutcome &o, int s) {
+  double sum = 0.0;
+  const int w = o.nf * o.ns;
+  for (std::size_t c = 0; c < o.masses.size() / o.nf; ++c)
+    for (int i = 0; i < o.nf; ++i) sum += o.amounts[c * w + s * o.nf + i];
+  return sum;
 }
 
 /// The bytes of a file ("" when it cannot be read).
