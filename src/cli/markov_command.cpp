@@ -267,13 +267,15 @@ PetscErrorCode markovCommand(MPI_Comm comm, const char *positional) {
 
   if (!o.quiet) {
     PetscCall(PetscPrintf(comm,
-                          "Markov chain of %s: %d frames, dt_rec %g s; columns sum to 1 within %.1e\n"
+                          "Markov chain of %s: %d frames, dt_rec %g s; columns sum to 1 within %.1e; %d of the %d cells "
+                          "hold or exchange solid in some frame (the others are left out of the propagations)\n"
                           "  averaged chain (%s): |Q m - m|_1 = %.3e for the mean mass share m\n"
                           "  %d cells keep their solid in every frame they hold some (absorbing; %.2e of the mass)\n"
                           "  on the %d other cells with mean alpha_s >= %g (the rest hold %.2e of the mass): lambda1 = %.10f, "
                           "lambda2 = %.8f%+.8fi, |lambda2| = %.8f, relaxation time %.4g s (SLEPc, %d restarts)\n"
                           "  stationary distribution against the mean mass share: L1 %.3e, max %.3e\n",
-                          o.file.c_str(), chain.numFrames(), dt, chain.columnError(), averageName(o.average),
+                          o.file.c_str(), chain.numFrames(), dt, chain.columnError(),
+                          static_cast<int>(chain.numChainCellsGlobal()), db->mesh().numCells(), averageName(o.average),
                           spectrum.residual, spectrum.absorbing, spectrum.absorbingShare, spectrum.cells, o.alphaMeanMin, spectrum.leftOut, spectrum.lambda1,
                           spectrum.lambda2Re, spectrum.lambda2Im, spectrum.lambda2, spectrum.relaxationTime,
                           spectrum.iterations, spectrum.l1, spectrum.max));

@@ -27,7 +27,7 @@ PetscErrorCode ChainBlock::keepColumns(const std::vector<PetscInt> &keep) {
   ChainBlock kept;
   kept.step_ = std::move(step_);
   PetscCall(kept.setUp(*chain_, static_cast<PetscInt>(keep.size())));
-  const PetscInt n = chain_->database().layout().numLocal();
+  const PetscInt n = chain_->numChainCells();
   PetscCall(getArrays());
   PetscCall(kept.getArrays());
   for (PetscInt i = 0; i < n; ++i)

@@ -26,8 +26,10 @@ public:
   PetscErrorCode keepColumns(const std::vector<PetscInt> &keep);
   /// Collective.  Moves every column from t_k to t_{k+1} with frame k's transfer.
   PetscErrorCode step(long long k);
-  /// Access to the values, column c of own cell i (local index) as at(i, c),
-  /// between getArrays and restoreArrays (no step in between).
+  /// Access to the values, column c of chain cell k (FrameChain::chainCells:
+  /// this rank's k-th, whose local cell index is chainCells()[k]) as at(k, c),
+  /// between getArrays and restoreArrays (no step in between).  The other
+  /// cells hold nothing of a distribution started on the solid.
   PetscErrorCode getArrays();
   PetscErrorCode restoreArrays();
   PetscScalar &at(PetscInt i, PetscInt c) { return a_[static_cast<size_t>(c / kWidth)][i * kWidth + c % kWidth]; }
