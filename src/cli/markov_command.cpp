@@ -2,11 +2,13 @@
 // a run (docs/markov.md): the averaged chain's stationary distribution against
 // the database's mean mass share, its second eigenvalue and relaxation time,
 // the tracer mixing time from the frames, and for named zones the time per
-// visit and the time away between visits.
+// visit and the time away between visits; with size classes and a drift law,
+// the mixing and the zones of each class's chain.
 #include "cli/commands.hpp"
 #include "base/petsc_compat.hpp"
 
 #include "cli/figures.hpp"
+#include "markov/class_drift.hpp"
 #include "markov/frame_chain.hpp"
 #include "markov/pass_counts.hpp"
 #include "markov/spectrum.hpp"
@@ -37,6 +39,8 @@ struct MarkovOptions {
   PetscInt departures = 16;
   PassCountSettings passCounts; // time 0: not computed
   bool quiet = false, plot = true;
+  bool classes = false; // -fractions_diameters given: every class's chain too
+  double solidDensity = 0.0; // 0: the database's
 };
 
 PetscErrorCode readOptions(MPI_Comm comm, const char *positional, MarkovOptions *o) {
@@ -86,6 +90,9 @@ PetscErrorCode readOptions(MPI_Comm comm, const char *positional, MarkovOptions 
                        "With -markov_passes_time: the last count holds this many entries or more", &maxPasses, 1, 100000));
   o->passCounts.time = passTime;
   o->passCounts.maxPasses = static_cast<int>(maxPasses);
+  PetscCall(checkedReal(PetscOptionsObject, "-solid_density",
+                        "With -fractions_diameters: particle density for the drift [kg/m^3] (default: the database's)",
+                        &o->solidDensity, {0.0, 1e6, false, true, "a positive density in kg/m^3"}));
   PetscCall(PetscOptionsBool("-quiet", "No report", "", quiet, &quiet, nullptr));
   PetscCall(PetscOptionsBool("-plot", "Draw the figures (default: $RCFD_PLOT, else true)", "", plot, &plot, nullptr));
   PetscOptionsEnd();
@@ -96,6 +103,9 @@ PetscErrorCode readOptions(MPI_Comm comm, const char *positional, MarkovOptions 
   o->quiet = quiet;
   o->plot = plot;
   o->directory = *dir ? dir : o->file.substr(0, o->file.rfind('.')) + "-markov";
+  PetscBool classes = PETSC_FALSE;
+  PetscCall(PetscOptionsHasName(nullptr, nullptr, "-fractions_diameters", &classes));
+  o->classes = classes;
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
@@ -104,6 +114,34 @@ std::string number(double v) {
   std::snprintf(text, sizeof text, "%.10g", v);
   return text;
 }
+
+// A zone's distributions as zone_NAME[SUFFIX].csv (rank 0).
+void writeZone(const std::string &dir, const ZonePassages &p, const std::string &suffix, const std::string &what,
+               size_t departures, double dt) {
+  std::ostringstream z;
+  z << "# zone " << p.zone << what << ": probability that a visit lasts t (residence) and that the time outside "
+    << "between leaving and entering again is t (away), from " << departures
+    << " departure frames; tails left after the horizon: residence " << p.residence.tail << ", away "
+    << p.away.tail << "\ntime,residence,away\n";
+  const size_t rows = std::max(p.residence.probability.size(), p.away.probability.size());
+  for (size_t n = 0; n < rows; ++n)
+    z << number((n + 1) * dt) << ','
+      << number(n < p.residence.probability.size() ? p.residence.probability[n] : 0.0) << ','
+      << number(n < p.away.probability.size() ? p.away.probability[n] : 0.0) << '\n';
+  writeTextAtomically(dir + "zone_" + p.zone + suffix + ".csv", z.str());
+}
+
+// Kac's relation E[visit] / (E[visit] + E[away]): the share of time in the zone.
+double kacShare(const ZonePassages &p) {
+  const double sum = p.residence.mean + p.away.mean;
+  return sum > 0 ? p.residence.mean / sum : 0.0;
+}
+
+// One size class's answers (its chain: the shift and its linearised drift).
+struct ClassAnswers {
+  MixingResult mixing;
+  std::vector<ZonePassages> zones;
+};
 
 } // namespace
 
@@ -119,6 +157,12 @@ PetscErrorCode markovCommand(MPI_Comm comm, const char *positional) {
   PetscCall(Database::optionsFromCommandLine(&loadOptions));
   PetscCall(zones.setFromOptions(comm));
   PetscCall(solver.setFromOptions(comm, "markov_"));
+  FractionSet fractions;
+  ClassDrift classDrift;
+  if (o.classes) {
+    PetscCall(FractionSet::fromOptions(comm, &fractions));
+    PetscCall(classDrift.setFromOptions(comm));
+  }
   if (helpRequested()) PetscFunctionReturn(PETSC_SUCCESS);
   PetscCall(rejectUnusedOptions(comm, "markov"));
   PetscCheck(!o.file.empty(), comm, PETSC_ERR_USER_INPUT, "No database given: rcfd markov FILE");
@@ -166,13 +210,39 @@ PetscErrorCode markovCommand(MPI_Comm comm, const char *positional) {
   }
   const double tZones = MPI_Wtime();
 
+  // Each size class's chain: the frame's shift, then the class's drift
+  // linearised on the bed's mean composition (markov/class_drift.hpp).
+  std::vector<ClassAnswers> classes;
+  if (o.classes) {
+    PetscCall(classDrift.setUp(chain, fractions, o.solidDensity > 0 ? o.solidDensity : db->metadata().solidDensity));
+    for (int i = 0; i < fractions.size(); ++i) {
+      ClassAnswers a;
+      classDrift.setClass(i);
+      if (o.mix) PetscCall(tracerMixing(chain, o.mixing, &a.mixing, &classDrift));
+      PetscCall(zonePassages(chain, zoneList, o.passages, &a.zones, &classDrift));
+      classes.push_back(std::move(a));
+    }
+  }
+  const double tClasses = MPI_Wtime();
+
   // Mixing summary over the starts.
-  double mixMean = 0.0, mixWorst = 0.0;
-  int mixed = 0;
-  for (double t : mixing.time)
-    if (!std::isnan(t)) mixMean += t, ++mixed, mixWorst = std::max(mixWorst, t);
-  if (mixed) mixMean /= mixed;
-  const bool allMixed = mixed == static_cast<int>(mixing.time.size());
+  struct MixingSummary {
+    double mean = 0.0, worst = 0.0;
+    int mixed = 0;
+    bool all = false;
+  };
+  auto summarise = [](const MixingResult &m) {
+    MixingSummary r;
+    for (double t : m.time)
+      if (!std::isnan(t)) r.mean += t, ++r.mixed, r.worst = std::max(r.worst, t);
+    if (r.mixed) r.mean /= r.mixed;
+    r.all = r.mixed == static_cast<int>(m.time.size());
+    return r;
+  };
+  const MixingSummary bulkMixing = summarise(mixing);
+  const double mixMean = bulkMixing.mean, mixWorst = bulkMixing.worst;
+  const int mixed = bulkMixing.mixed;
+  const bool allMixed = bulkMixing.all;
   const double dt = chain.dt();
 
   const std::string dir = o.directory + "/";
@@ -207,18 +277,33 @@ PetscErrorCode markovCommand(MPI_Comm comm, const char *positional) {
       }
       writeTextAtomically(dir + "mixing.csv", m.str());
     }
-    for (const ZonePassages &p : passages) {
-      std::ostringstream z;
-      z << "# zone " << p.zone << ": probability that a visit lasts t (residence) and that the time outside "
-        << "between leaving and entering again is t (away), from " << o.passages.departures.size()
-        << " departure frames; tails left after the horizon: residence " << p.residence.tail << ", away "
-        << p.away.tail << "\ntime,residence,away\n";
-      const size_t rows = std::max(p.residence.probability.size(), p.away.probability.size());
-      for (size_t n = 0; n < rows; ++n)
-        z << number((n + 1) * dt) << ','
-          << number(n < p.residence.probability.size() ? p.residence.probability[n] : 0.0) << ','
-          << number(n < p.away.probability.size() ? p.away.probability[n] : 0.0) << '\n';
-      writeTextAtomically(dir + "zone_" + p.zone + ".csv", z.str());
+    for (const ZonePassages &p : passages) writeZone(dir, p, "", "", o.passages.departures.size(), dt);
+    if (!classes.empty()) {
+      // Per class: its distributions, and one table of every class's numbers.
+      std::ostringstream c;
+      c << "# rcfd markov " << o.file << ": each size class's chain (the shift, then its drift linearised on the "
+        << "bed's mean composition; docs/markov.md, \"Size classes\"); kac_share = E[visit] / (E[visit] + E[away])\n"
+        << "class,diameter,zone,mean_residence,mean_away,kac_share,residence_tail,away_tail,conservation,"
+        << "mixing_mean,mixing_worst,mixing_mixed,mixing_starts\n";
+      for (int i = 0; i < fractions.size(); ++i) {
+        const ClassAnswers &a = classes[static_cast<size_t>(i)];
+        const MixingSummary m = summarise(a.mixing);
+        for (const ZonePassages &p : a.zones)
+          writeZone(dir, p, "_" + fractions.label(i), ", size class " + fractions.label(i),
+                    o.passages.departures.size(), dt);
+        auto row = [&](const std::string &zone, const std::string &numbers) {
+          c << fractions.label(i) << ',' << number(fractions.diameter(i)) << ',' << zone << ',' << numbers << ','
+            << (o.mix ? number(m.mean) : "") << ',' << (o.mix && m.all ? number(m.worst) : "") << ','
+            << (o.mix ? std::to_string(m.mixed) : "") << ',' << (o.mix ? std::to_string(a.mixing.time.size()) : "")
+            << '\n';
+        };
+        if (a.zones.empty()) row("", ",,,,,");
+        for (const ZonePassages &p : a.zones)
+          row(p.zone, number(p.residence.mean) + ',' + number(p.away.mean) + ',' + number(kacShare(p)) + ',' +
+                          number(p.residence.tail) + ',' + number(p.away.tail) + ',' +
+                          number(std::max(p.residence.conservation, p.away.conservation)));
+      }
+      writeTextAtomically(dir + "classes.csv", c.str());
     }
     for (const PassCounts &c : counts) {
       std::ostringstream z;
@@ -264,6 +349,14 @@ PetscErrorCode markovCommand(MPI_Comm comm, const char *positional) {
       PetscCall(drawFigure(comm, "markov_zone.py",
                            {dir + "zone_" + p.zone + ".csv", "-o", dir + "zone_" + p.zone + ".png", "--title",
                             "zone " + p.zone + ", " + o.file}));
+  for (int i = 0; i < static_cast<int>(classes.size()); ++i)
+    for (const ZonePassages &p : classes[static_cast<size_t>(i)].zones)
+      if (o.plot && (!p.residence.probability.empty() || !p.away.probability.empty())) {
+        const std::string name = dir + "zone_" + p.zone + "_" + fractions.label(i);
+        PetscCall(drawFigure(comm, "markov_zone.py",
+                             {name + ".csv", "-o", name + ".png", "--title",
+                              "zone " + p.zone + ", size class " + fractions.label(i) + ", " + o.file}));
+      }
 
   if (!o.quiet) {
     PetscCall(PetscPrintf(comm,
@@ -296,14 +389,32 @@ PetscErrorCode markovCommand(MPI_Comm comm, const char *positional) {
                             "  zone %s: mass share %.4f (stationary) / %.4f (frames); per visit %.4g s (tail %.1e), "
                             "away %.4g s (tail %.1e); Kac: %.4f; absorbed + left = 1 within %.1e\n",
                             p.zone.c_str(), p.stationaryShare, p.databaseShare, p.residence.mean, p.residence.tail,
-                            p.away.mean, p.away.tail, p.residence.mean / (p.residence.mean + p.away.mean),
+                            p.away.mean, p.away.tail, kacShare(p),
                             std::max(p.residence.conservation, p.away.conservation)));
     for (const PassCounts &c : counts)
       PetscCall(PetscPrintf(comm, "  zone %s: entries within %g s: mean %.4g, none %.4f, %d or more %.2e; sum 1 within %.1e\n",
                             c.zone.c_str(), c.steps * dt, c.mean, c.probability[0], o.passCounts.maxPasses,
                             c.probability.back(), c.conservation));
-    PetscCall(PetscPrintf(comm, "  seconds: load %.2f, chain %.2f, eigenvalues %.2f, mixing %.2f, zones %.2f; wrote %s\n",
+    for (int i = 0; i < static_cast<int>(classes.size()); ++i) {
+      const ClassAnswers &a = classes[static_cast<size_t>(i)];
+      const MixingSummary m = summarise(a.mixing);
+      PetscCall(PetscPrintf(comm, "  size class %s (drift linearised on the mean composition):", fractions.label(i).c_str()));
+      if (o.mix && m.all)
+        PetscCall(PetscPrintf(comm, " tracer mixing mean %.4g s, worst %.4g s;", m.mean, m.worst));
+      else if (o.mix)
+        PetscCall(PetscPrintf(comm, " tracer mixing: %d of %zu starts within %g s (mean of those %.4g s);", m.mixed,
+                              a.mixing.time.size(), o.mixing.horizon, m.mean));
+      for (const ZonePassages &p : a.zones)
+        PetscCall(PetscPrintf(comm, " zone %s per visit %.4g s, away %.4g s, Kac %.4f (absorbed + left = 1 within %.1e);",
+                              p.zone.c_str(), p.residence.mean, p.away.mean, kacShare(p),
+                              std::max(p.residence.conservation, p.away.conservation)));
+      PetscCall(PetscPrintf(comm, "\n"));
+    }
+    char classTime[64] = "";
+    if (!classes.empty()) std::snprintf(classTime, sizeof classTime, ", size classes %.2f", tClasses - tZones);
+    PetscCall(PetscPrintf(comm, "  seconds: load %.2f, chain %.2f, eigenvalues %.2f, mixing %.2f, zones %.2f%s; wrote %s\n",
                           tLoad - t0, tChain - tLoad, tSpectrum - tChain, tMixing - tSpectrum, tZones - tMixing,
+                          classTime,
                           o.directory.c_str()));
   }
   PetscFunctionReturn(PETSC_SUCCESS);

@@ -7,6 +7,7 @@
 // 0.084 ms at 16 (docs/markov.md, "Cost").  The padding columns stay zero.
 #pragma once
 
+#include "markov/class_drift.hpp"
 #include "markov/frame_chain.hpp"
 
 #include <vector>
@@ -18,13 +19,16 @@ public:
   static constexpr PetscInt kWidth = 16;
 
   /// Collective.  `columns` zeroed distributions; the frames' MAIJ matrices
-  /// are made on the first call and kept by later ones (resize).
-  PetscErrorCode setUp(const FrameChain &chain, PetscInt columns);
+  /// are made on the first call and kept by later ones (resize).  With a
+  /// class drift, each step is the frame's shift followed by the drift's
+  /// current class (ClassDrift); without, the bulk's chain.
+  PetscErrorCode setUp(const FrameChain &chain, PetscInt columns, ClassDrift *drift = nullptr);
   PetscInt columns() const { return columns_; }
   /// Collective.  Keeps the columns `keep` (old indices, in their new order)
   /// and drops the others.
   PetscErrorCode keepColumns(const std::vector<PetscInt> &keep);
-  /// Collective.  Moves every column from t_k to t_{k+1} with frame k's transfer.
+  /// Collective.  Moves every column from t_k to t_{k+1} with frame k's
+  /// transfer (and the class drift of step k).
   PetscErrorCode step(long long k);
   /// Access to the values, column c of chain cell k (FrameChain::chainCells:
   /// this rank's k-th, whose local cell index is chainCells()[k]) as at(k, c),
@@ -36,6 +40,7 @@ public:
 
 private:
   const FrameChain *chain_ = nullptr;
+  ClassDrift *drift_ = nullptr;
   PetscInt columns_ = 0;
   std::vector<OwnedMat> step_;
   std::vector<OwnedVec> x_, y_;

@@ -33,7 +33,8 @@ std::vector<int> mixingStarts(const Mesh &mesh, const Vec3 &gravity, const std::
   return starts;
 }
 
-PetscErrorCode tracerMixing(const FrameChain &chain, const MixingSettings &settings, MixingResult *out) {
+PetscErrorCode tracerMixing(const FrameChain &chain, const MixingSettings &settings, MixingResult *out,
+                            ClassDrift *drift) {
   const Database &db = chain.database();
   const Layout &layout = db.layout();
   const MPI_Comm comm = layout.comm();
@@ -48,7 +49,7 @@ PetscErrorCode tracerMixing(const FrameChain &chain, const MixingSettings &setti
   out->confirm = chain.numFrames();
   if (s == 0) PetscFunctionReturn(PETSC_SUCCESS);
   ChainBlock x;
-  PetscCall(x.setUp(chain, bs));
+  PetscCall(x.setUp(chain, bs, drift));
   {
     const PetscScalar *pm;
     PetscCall(x.getArrays());

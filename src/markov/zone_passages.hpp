@@ -4,6 +4,7 @@
 // absorbing, and the probability of reaching it after n steps is recorded.
 #pragma once
 
+#include "markov/class_drift.hpp"
 #include "markov/frame_chain.hpp"
 #include "rcfd/zone.hpp"
 
@@ -35,9 +36,12 @@ struct ZonePassages {
   PassageDistribution away;      ///< time outside between leaving and entering again (from the outflow)
 };
 
-/// Collective.  The passages of every zone (set up on the database's layout).
+/// Collective.  The passages of every zone (set up on the database's layout);
+/// with a class drift, of its current class (the crossings, too, step with
+/// the class's chain).
 PetscErrorCode zonePassages(const FrameChain &chain, const std::vector<const Zone *> &zones,
-                            const PassageSettings &settings, std::vector<ZonePassages> *out);
+                            const PassageSettings &settings, std::vector<ZonePassages> *out,
+                            ClassDrift *drift = nullptr);
 
 /// `count` departure frames spread evenly over K frames: floor(j K / count).
 std::vector<int> evenFrames(int K, int count);
