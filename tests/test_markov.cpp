@@ -13,6 +13,7 @@
 #include "markov/pass_counts.hpp"
 #include "markov/spectrum.hpp"
 #include "markov/tracer_mixing.hpp"
+#include "markov/wrap_carry.hpp"
 #include "markov/zone_passages.hpp"
 #include "rcfd/database.hpp"
 #include "rcfd/zone.hpp"
@@ -364,8 +365,8 @@ PetscErrorCode classChains(const std::string &path, const char *kd, ClassRun *ou
     drift.setClass(i);
     out->classes.emplace_back();
     out->classMixing.emplace_back();
-    PetscCall(zonePassages(chain, list, passages, &out->classes.back(), &drift));
-    PetscCall(tracerMixing(chain, mixing, &out->classMixing.back(), &drift));
+    PetscCall(zonePassages(chain, list, passages, &out->classes.back(), {&drift}));
+    PetscCall(tracerMixing(chain, mixing, &out->classMixing.back(), {&drift}));
   }
   PetscFunctionReturn(PETSC_SUCCESS);
 }
@@ -410,6 +411,71 @@ void sizeClasses() {
   if (rank == 0)
     std::printf("column, top cell: bulk visit %.4g s, share %.4f; small %.4g s, %.4f; large %.4g s, %.4f\n",
                 bulk.residence.mean, kac(bulk), small.residence.mean, kac(small), large.residence.mean, kac(large));
+}
+
+// The wrap carried as a run carries its state (-markov_wrap carry).  One
+// frame on a column of 3 cells holding alpha (0.3, 0.3, 0): the bottom cell
+// keeps half and sends half up, the middle cell sends half down and half into
+// the empty top cell (a splash), so the frame's shift leaves (0.3, 0.15,
+// 0.15), not frame 0's bed.  Periodic, the top cell keeps what reaches it
+// (its column is the identity's: it holds no solid in frame 0), so half of a
+// visit's leavers never come back.  Carried by height onto (0.3, 0.3, 0), the
+// splash lands in the middle cell again: the chain is two cells exchanging
+// half each step, a visit to the middle cell and the time away last n steps
+// with probability 2^-n, and a tracer is mixed after one step.
+void wrapCarried() {
+  const std::string path = dir + "/splash.h5";
+  BoxSpec b;
+  b.nx = 1;
+  b.ny = 1;
+  b.nz = 3;
+  b.length = {0.01, 0.01, 0.03};
+  writeChain(path, rcfd::test::boxMesh(b), {0.3, 0.3, 0.0},
+             {shiftFromTransfers(3, {0, 1, 0, 2}, {0, 0, 1, 1}, {0.5, 0.5, 0.5, 0.5})});
+  const Zone middle("middle", Zone::Shape::Box, {0.0, 0.01, 0.0, 0.01, 0.01, 0.02});
+  for (bool carry : {false, true}) {
+    Loaded l;
+    WrapCarry wrap;
+    std::vector<ZonePassages> zones;
+    MixingResult mixing;
+    auto run = [&]() -> PetscErrorCode {
+      PetscFunctionBeginUser;
+      PetscCall(load(path, middle, &l));
+      std::vector<ChainStep *> steps;
+      if (carry) {
+        PetscCall(wrap.setFromOptions(PETSC_COMM_WORLD));
+        PetscCall(wrap.setUp(l.chain, 1440.0));
+        steps.push_back(&wrap);
+      }
+      PassageSettings passages;
+      passages.horizon = 1.0; // 100 steps
+      passages.tail = 1e-13;
+      passages.departures = {0};
+      PetscCall(zonePassages(l.chain, {l.zone()}, passages, &zones, steps));
+      MixingSettings m;
+      m.starts = {0};
+      m.horizon = 0.5;
+      PetscCall(tracerMixing(l.chain, m, &mixing, steps));
+      PetscFunctionReturn(PETSC_SUCCESS);
+    };
+    RCFD_CHECK(succeeded(run()));
+    RCFD_CHECK(zones.size() == 1 && mixing.time.size() == 1);
+    if (zones.size() != 1 || mixing.time.size() != 1) continue;
+    const ZonePassages &z = zones[0];
+    checkSumsToOne(z.residence);
+    checkSumsToOne(z.away);
+    if (!carry) {
+      RCFD_CHECK_CLOSE(z.away.tail, 0.5, 1e-12); // half of the leavers splash into the top cell for ever
+      continue;
+    }
+    checkAbsorption(z.residence);
+    checkAbsorption(z.away);
+    for (int n = 1; n <= 20; ++n) {
+      RCFD_CHECK_CLOSE(z.residence.probability[n - 1], std::pow(0.5, n), 1e-14);
+      RCFD_CHECK_CLOSE(z.away.probability[n - 1], std::pow(0.5, n), 1e-14);
+    }
+    RCFD_CHECK_CLOSE(mixing.time[0], dt, 1e-14);
+  }
 }
 
 // Frames that lose mass are no Markov chain: a file with a column summing to
@@ -531,6 +597,7 @@ int main(int argc, char **argv) {
   passes();
   freeboardLeftOut();
   sizeClasses();
+  wrapCarried();
   PetscPopErrorHandler();
   PetscCall(PetscFinalize());
   return RCFD_TEST_RESULT();

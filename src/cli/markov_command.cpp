@@ -13,6 +13,7 @@
 #include "markov/pass_counts.hpp"
 #include "markov/spectrum.hpp"
 #include "markov/tracer_mixing.hpp"
+#include "markov/wrap_carry.hpp"
 #include "markov/zone_passages.hpp"
 #include "rcfd/zone.hpp"
 #include "base/atomic_file.hpp"
@@ -40,6 +41,7 @@ struct MarkovOptions {
   PassCountSettings passCounts; // time 0: not computed
   bool quiet = false, plot = true;
   bool classes = false; // -fractions_diameters given: every class's chain too
+  bool carryWrap = false; // -markov_wrap carry
   double solidDensity = 0.0; // 0: the database's
 };
 
@@ -47,7 +49,8 @@ PetscErrorCode readOptions(MPI_Comm comm, const char *positional, MarkovOptions 
   char text[PETSC_MAX_PATH_LEN] = "", dir[PETSC_MAX_PATH_LEN] = "";
   const char *averages[] = {"mass", "plain"};
   const char *startKinds[] = {"layers", "all"};
-  PetscInt average = 0, starts = 0;
+  const char *wraps[] = {"periodic", "carry"};
+  PetscInt average = 0, starts = 0, wrap = 0;
   PetscBool mix = PETSC_TRUE, quiet = PETSC_FALSE, plot = figuresByDefault() ? PETSC_TRUE : PETSC_FALSE;
   PetscFunctionBeginUser;
   PetscOptionsBegin(comm, nullptr, "rcfd markov: the database's frames as the solid's Markov chain", "rcfd");
@@ -90,6 +93,10 @@ PetscErrorCode readOptions(MPI_Comm comm, const char *positional, MarkovOptions 
                        "With -markov_passes_time: the last count holds this many entries or more", &maxPasses, 1, 100000));
   o->passCounts.time = passTime;
   o->passCounts.maxPasses = static_cast<int>(maxPasses);
+  PetscCall(PetscOptionsEList("-markov_wrap",
+                              "The step from the last frame to the first: periodic (as if the bed at the end were the "
+                              "bed at the start) or carry (onto frame 0's bed as a run carries its state, -carry_type)",
+                              "", wraps, 2, wraps[wrap], &wrap, nullptr));
   PetscCall(checkedReal(PetscOptionsObject, "-solid_density",
                         "With -fractions_diameters: particle density for the drift [kg/m^3] (default: the database's)",
                         &o->solidDensity, {0.0, 1e6, false, true, "a positive density in kg/m^3"}));
@@ -106,6 +113,7 @@ PetscErrorCode readOptions(MPI_Comm comm, const char *positional, MarkovOptions 
   PetscBool classes = PETSC_FALSE;
   PetscCall(PetscOptionsHasName(nullptr, nullptr, "-fractions_diameters", &classes));
   o->classes = classes;
+  o->carryWrap = wrap == 1;
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
@@ -159,6 +167,8 @@ PetscErrorCode markovCommand(MPI_Comm comm, const char *positional) {
   PetscCall(solver.setFromOptions(comm, "markov_"));
   FractionSet fractions;
   ClassDrift classDrift;
+  WrapCarry wrapCarry;
+  if (o.carryWrap) PetscCall(wrapCarry.setFromOptions(comm));
   if (o.classes) {
     PetscCall(FractionSet::fromOptions(comm, &fractions));
     PetscCall(classDrift.setFromOptions(comm));
@@ -174,6 +184,17 @@ PetscErrorCode markovCommand(MPI_Comm comm, const char *positional) {
   const double tLoad = MPI_Wtime();
   FrameChain chain;
   PetscCall(chain.setUp(*db)); // refuses frames that do not conserve mass, before anything is computed
+  const double rho = o.solidDensity > 0 ? o.solidDensity : db->metadata().solidDensity;
+  if (o.classes) // the drift refuses what it lacks (e.g. u_sup for -drift_excess_gas) before anything is computed
+    PetscCall(classDrift.setUp(chain, fractions, rho));
+  // What follows each frame's shift: for the bulk the carry at the wrap (with
+  // -markov_wrap carry), for a class its drift first.
+  std::vector<ChainStep *> bulkSteps, classSteps{&classDrift};
+  if (o.carryWrap) {
+    PetscCall(wrapCarry.setUp(chain, rho));
+    bulkSteps.push_back(&wrapCarry);
+    classSteps.push_back(&wrapCarry);
+  }
   const double tChain = MPI_Wtime();
   ChainSpectrum spectrum;
   PetscCall(solver.solve(chain, o.average, o.alphaMeanMin, &spectrum));
@@ -190,7 +211,7 @@ PetscErrorCode markovCommand(MPI_Comm comm, const char *positional) {
     o.mixing.starts = mixingStarts(db->mesh(), db->metadata().gravity, alpha0, o.mixing.alphaMin, o.allStarts,
                                    static_cast<int>(o.stride));
     o.mixing.excluded = spectrum.absorbingLocal;
-    PetscCall(tracerMixing(chain, o.mixing, &mixing));
+    PetscCall(tracerMixing(chain, o.mixing, &mixing, bulkSteps));
   }
   const double tMixing = MPI_Wtime();
 
@@ -198,7 +219,7 @@ PetscErrorCode markovCommand(MPI_Comm comm, const char *positional) {
   for (const Zone &z : zones.all()) zoneList.push_back(&z);
   o.passages.departures = evenFrames(chain.numFrames(), static_cast<int>(o.departures));
   std::vector<ZonePassages> passages;
-  PetscCall(zonePassages(chain, zoneList, o.passages, &passages));
+  PetscCall(zonePassages(chain, zoneList, o.passages, &passages, bulkSteps));
   for (size_t z = 0; z < passages.size(); ++z)
     for (PetscInt i : zoneList[z]->localCells()) passages[z].stationaryShare += stationary[layout.naturalCell(layout.rowStart() + i)];
   for (ZonePassages &p : passages)
@@ -206,7 +227,7 @@ PetscErrorCode markovCommand(MPI_Comm comm, const char *positional) {
   std::vector<PassCounts> counts;
   if (o.passCounts.time > 0) {
     o.passCounts.departures = o.passages.departures;
-    PetscCall(passCounts(chain, zoneList, o.passCounts, &counts));
+    PetscCall(passCounts(chain, zoneList, o.passCounts, &counts, bulkSteps));
   }
   const double tZones = MPI_Wtime();
 
@@ -214,12 +235,11 @@ PetscErrorCode markovCommand(MPI_Comm comm, const char *positional) {
   // linearised on the bed's mean composition (markov/class_drift.hpp).
   std::vector<ClassAnswers> classes;
   if (o.classes) {
-    PetscCall(classDrift.setUp(chain, fractions, o.solidDensity > 0 ? o.solidDensity : db->metadata().solidDensity));
     for (int i = 0; i < fractions.size(); ++i) {
       ClassAnswers a;
       classDrift.setClass(i);
-      if (o.mix) PetscCall(tracerMixing(chain, o.mixing, &a.mixing, &classDrift));
-      PetscCall(zonePassages(chain, zoneList, o.passages, &a.zones, &classDrift));
+      if (o.mix) PetscCall(tracerMixing(chain, o.mixing, &a.mixing, classSteps));
+      PetscCall(zonePassages(chain, zoneList, o.passages, &a.zones, classSteps));
       classes.push_back(std::move(a));
     }
   }
@@ -323,6 +343,7 @@ PetscErrorCode markovCommand(MPI_Comm comm, const char *positional) {
         << "\nstationary_max," << number(spectrum.max) << "\nmean_share_residual," << number(spectrum.residual)
         << "\nstates_left_out_share," << number(spectrum.leftOut) << "\nabsorbing_cells," << spectrum.absorbing
         << "\nabsorbing_share," << number(spectrum.absorbingShare) << '\n';
+    if (o.carryWrap) sum << "wrap,carry " << wrapCarry.kind() << '\n'; // (periodic when absent)
     if (o.mix)
       sum << "mixing_starts," << mixing.time.size() << "\nmixing_mixed," << mixed << "\nmixing_mean,"
           << number(mixMean) << "\nmixing_worst," << (allMixed ? number(mixWorst) : "") << '\n';
@@ -359,6 +380,9 @@ PetscErrorCode markovCommand(MPI_Comm comm, const char *positional) {
       }
 
   if (!o.quiet) {
+    if (o.carryWrap)
+      PetscCall(PetscPrintf(comm, "  the propagations carry their distributions from the last frame onto frame 0's bed (carry %s)\n",
+                            wrapCarry.kind().c_str()));
     PetscCall(PetscPrintf(comm,
                           "Markov chain of %s: %d frames, dt_rec %g s; columns sum to 1 within %.1e; %d of the %d cells "
                           "hold or exchange solid in some frame (the others are left out of the propagations)\n"

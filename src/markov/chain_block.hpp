@@ -7,8 +7,8 @@
 // 0.084 ms at 16 (docs/markov.md, "Cost").  The padding columns stay zero.
 #pragma once
 
-#include "markov/class_drift.hpp"
 #include "markov/frame_chain.hpp"
+#include "markov/operator_step.hpp"
 
 #include <vector>
 
@@ -16,19 +16,19 @@ namespace rcfd {
 
 class ChainBlock {
 public:
-  static constexpr PetscInt kWidth = 16;
+  static constexpr PetscInt kWidth = ChainStep::kWidth;
 
   /// Collective.  `columns` zeroed distributions; the frames' MAIJ matrices
-  /// are made on the first call and kept by later ones (resize).  With a
-  /// class drift, each step is the frame's shift followed by the drift's
-  /// current class (ClassDrift); without, the bulk's chain.
-  PetscErrorCode setUp(const FrameChain &chain, PetscInt columns, ClassDrift *drift = nullptr);
+  /// are made on the first call and kept by later ones (resize).  Each step
+  /// is the frame's shift followed by `steps` in order (a size class's drift,
+  /// the carry at the wrap; none: the bulk's chain).
+  PetscErrorCode setUp(const FrameChain &chain, PetscInt columns, const std::vector<ChainStep *> &steps = {});
   PetscInt columns() const { return columns_; }
   /// Collective.  Keeps the columns `keep` (old indices, in their new order)
   /// and drops the others.
   PetscErrorCode keepColumns(const std::vector<PetscInt> &keep);
   /// Collective.  Moves every column from t_k to t_{k+1} with frame k's
-  /// transfer (and the class drift of step k).
+  /// transfer and the steps after it.
   PetscErrorCode step(long long k);
   /// Access to the values, column c of chain cell k (FrameChain::chainCells:
   /// this rank's k-th, whose local cell index is chainCells()[k]) as at(k, c),
@@ -40,7 +40,7 @@ public:
 
 private:
   const FrameChain *chain_ = nullptr;
-  ClassDrift *drift_ = nullptr;
+  std::vector<ChainStep *> after_;
   PetscInt columns_ = 0;
   std::vector<OwnedMat> step_;
   std::vector<OwnedVec> x_, y_;

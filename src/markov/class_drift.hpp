@@ -14,7 +14,8 @@
 // drift carries a scalar's amounts with exactly these shares (a swapped mass
 // takes its sending cell's value, docs/scalars.md), so the class's
 // distributions are handed to the run's own DriftOperator as amounts of
-// scalars, one scalar per distribution, and the drift code is not repeated.
+// scalars, one scalar per distribution (OperatorStep), and the drift code is
+// not repeated.
 // The chain is the one a tagged particle of the class follows in a bed kept at
 // the inventory's composition: exact for a tracer in a mixed bed, an
 // approximation where the bed has segregated (the real swaps then differ).
@@ -22,54 +23,31 @@
 // other receives), so the class chain is column-stochastic like the bulk's.
 #pragma once
 
-#include "markov/frame_chain.hpp"
+#include "markov/operator_step.hpp"
 #include "rcfd/drift.hpp"
-#include "rcfd/fractions.hpp"
-
-#include <string>
-#include <vector>
 
 namespace rcfd {
 
-class ClassDrift {
+class ClassDrift : public OperatorStep {
 public:
-  /// Distributions moved per call at most (ChainBlock's width).
-  static constexpr PetscInt kWidth = 16;
-
-  /// Collective.  Reads the drift's options (-drift_*, as rcfd run reads them).
+  /// Collective.  Reads the drift's options (-drift_*, as rcfd run reads them;
+  /// -drift_view prints the drift once set up).
   PetscErrorCode setFromOptions(MPI_Comm comm);
   /// Collective.  Sets the drift up on the chain's database for `fractions`
-  /// (the run's -fractions_diameters, -fractions_mass_shares).  chain and
-  /// fractions must outlive this object.
+  /// (the run's -fractions_diameters, -fractions_mass_shares); refuses what
+  /// the drift lacks (e.g. u_sup for -drift_excess_gas).  chain and fractions
+  /// must outlive this object.  setClass() chooses the class moved.
   PetscErrorCode setUp(const FrameChain &chain, const FractionSet &fractions, double solidDensity);
-  int numClasses() const { return fractions_ ? fractions_->size() : 0; }
-  /// The class the following apply() calls move (0 .. numClasses() - 1).
-  void setClass(int i) { class_ = i; }
-  int currentClass() const { return class_; }
+  int numClasses() const { return classes_; }
   /// Whether the drift moves anything (a k_d of 0 or one class: it does not,
   /// and every class's chain is the bulk's to the bit).
   bool moves() const { return moves_; }
 
-  /// Collective.  Applies the current class's linearised drift of step n
-  /// (frame n mod K, after that frame's shift) to `width` <= kWidth
-  /// interleaved distributions over the chain's cells (FrameChain::blockVector
-  /// of `width` columns).
-  PetscErrorCode apply(long long n, Vec x, PetscInt width);
-  PetscErrorCode view(PetscViewer viewer) const;
-
 private:
-  PetscErrorCode background(int k);
-
-  const FrameChain *chain_ = nullptr;
-  const FractionSet *fractions_ = nullptr;
   DriftOperator drift_;
-  FractionState state_;
-  std::vector<std::string> names_;
-  int class_ = 0;
+  OwnedViewer viewer_; // -drift_view
+  int classes_ = 0;
   bool moves_ = false;
-  double rho_ = 0.0;
-  int frame_ = -1;             // the frame whose bulk bulk_ holds
-  OwnedVec alpha_, bulk_;      // over the chain cells: alpha_k rho V, and T_k of it
 };
 
 } // namespace rcfd

@@ -8,7 +8,8 @@
 namespace rcfd {
 
 PetscErrorCode passCounts(const FrameChain &chain, const std::vector<const Zone *> &zones,
-                          const PassCountSettings &settings, std::vector<PassCounts> *out) {
+                          const PassCountSettings &settings, std::vector<PassCounts> *out,
+                          const std::vector<ChainStep *> &after) {
   const Layout &layout = chain.database().layout();
   const MPI_Comm comm = layout.comm();
   // The block holds the chain's cells only: chain cell k is local cell cells[k].
@@ -28,7 +29,7 @@ PetscErrorCode passCounts(const FrameChain &chain, const std::vector<const Zone 
   std::vector<std::vector<char>> inside(zones.size()); // per chain cell
   for (size_t z = 0; z < zones.size(); ++z) inside[z] = chain.chainMask(zones[z]->localCells());
   ChainBlock x;
-  PetscCall(x.setUp(chain, bs));
+  PetscCall(x.setUp(chain, bs, after));
   const int first = *std::min_element(dep.begin(), dep.end());
   const int last = *std::max_element(dep.begin(), dep.end());
   std::vector<std::vector<double>> result(static_cast<size_t>(Z * D));

@@ -34,7 +34,7 @@ std::vector<int> mixingStarts(const Mesh &mesh, const Vec3 &gravity, const std::
 }
 
 PetscErrorCode tracerMixing(const FrameChain &chain, const MixingSettings &settings, MixingResult *out,
-                            ClassDrift *drift) {
+                            const std::vector<ChainStep *> &steps) {
   const Database &db = chain.database();
   const Layout &layout = db.layout();
   const MPI_Comm comm = layout.comm();
@@ -49,7 +49,7 @@ PetscErrorCode tracerMixing(const FrameChain &chain, const MixingSettings &setti
   out->confirm = chain.numFrames();
   if (s == 0) PetscFunctionReturn(PETSC_SUCCESS);
   ChainBlock x;
-  PetscCall(x.setUp(chain, bs, drift));
+  PetscCall(x.setUp(chain, bs, steps));
   {
     const PetscScalar *pm;
     PetscCall(x.getArrays());

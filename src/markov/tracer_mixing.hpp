@@ -5,8 +5,8 @@
 // the solid (both propagated, so a perfectly mixed tracer reads 1 everywhere).
 #pragma once
 
-#include "markov/class_drift.hpp"
 #include "markov/frame_chain.hpp"
+#include "markov/operator_step.hpp"
 
 #include <vector>
 
@@ -35,11 +35,11 @@ struct MixingResult {
 /// Collective.  The mixing time of a start is t_n = n dt_rec for the first
 /// step n from which the deviation stays within the tolerance for K steps (K
 /// frames: one pass through the database).  Stops when every start is mixed or
-/// at the horizon.  With a class drift, of its current class: the tracer and
-/// the bulk (then the class's solid, from the mean composition at frame 0)
-/// step with the class's chain.
+/// at the horizon.  The tracers and the bulk step with the frame's shift and
+/// then `steps` (with a size class's drift: the class's chain, the bulk then
+/// the class's solid from the mean composition at frame 0).
 PetscErrorCode tracerMixing(const FrameChain &chain, const MixingSettings &settings, MixingResult *out,
-                            ClassDrift *drift = nullptr);
+                            const std::vector<ChainStep *> &steps = {});
 
 /// The natural cell at the horizontal centre of every stride-th layer (along
 /// gravity, from the bottom) of a box mesh whose alpha_s at frame 0 is at least

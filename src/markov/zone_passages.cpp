@@ -31,7 +31,7 @@ struct Cohort {
 
 PetscErrorCode zonePassages(const FrameChain &chain, const std::vector<const Zone *> &zones,
                             const PassageSettings &settings, std::vector<ZonePassages> *out,
-                            ClassDrift *drift) {
+                            const std::vector<ChainStep *> &steps) {
   const Layout &layout = chain.database().layout();
   const MPI_Comm comm = layout.comm();
   // The block holds the chain's cells only (the others hold no solid and
@@ -73,7 +73,7 @@ PetscErrorCode zonePassages(const FrameChain &chain, const std::vector<const Zon
   for (size_t c = 0; c < cohorts.size(); ++c) column[c] = c;
   std::vector<double> left(cohorts.size(), 0.0);
   ChainBlock x;
-  PetscCall(x.setUp(chain, static_cast<PetscInt>(cohorts.size()), drift));
+  PetscCall(x.setUp(chain, static_cast<PetscInt>(cohorts.size()), steps));
   OwnedVec source, moved;
   // Keeps the cohorts in `keep`, the rest's content counted as their `left`.
   auto rebuild = [&](const std::vector<size_t> &keep) -> PetscErrorCode {
@@ -162,7 +162,7 @@ PetscErrorCode zonePassages(const FrameChain &chain, const std::vector<const Zon
       PetscCall(VecRestoreArrayWrite(source, &pv));
       PetscCall(VecRestoreArrayRead(chain.massShare(s), &pm));
       PetscCall(MatMult(chain.transfer(s), source, moved));
-      if (drift) PetscCall(drift->apply(s, moved, 1));
+      for (ChainStep *step : steps) PetscCall(step->apply(s, moved, 1));
       double w = 0.0;
       PetscCall(VecGetArray(moved, &pv));
       for (PetscInt i = 0; i < ncells; ++i) {

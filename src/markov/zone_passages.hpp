@@ -4,8 +4,8 @@
 // absorbing, and the probability of reaching it after n steps is recorded.
 #pragma once
 
-#include "markov/class_drift.hpp"
 #include "markov/frame_chain.hpp"
+#include "markov/operator_step.hpp"
 #include "rcfd/zone.hpp"
 
 #include <vector>
@@ -37,11 +37,11 @@ struct ZonePassages {
 };
 
 /// Collective.  The passages of every zone (set up on the database's layout);
-/// with a class drift, of its current class (the crossings, too, step with
-/// the class's chain).
+/// every step (the crossings' too) is the frame's shift followed by `steps`
+/// (a size class's drift: the class's chain; the carry at the wrap).
 PetscErrorCode zonePassages(const FrameChain &chain, const std::vector<const Zone *> &zones,
                             const PassageSettings &settings, std::vector<ZonePassages> *out,
-                            ClassDrift *drift = nullptr);
+                            const std::vector<ChainStep *> &steps = {});
 
 /// `count` departure frames spread evenly over K frames: floor(j K / count).
 std::vector<int> evenFrames(int K, int count);
