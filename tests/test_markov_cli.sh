@@ -50,6 +50,20 @@ awk -v c="$(value "$work/np1" zone_low_conservation)" 'BEGIN { exit !(c < 1e-12)
   fail "absorbed + left - 1 = $(value "$work/np1" zone_low_conservation)"
 awk -v c="$(value "$work/np1" zone_low_passes_conservation)" 'BEGIN { exit !(c < 1e-12) }' && ok ||
   fail "sum of the pass counts - 1 = $(value "$work/np1" zone_low_passes_conservation)"
+# The run's markov monitor: the same chain as rcfd markov with the wrap carried (as the run carries
+# its state) and the run's fractions and drift (the defaults: 1.95 and 2.82 mm, law B): the same
+# distributions, to the digits written.
+zone=(-zones low -zone_low_layers 0,4 -markov_departures 6 -markov_passage_horizon 5)
+"$rcfd" run -db "$db" -t_end 0.01 -quiet -monitors markov "${zone[@]}" -output_dir "$work/run" && ok ||
+  fail "rcfd run -monitors markov failed"
+"$rcfd" markov "$db" "${zone[@]}" -markov_mix 0 -markov_wrap carry -quiet -fractions_diameters 1.95e-3,2.82e-3 \
+  -fractions_mass_shares 0.473,0.527 -drift_model B -o "$work/carried" && ok || fail "rcfd markov -markov_wrap carry failed"
+for f in low low_d1.950mm low_d2.820mm; do
+  cmp <(tail -n +2 "$work/run/markov_zone_$f.csv") <(tail -n +2 "$work/carried/zone_$f.csv") && ok ||
+    fail "the run's markov_zone_$f.csv differs from rcfd markov's zone_$f.csv"
+done
+grep -q "^wrap,carry column$" "$work/carried/summary.csv" && ok || fail "summary.csv does not say the wrap was carried"
+expect_error "-monitors markov needs zones" run -db "$db" -t_end 0.01 -monitors markov -output_dir "$work/refused-run"
 # The figures, where matplotlib is there to draw them.
 if /usr/bin/python3 -c "import matplotlib, numpy" 2>/dev/null; then
   for png in relaxation zone_low; do

@@ -8,6 +8,7 @@
 #include "base/petsc_compat.hpp"
 
 #include "cli/figures.hpp"
+#include "markov/chain_files.hpp"
 #include "markov/class_drift.hpp"
 #include "markov/frame_chain.hpp"
 #include "markov/pass_counts.hpp"
@@ -117,32 +118,12 @@ PetscErrorCode readOptions(MPI_Comm comm, const char *positional, MarkovOptions 
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
-std::string number(double v) {
-  char text[32];
-  std::snprintf(text, sizeof text, "%.10g", v);
-  return text;
-}
+std::string number(double v) { return chainNumber(v); }
 
 // A zone's distributions as zone_NAME[SUFFIX].csv (rank 0).
 void writeZone(const std::string &dir, const ZonePassages &p, const std::string &suffix, const std::string &what,
                size_t departures, double dt) {
-  std::ostringstream z;
-  z << "# zone " << p.zone << what << ": probability that a visit lasts t (residence) and that the time outside "
-    << "between leaving and entering again is t (away), from " << departures
-    << " departure frames; tails left after the horizon: residence " << p.residence.tail << ", away "
-    << p.away.tail << "\ntime,residence,away\n";
-  const size_t rows = std::max(p.residence.probability.size(), p.away.probability.size());
-  for (size_t n = 0; n < rows; ++n)
-    z << number((n + 1) * dt) << ','
-      << number(n < p.residence.probability.size() ? p.residence.probability[n] : 0.0) << ','
-      << number(n < p.away.probability.size() ? p.away.probability[n] : 0.0) << '\n';
-  writeTextAtomically(dir + "zone_" + p.zone + suffix + ".csv", z.str());
-}
-
-// Kac's relation E[visit] / (E[visit] + E[away]): the share of time in the zone.
-double kacShare(const ZonePassages &p) {
-  const double sum = p.residence.mean + p.away.mean;
-  return sum > 0 ? p.residence.mean / sum : 0.0;
+  writeTextAtomically(dir + "zone_" + p.zone + suffix + ".csv", zoneFileText(p, what, departures, dt));
 }
 
 // One size class's answers (its chain: the shift and its linearised drift).
