@@ -245,6 +245,28 @@ void ring() {
   checkAbsorption(z.away);
 }
 
+// A tracer started as the solid of a zone (-markov_mix_zone) is the cells'
+// tracers weighted by their solid: the first cell's zone on the ring is the
+// start in cell 0, to the bit.
+void zoneStart() {
+  Loaded l;
+  MixingResult r;
+  auto run = [&]() -> PetscErrorCode {
+    PetscFunctionBeginUser;
+    PetscCall(load(dir + "/ring.h5", firstCell(), &l));
+    MixingSettings m;
+    m.starts = {0};
+    m.startZone = l.zone()->localCells();
+    m.zoneStart = true;
+    m.horizon = 10.0;
+    PetscCall(tracerMixing(l.chain, m, &r));
+    PetscFunctionReturn(PETSC_SUCCESS);
+  };
+  RCFD_CHECK(succeeded(run()));
+  RCFD_CHECK(r.time.size() == 2 && r.time[0] == r.time[1] && !std::isnan(r.time[0]));
+  RCFD_CHECK(r.zoneDeviation == r.worstDeviation);
+}
+
 // Two frames: the lazy ring, then the identity.  The averaged chain is
 // (T + I) / 2, |lambda2| = |1 - p/2 + p/2 exp(2 pi i / N)|; the tracer moves on
 // the odd steps only, so it first reaches the tolerance at step 2 m - 1 (m the
@@ -598,6 +620,7 @@ int main(int argc, char **argv) {
   freeboardLeftOut();
   sizeClasses();
   wrapCarried();
+  zoneStart();
   PetscPopErrorHandler();
   PetscCall(PetscFinalize());
   return RCFD_TEST_RESULT();

@@ -43,6 +43,7 @@ struct MarkovOptions {
   bool quiet = false, plot = true;
   bool classes = false; // -fractions_diameters given: every class's chain too
   bool carryWrap = false; // -markov_wrap carry
+  std::string mixZone;    // -markov_mix_zone: a tracer started in that zone too
   double solidDensity = 0.0; // 0: the database's
 };
 
@@ -79,6 +80,11 @@ PetscErrorCode readOptions(MPI_Comm comm, const char *positional, MarkovOptions 
                               startKinds, 2, startKinds[starts], &starts, nullptr));
   PetscCall(checkedInt(PetscOptionsObject, "-markov_mix_stride",
                        "With -markov_mix_starts layers: every this many layers from the bottom", &o->stride, 1, 1000000));
+  char mixZone[256] = "";
+  PetscCall(PetscOptionsString("-markov_mix_zone",
+                               "Also a tracer started as the solid in this zone of -zones at frame 0 (as a run's "
+                               "-scalar_NAME_zones)", "", mixZone, mixZone, sizeof mixZone, nullptr));
+  o->mixZone = mixZone;
   PetscCall(checkedInt(PetscOptionsObject, "-markov_departures",
                        "Frames whose zone crossings are followed (spread evenly)", &o->departures, 1, 1000000));
   PetscCall(checkedReal(PetscOptionsObject, "-markov_passage_horizon", "Longest time a crossing is followed [s]",
@@ -129,6 +135,7 @@ void writeZone(const std::string &dir, const ZonePassages &p, const std::string 
 // One size class's answers (its chain: the shift and its linearised drift).
 struct ClassAnswers {
   MixingResult mixing;
+  double zoneMixTime = std::nan(""); // of the tracer started in -markov_mix_zone
   std::vector<ZonePassages> zones;
 };
 
@@ -188,11 +195,22 @@ PetscErrorCode markovCommand(MPI_Comm comm, const char *positional) {
   PetscCall(layout.gatherToAll(1, db->alphaS(0), &alpha0));
 
   MixingResult mixing;
+  double zoneMixTime = std::nan("");
   if (o.mix) {
     o.mixing.starts = mixingStarts(db->mesh(), db->metadata().gravity, alpha0, o.mixing.alphaMin, o.allStarts,
                                    static_cast<int>(o.stride));
     o.mixing.excluded = spectrum.absorbingLocal;
+    if (!o.mixZone.empty()) {
+      const Zone *z = zones.find(o.mixZone);
+      PetscCheck(z, comm, PETSC_ERR_USER_INPUT, "-markov_mix_zone %s is none of -zones", o.mixZone.c_str());
+      o.mixing.startZone = z->localCells();
+      o.mixing.zoneStart = true;
+    }
     PetscCall(tracerMixing(chain, o.mixing, &mixing, bulkSteps));
+    if (o.mixing.zoneStart) { // the zone's tracer, apart from the cells'
+      zoneMixTime = mixing.time.back();
+      mixing.time.pop_back();
+    }
   }
   const double tMixing = MPI_Wtime();
 
@@ -220,6 +238,10 @@ PetscErrorCode markovCommand(MPI_Comm comm, const char *positional) {
       ClassAnswers a;
       classDrift.setClass(i);
       if (o.mix) PetscCall(tracerMixing(chain, o.mixing, &a.mixing, classSteps));
+      if (o.mix && o.mixing.zoneStart) {
+        a.zoneMixTime = a.mixing.time.back();
+        a.mixing.time.pop_back();
+      }
       PetscCall(zonePassages(chain, zoneList, o.passages, &a.zones, classSteps));
       classes.push_back(std::move(a));
     }
@@ -263,10 +285,13 @@ PetscErrorCode markovCommand(MPI_Comm comm, const char *positional) {
       std::ostringstream r;
       r << "# tracer deviation max_i |c_i - 1| over cells with alpha_s >= " << o.mixing.alphaMin << ", over "
         << mixing.time.size() << " start cells; lambda2_decay = |lambda2|^n of the averaged chain\n"
-        << "time,mean_deviation,worst_deviation,lambda2_decay\n";
-      for (size_t n = 0; n < mixing.meanDeviation.size(); ++n)
+        << "time,mean_deviation,worst_deviation,lambda2_decay" << (o.mixing.zoneStart ? ",zone_deviation" : "") << '\n';
+      for (size_t n = 0; n < mixing.meanDeviation.size(); ++n) {
         r << number((n + 1) * dt) << ',' << number(mixing.meanDeviation[n]) << ',' << number(mixing.worstDeviation[n])
-          << ',' << number(std::pow(spectrum.lambda2, static_cast<double>(n + 1))) << '\n';
+          << ',' << number(std::pow(spectrum.lambda2, static_cast<double>(n + 1)));
+        if (o.mixing.zoneStart) r << ',' << (n < mixing.zoneDeviation.size() ? number(mixing.zoneDeviation[n]) : "");
+        r << '\n';
+      }
       writeTextAtomically(dir + "relaxation.csv", r.str());
       std::ostringstream m;
       m << "# mixing time per start cell (empty: not mixed within " << o.mixing.horizon << " s)\ncell,x,y,z,mixing_time\n";
@@ -276,6 +301,8 @@ PetscErrorCode markovCommand(MPI_Comm comm, const char *positional) {
           << number(mesh.cellCentre[cell][2]) << ',' << (std::isnan(mixing.time[c]) ? "" : number(mixing.time[c]))
           << '\n';
       }
+      if (o.mixing.zoneStart) // the tracer started as the zone's solid
+        m << "zone " << o.mixZone << ",,,," << (std::isnan(zoneMixTime) ? "" : number(zoneMixTime)) << '\n';
       writeTextAtomically(dir + "mixing.csv", m.str());
     }
     for (const ZonePassages &p : passages) writeZone(dir, p, "", "", o.passages.departures.size(), dt);
@@ -285,7 +312,7 @@ PetscErrorCode markovCommand(MPI_Comm comm, const char *positional) {
       c << "# rcfd markov " << o.file << ": each size class's chain (the shift, then its drift linearised on the "
         << "bed's mean composition; docs/markov.md, \"Size classes\"); kac_share = E[visit] / (E[visit] + E[away])\n"
         << "class,diameter,zone,mean_residence,mean_away,kac_share,residence_tail,away_tail,conservation,"
-        << "mixing_mean,mixing_worst,mixing_mixed,mixing_starts\n";
+        << "mixing_mean,mixing_worst,mixing_mixed,mixing_starts" << (o.mixing.zoneStart ? ",mixing_zone" : "") << '\n';
       for (int i = 0; i < fractions.size(); ++i) {
         const ClassAnswers &a = classes[static_cast<size_t>(i)];
         const MixingSummary m = summarise(a.mixing);
@@ -295,8 +322,9 @@ PetscErrorCode markovCommand(MPI_Comm comm, const char *positional) {
         auto row = [&](const std::string &zone, const std::string &numbers) {
           c << fractions.label(i) << ',' << number(fractions.diameter(i)) << ',' << zone << ',' << numbers << ','
             << (o.mix ? number(m.mean) : "") << ',' << (o.mix && m.all ? number(m.worst) : "") << ','
-            << (o.mix ? std::to_string(m.mixed) : "") << ',' << (o.mix ? std::to_string(a.mixing.time.size()) : "")
-            << '\n';
+            << (o.mix ? std::to_string(m.mixed) : "") << ',' << (o.mix ? std::to_string(a.mixing.time.size()) : "");
+          if (o.mixing.zoneStart) c << ',' << (std::isnan(a.zoneMixTime) ? "" : number(a.zoneMixTime));
+          c << '\n';
         };
         if (a.zones.empty()) row("", ",,,,,");
         for (const ZonePassages &p : a.zones)
@@ -328,6 +356,8 @@ PetscErrorCode markovCommand(MPI_Comm comm, const char *positional) {
     if (o.mix)
       sum << "mixing_starts," << mixing.time.size() << "\nmixing_mixed," << mixed << "\nmixing_mean,"
           << number(mixMean) << "\nmixing_worst," << (allMixed ? number(mixWorst) : "") << '\n';
+    if (o.mix && o.mixing.zoneStart)
+      sum << "mixing_zone_" << o.mixZone << ',' << (std::isnan(zoneMixTime) ? "" : number(zoneMixTime)) << '\n';
     for (const ZonePassages &p : passages)
       sum << "zone_" << p.zone << "_stationary_share," << number(p.stationaryShare) << "\nzone_" << p.zone
           << "_database_share," << number(p.databaseShare) << "\nzone_" << p.zone << "_mean_residence,"
@@ -384,6 +414,9 @@ PetscErrorCode markovCommand(MPI_Comm comm, const char *positional) {
       else
         PetscCall(PetscPrintf(comm, "  tracer mixing (within %g in cells with alpha_s >= %g): %d of %zu start cells mixed within %g s (mean of those %.4g s)\n",
                               o.mixing.tolerance, o.mixing.alphaMin, mixed, mixing.time.size(), o.mixing.horizon, mixMean));
+      if (o.mixing.zoneStart)
+        PetscCall(PetscPrintf(comm, "  tracer started as the solid in zone %s: mixed after %.4g s%s\n", o.mixZone.c_str(),
+                              zoneMixTime, std::isnan(zoneMixTime) ? " (not within the horizon)" : ""));
     }
     for (const ZonePassages &p : passages)
       if (p.residence.flux == 0 && p.away.flux == 0)

@@ -38,7 +38,8 @@ PetscErrorCode tracerMixing(const FrameChain &chain, const MixingSettings &setti
   const Database &db = chain.database();
   const Layout &layout = db.layout();
   const MPI_Comm comm = layout.comm();
-  const PetscInt s = static_cast<PetscInt>(settings.starts.size());
+  const PetscInt cellStarts = static_cast<PetscInt>(settings.starts.size());
+  const PetscInt s = cellStarts + (settings.zoneStart ? 1 : 0);
   const PetscInt bs = s + 1; // column 0: the bulk; 1..s: the tracers
   const std::vector<PetscInt> &cells = chain.chainCells(); // the block's cells (local indices)
   const PetscInt ncells = chain.numChainCells();
@@ -46,6 +47,7 @@ PetscErrorCode tracerMixing(const FrameChain &chain, const MixingSettings &setti
   out->time.assign(s, std::numeric_limits<double>::quiet_NaN());
   out->meanDeviation.clear();
   out->worstDeviation.clear();
+  out->zoneDeviation.clear();
   out->confirm = chain.numFrames();
   if (s == 0) PetscFunctionReturn(PETSC_SUCCESS);
   ChainBlock x;
@@ -57,12 +59,21 @@ PetscErrorCode tracerMixing(const FrameChain &chain, const MixingSettings &setti
     for (PetscInt k = 0; k < ncells; ++k) x.at(k, 0) = pm[cells[k]];
     PetscCall(VecRestoreArrayRead(chain.massShare(0), &pm));
     int outside = -1; // a start that is none of the chain's cells (it never holds solid)
-    for (PetscInt c = 0; c < s; ++c) {
+    for (PetscInt c = 0; c < cellStarts; ++c) {
       const PetscInt row = layout.petscRow(settings.starts[c]);
       if (row < layout.rowStart() || row >= layout.rowEnd()) continue;
       const auto k = std::lower_bound(cells.begin(), cells.end(), row - layout.rowStart());
       if (k == cells.end() || *k != row - layout.rowStart()) outside = std::max(outside, settings.starts[c]);
       else x.at(k - cells.begin(), 1 + c) = 1.0;
+    }
+    if (settings.zoneStart) { // the zone's share of the solid, as one distribution
+      const std::vector<char> in = chain.chainMask(settings.startZone);
+      double share = 0.0;
+      for (PetscInt k = 0; k < ncells; ++k) share += in[k] ? x.at(k, 0) : 0.0;
+      PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, &share, 1, MPI_DOUBLE, MPI_SUM, comm));
+      PetscCheck(share > 0, comm, PETSC_ERR_USER_INPUT,
+                 "Database '%s': the tracer's start zone holds no solid at frame 0", db.path().c_str());
+      for (PetscInt k = 0; k < ncells; ++k) x.at(k, s) = in[k] ? x.at(k, 0) / share : 0.0;
     }
     PetscCall(x.restoreArrays());
     PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, &outside, 1, MPI_INT, MPI_MAX, comm));
@@ -101,8 +112,12 @@ PetscErrorCode tracerMixing(const FrameChain &chain, const MixingSettings &setti
     PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, deviation.data(), static_cast<int>(s), MPI_DOUBLE, MPI_MAX, comm));
     double mean = 0.0, worst = 0.0;
     for (PetscInt c = 0; c < s; ++c) {
-      mean += deviation[c] / s;
-      worst = std::max(worst, deviation[c]);
+      if (c < cellStarts) {
+        mean += deviation[c] / cellStarts;
+        worst = std::max(worst, deviation[c]);
+      } else {
+        out->zoneDeviation.push_back(deviation[c]);
+      }
       if (!std::isnan(out->time[c])) continue;
       if (deviation[c] > settings.tolerance) {
         within[c] = -1;
@@ -114,8 +129,10 @@ PetscErrorCode tracerMixing(const FrameChain &chain, const MixingSettings &setti
         --open;
       }
     }
-    out->meanDeviation.push_back(mean);
-    out->worstDeviation.push_back(worst);
+    if (cellStarts > 0) {
+      out->meanDeviation.push_back(mean);
+      out->worstDeviation.push_back(worst);
+    }
   }
   PetscFunctionReturn(PETSC_SUCCESS);
 }
