@@ -236,6 +236,13 @@ PetscErrorCode markovCommand(MPI_Comm comm, const char *positional) {
   if (o.classes) {
     for (int i = 0; i < fractions.size(); ++i) {
       ClassAnswers a;
+      if (!classDrift.moves()) { // no drift (k_d = 0, one class): every class's chain is the bulk's, to the bit
+        a.mixing = mixing;
+        a.zoneMixTime = zoneMixTime;
+        a.zones = passages;
+        classes.push_back(std::move(a));
+        continue;
+      }
       classDrift.setClass(i);
       if (o.mix) PetscCall(tracerMixing(chain, o.mixing, &a.mixing, classSteps));
       if (o.mix && o.mixing.zoneStart) {
