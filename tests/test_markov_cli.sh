@@ -13,7 +13,7 @@ common=(-zones low -zone_low_layers 0,4 -markov_mix_starts all -markov_mix_alpha
   -markov_mix_tolerance 0.3
   -markov_departures 6 -markov_passage_horizon 5 -markov_passes_time 1 -markov_passes_max 8 -quiet)
 # Two size classes drifting by law B: each class's chain.
-classes=(-zones low -zone_low_layers 0,4 -markov_mix_alpha_min 0.3 -markov_mix_horizon 20 -markov_mix_tolerance 0.3
+classes=(-zones low,top -zone_low_layers 0,4 -zone_top_layers 8,11 -markov_mix_alpha_min 0.3 -markov_mix_horizon 20 -markov_mix_tolerance 0.3
   -markov_departures 6 -markov_passage_horizon 5 -quiet -fractions_diameters 1e-3,3e-3 -fractions_mass_shares 0.5,0.5
   -drift_model B -drift_kd 5e4)
 mpiexec -n 1 "$rcfd" markov "$db" "${common[@]}" -plot 1 -o "$work/np1" && ok || fail "rcfd markov on 1 rank failed"
@@ -26,15 +26,18 @@ mpiexec -n 2 "$rcfd" markov "$db" "${common[@]}" -o "$work/np2" && ok || fail "r
 "$compare" "$work/np1/zone_low.csv" "$work/np2/zone_low.csv" 1e-12 1e-15 && ok || fail "zone_low.csv differs"
 "$compare" "$work/np1/passes_low.csv" "$work/np2/passes_low.csv" 1e-12 1e-15 && ok || fail "passes_low.csv differs"
 # Size classes (the drift linearised on the mean composition): the same on 2 ranks; the small class
-# spends less of its time in the low zone than the large one (Kac's share: 0.46 against 0.76).
+# spends less of its time in the low zone than the large one (Kac's share: 0.46 against 0.76) and
+# more in the top zone, the bed's surface (0.073 against 0.056).
 mpiexec -n 1 "$rcfd" markov "$db" "${classes[@]}" -o "$work/classes1" && ok || fail "rcfd markov with classes, 1 rank"
 mpiexec -n 2 "$rcfd" markov "$db" "${classes[@]}" -o "$work/classes2" && ok || fail "rcfd markov with classes, 2 ranks"
 "$compare" "$work/classes1/classes.csv" "$work/classes2/classes.csv" 1e-12 1e-15 && ok || fail "classes.csv differs"
 "$compare" "$work/classes1/zone_low_d1.000mm.csv" "$work/classes2/zone_low_d1.000mm.csv" 1e-12 1e-15 && ok ||
   fail "zone_low_d1.000mm.csv differs"
-kac() { awk -F, -v c="$2" '$1 == c && $3 == "low" { print $6 }' "$1/classes.csv"; }
-awk -v s="$(kac "$work/classes1" d1.000mm)" -v l="$(kac "$work/classes1" d3.000mm)" 'BEGIN { exit !(s > 0 && l > s + 0.1) }' &&
-  ok || fail "low zone's share of time: small class $(kac "$work/classes1" d1.000mm), large $(kac "$work/classes1" d3.000mm)"
+kac() { awk -F, -v c="$2" -v z="$3" '$1 == c && $3 == z { print $6 }' "$1/classes.csv"; }
+awk -v s="$(kac "$work/classes1" d1.000mm low)" -v l="$(kac "$work/classes1" d3.000mm low)" 'BEGIN { exit !(s > 0 && l > s + 0.1) }' &&
+  ok || fail "low zone's share of time: small class $(kac "$work/classes1" d1.000mm low), large $(kac "$work/classes1" d3.000mm low)"
+awk -v s="$(kac "$work/classes1" d1.000mm top)" -v l="$(kac "$work/classes1" d3.000mm top)" 'BEGIN { exit !(l > 0 && s > 1.2 * l) }' &&
+  ok || fail "top zone's share of time: small class $(kac "$work/classes1" d1.000mm top), large $(kac "$work/classes1" d3.000mm top)"
 awk -F, 'NR > 2 && !($9 < 1e-12) { bad = 1 } END { exit bad }' "$work/classes1/classes.csv" && ok ||
   fail "a class's absorbed + left is not 1 within 1e-12"
 "$compare" "$work/np1/stationary.csv" "$work/np2/stationary.csv" 1e-12 1e-15 stationary_share=1e-8 && ok ||
