@@ -78,6 +78,7 @@ fi
 expect_error "Unknown option -markov_mix_tolerence" markov "$db" -markov_mix_tolerence 0.1 -o "$work/bad"
 expect_error "-markov_mix_tolerance 2: expected a number between 0 and 1" markov "$db" -markov_mix_tolerance 2 -o "$work/bad"
 expect_error "No database given" markov -o "$work/bad"
+expect_error "-markov_mix_zone nope is none of -zones" markov "$db" -zones low -zone_low_layers 0,4 -markov_mix_zone nope -o "$work/bad"
 [ ! -e "$work/bad" ] && ok || fail "a refused rcfd markov wrote $work/bad"
 echo "$passed passed, $failures failed"
 [ $failures -eq 0 ]

@@ -169,6 +169,8 @@ PetscErrorCode markovCommand(MPI_Comm comm, const char *positional) {
   std::unique_ptr<Database> db;
   PetscCall(Database::load(comm, o.file, loadOptions, &db));
   PetscCall(zones.setUp(db->mesh(), db->layout(), db->metadata().gravity));
+  PetscCheck(o.mixZone.empty() || zones.find(o.mixZone), comm, PETSC_ERR_USER_INPUT,
+             "-markov_mix_zone %s is none of -zones", o.mixZone.c_str());
   const double tLoad = MPI_Wtime();
   FrameChain chain;
   PetscCall(chain.setUp(*db)); // refuses frames that do not conserve mass, before anything is computed
@@ -201,9 +203,7 @@ PetscErrorCode markovCommand(MPI_Comm comm, const char *positional) {
                                    static_cast<int>(o.stride));
     o.mixing.excluded = spectrum.absorbingLocal;
     if (!o.mixZone.empty()) {
-      const Zone *z = zones.find(o.mixZone);
-      PetscCheck(z, comm, PETSC_ERR_USER_INPUT, "-markov_mix_zone %s is none of -zones", o.mixZone.c_str());
-      o.mixing.startZone = z->localCells();
+      o.mixing.startZone = zones.find(o.mixZone)->localCells(); // found: checked after the load
       o.mixing.zoneStart = true;
     }
     PetscCall(tracerMixing(chain, o.mixing, &mixing, bulkSteps));
