@@ -8,10 +8,12 @@
 #include "box_meshes.hpp"
 #include "database/database_file_writer.hpp"
 #include "database_copies.hpp"
+#include "markov/class_drift.hpp"
 #include "markov/frame_chain.hpp"
 #include "markov/pass_counts.hpp"
 #include "markov/spectrum.hpp"
 #include "markov/tracer_mixing.hpp"
+#include "markov/wrap_carry.hpp"
 #include "markov/zone_passages.hpp"
 #include "rcfd/database.hpp"
 #include "rcfd/zone.hpp"
@@ -39,12 +41,13 @@ Mesh row(int n) {
   return rcfd::test::boxMesh(s);
 }
 
-// Frames with the shifts `shifts` and alpha_s `alpha` on row(n); rank 0 writes.
-void writeChain(const std::string &path, int n, const std::vector<double> &alpha, const std::vector<CsrMatrix> &shifts) {
+// Frames with the shifts `shifts` and alpha_s `alpha` on `mesh`; rank 0 writes.
+void writeChain(const std::string &path, const Mesh &mesh, const std::vector<double> &alpha,
+                const std::vector<CsrMatrix> &shifts) {
   if (rank == 0) {
     DatabaseMetadata meta;
     meta.dtRec = dt;
-    DatabaseFileWriter w(path, row(n), meta);
+    DatabaseFileWriter w(path, mesh, meta);
     for (const CsrMatrix &shift : shifts) {
       FrameRecord f;
       f.alphaS = alpha;
@@ -56,6 +59,11 @@ void writeChain(const std::string &path, int n, const std::vector<double> &alpha
   MPI_Barrier(PETSC_COMM_WORLD);
 }
 
+// The same on row(n).
+void writeChain(const std::string &path, int n, const std::vector<double> &alpha, const std::vector<CsrMatrix> &shifts) {
+  writeChain(path, row(n), alpha, shifts);
+}
+
 // Zone of the first cell (its centre is at x = 0.5).
 Zone firstCell() { return Zone("first", Zone::Shape::Box, {0.0, 1.0, 0.0, 1.0, 0.0, 1.0}); }
 
@@ -65,27 +73,40 @@ struct Answers {
   std::vector<ZonePassages> zones;
 };
 
-PetscErrorCode analyse(const std::string &path, const std::vector<int> &starts, Answers *a) {
+// A database's chain and one zone on it.
+struct Loaded {
   std::unique_ptr<Database> db;
   FrameChain chain;
-  ChainEigensolver solver;
   ZoneSet zones;
+  const Zone *zone() const { return &zones.all()[0]; }
+};
+
+PetscErrorCode load(const std::string &path, const Zone &zone, Loaded *l) {
   PetscFunctionBeginUser;
-  PetscCall(Database::load(PETSC_COMM_WORLD, path, DatabaseLoadOptions{}, &db));
-  PetscCall(chain.setUp(*db));
+  PetscCall(Database::load(PETSC_COMM_WORLD, path, DatabaseLoadOptions{}, &l->db));
+  PetscCall(l->chain.setUp(*l->db));
+  l->zones.add(zone);
+  PetscCall(l->zones.setUp(l->db->mesh(), l->db->layout(), l->db->metadata().gravity));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode analyse(const std::string &path, const std::vector<int> &starts, Answers *a) {
+  Loaded l;
+  ChainEigensolver solver;
+  PetscFunctionBeginUser;
+  PetscCall(load(path, firstCell(), &l));
+  const FrameChain &chain = l.chain;
   PetscCall(solver.setFromOptions(PETSC_COMM_WORLD, "markov_"));
   PetscCall(solver.solve(chain, FrameChain::Average::Mass, 0.0, &a->spectrum));
   MixingSettings mixing;
   mixing.starts = starts;
   mixing.horizon = 10.0;
   PetscCall(tracerMixing(chain, mixing, &a->mixing));
-  zones.add(firstCell());
-  PetscCall(zones.setUp(db->mesh(), db->layout(), db->metadata().gravity));
   PassageSettings passages;
   passages.horizon = 20.0; // 2000 steps
   passages.tail = 1e-13;
   passages.departures = {0};
-  PetscCall(zonePassages(chain, {&zones.all()[0]}, passages, &a->zones));
+  PetscCall(zonePassages(chain, {l.zone()}, passages, &a->zones));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
@@ -100,12 +121,18 @@ bool succeeded(PetscErrorCode ierr) {
 
 // The probabilities sum to 1 with what is left; the check can fail: the sum is
 // compared with 1 to 1e-12, as every mass balance.
-void checkAbsorption(const PassageDistribution &d) {
+void checkSumsToOne(const PassageDistribution &d) {
   double sum = d.tail;
   for (double p : d.probability) sum += p;
   RCFD_CHECK_CLOSE(sum, 1.0, 1e-12);
   RCFD_CHECK(d.conservation <= 1e-12);
-  RCFD_CHECK(d.tail >= 0 && d.tail <= 1e-12);
+  RCFD_CHECK(d.tail >= 0);
+}
+
+// ... and nothing is left after the horizon.
+void checkAbsorption(const PassageDistribution &d) {
+  checkSumsToOne(d);
+  RCFD_CHECK(d.tail <= 1e-12);
 }
 
 // T = [[1 - a, b], [a, 1 - b]]: eigenvalues 1 and 1 - a - b, stationary
@@ -218,6 +245,28 @@ void ring() {
   checkAbsorption(z.away);
 }
 
+// A tracer started as the solid of a zone (-markov_mix_zone) is the cells'
+// tracers weighted by their solid: the first cell's zone on the ring is the
+// start in cell 0, to the bit.
+void zoneStart() {
+  Loaded l;
+  MixingResult r;
+  auto run = [&]() -> PetscErrorCode {
+    PetscFunctionBeginUser;
+    PetscCall(load(dir + "/ring.h5", firstCell(), &l));
+    MixingSettings m;
+    m.starts = {0};
+    m.startZone = l.zone()->localCells();
+    m.zoneStart = true;
+    m.horizon = 10.0;
+    PetscCall(tracerMixing(l.chain, m, &r));
+    PetscFunctionReturn(PETSC_SUCCESS);
+  };
+  RCFD_CHECK(succeeded(run()));
+  RCFD_CHECK(r.time.size() == 2 && r.time[0] == r.time[1] && !std::isnan(r.time[0]));
+  RCFD_CHECK(r.zoneDeviation == r.worstDeviation);
+}
+
 // Two frames: the lazy ring, then the identity.  The averaged chain is
 // (T + I) / 2, |lambda2| = |1 - p/2 + p/2 exp(2 pi i / N)|; the tracer moves on
 // the odd steps only, so it first reaches the tolerance at step 2 m - 1 (m the
@@ -241,6 +290,213 @@ void ringWithPauses() {
     checkAbsorption(z.away);
     // Half the steps move nothing: a visit lasts twice as long on average.
     RCFD_CHECK_CLOSE(z.residence.mean, 2 * dt / p, 1e-6);
+  }
+}
+
+// The two-cell chain with a third cell that never holds solid and keeps
+// what it has (a freeboard): the chain holds the two cells only, and every
+// number is the two-cell chain's to the bit.
+void freeboardLeftOut() {
+  const double a = 0.3, b = 0.1;
+  const std::string path = dir + "/two_cells_freeboard.h5";
+  writeChain(path, 3, {0.2, 0.6, 0.0}, {shiftFromTransfers(3, {0, 1, 0, 1}, {0, 0, 1, 1}, {1 - a, a, b, 1 - b})});
+  Answers with, without;
+  RCFD_CHECK(succeeded(analyse(path, {0, 1}, &with)));
+  RCFD_CHECK(succeeded(analyse(dir + "/two_cells.h5", {0, 1}, &without)));
+  std::unique_ptr<Database> db;
+  FrameChain chain;
+  RCFD_CHECK(Database::load(PETSC_COMM_WORLD, path, DatabaseLoadOptions{}, &db) == 0 && chain.setUp(*db) == 0);
+  RCFD_CHECK(chain.numChainCellsGlobal() == 2);
+  RCFD_CHECK(with.mixing.time == without.mixing.time);
+  RCFD_CHECK(with.mixing.worstDeviation == without.mixing.worstDeviation);
+  RCFD_CHECK(with.zones.size() == 1 && without.zones.size() == 1);
+  if (with.zones.size() != 1 || without.zones.size() != 1) return;
+  RCFD_CHECK(with.zones[0].residence.probability == without.zones[0].residence.probability);
+  RCFD_CHECK(with.zones[0].away.probability == without.zones[0].away.probability);
+  RCFD_CHECK(with.spectrum.residual == without.spectrum.residual);
+  RCFD_CHECK_CLOSE(with.spectrum.lambda2, without.spectrum.lambda2, 1e-12);
+}
+
+// A column of cells 1 cm high, gravity along -z: each step a quarter of every
+// cell moves to each neighbour (half stays; the end cells keep what would
+// leave the column), the top cell is empty and keeps what it has (a
+// freeboard).  Two size classes drift by law B; the zone is the highest cell
+// holding solid.
+constexpr int kColumn = 8;
+
+Mesh column() {
+  BoxSpec s;
+  s.nx = 1;
+  s.ny = 1;
+  s.nz = kColumn + 1;
+  s.length = {0.01, 0.01, 0.01 * (kColumn + 1)};
+  return rcfd::test::boxMesh(s);
+}
+
+CsrMatrix columnWalk() {
+  std::vector<int32_t> dest, src;
+  std::vector<double> w;
+  for (int c = 0; c < kColumn; ++c) {
+    double stay = 0.5;
+    for (int to : {c - 1, c + 1}) {
+      if (to < 0 || to >= kColumn) {
+        stay += 0.25;
+        continue;
+      }
+      dest.push_back(to), src.push_back(c), w.push_back(0.25);
+    }
+    dest.push_back(c), src.push_back(c), w.push_back(stay);
+  }
+  return shiftFromTransfers(kColumn + 1, dest, src, w);
+}
+
+struct ClassRun {
+  std::vector<ZonePassages> bulk;
+  std::vector<std::vector<ZonePassages>> classes;
+  MixingResult bulkMixing;
+  std::vector<MixingResult> classMixing;
+};
+
+// The bulk's and every class's zone passages and mixing with the drift of
+// -drift_kd kd (law B, 1 and 3 mm, half each).
+PetscErrorCode classChains(const std::string &path, const char *kd, ClassRun *out) {
+  Loaded l;
+  FractionSet fractions;
+  ClassDrift drift;
+  PetscFunctionBeginUser;
+  PetscCall(load(path, Zone("top", Zone::Shape::Box, {0.0, 0.01, 0.0, 0.01, 0.01 * (kColumn - 1), 0.01 * kColumn}), &l));
+  const FrameChain &chain = l.chain;
+  PetscCall(FractionSet::create({1e-3, 3e-3}, {0.5, 0.5}, &fractions));
+  PetscCall(PetscOptionsSetValue(nullptr, "-drift_model", "B"));
+  PetscCall(PetscOptionsSetValue(nullptr, "-drift_kd", kd));
+  PetscCall(drift.setFromOptions(PETSC_COMM_WORLD));
+  PetscCall(PetscOptionsClearValue(nullptr, "-drift_model"));
+  PetscCall(PetscOptionsClearValue(nullptr, "-drift_kd"));
+  PetscCall(drift.setUp(chain, fractions, 1440.0));
+  PassageSettings passages;
+  passages.horizon = 20.0;
+  passages.tail = 1e-13;
+  passages.departures = {0};
+  MixingSettings mixing;
+  mixing.starts = {0, kColumn - 1};
+  mixing.horizon = 10.0;
+  const std::vector<const Zone *> list{l.zone()};
+  PetscCall(zonePassages(chain, list, passages, &out->bulk));
+  PetscCall(tracerMixing(chain, mixing, &out->bulkMixing));
+  for (int i = 0; i < fractions.size(); ++i) {
+    drift.setClass(i);
+    out->classes.emplace_back();
+    out->classMixing.emplace_back();
+    PetscCall(zonePassages(chain, list, passages, &out->classes.back(), {&drift}));
+    PetscCall(tracerMixing(chain, mixing, &out->classMixing.back(), {&drift}));
+  }
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+// With k_d = 0 every class's chain is the bulk's, to the bit; with k_d > 0
+// the small class (drifting up) stays longer per visit in the top zone and
+// spends a larger share of its time there (Kac) than the bulk, and the large
+// class less; every distribution's absorbed plus left is 1.
+void sizeClasses() {
+  const std::string path = dir + "/column.h5";
+  std::vector<double> alpha(kColumn + 1, 0.3);
+  alpha[kColumn] = 0.0;
+  writeChain(path, column(), alpha, {columnWalk()});
+  ClassRun still, drifting;
+  RCFD_CHECK(succeeded(classChains(path, "0", &still)));
+  RCFD_CHECK(still.classes.size() == 2);
+  for (size_t i = 0; i < still.classes.size(); ++i) {
+    RCFD_CHECK(still.classes[i].at(0).residence.probability == still.bulk.at(0).residence.probability);
+    RCFD_CHECK(still.classes[i].at(0).away.probability == still.bulk.at(0).away.probability);
+    RCFD_CHECK(still.classMixing[i].time == still.bulkMixing.time);
+    RCFD_CHECK(still.classMixing[i].worstDeviation == still.bulkMixing.worstDeviation);
+  }
+  RCFD_CHECK(succeeded(classChains(path, "1e5", &drifting)));
+  RCFD_CHECK(drifting.classes.size() == 2);
+  if (drifting.classes.size() != 2) return;
+  auto kac = [](const ZonePassages &z) { return z.residence.mean / (z.residence.mean + z.away.mean); };
+  const ZonePassages &bulk = drifting.bulk.at(0), &small = drifting.classes[0].at(0), &large = drifting.classes[1].at(0);
+  // The walk alone: 1/8 of the time in the top cell (Kac), a visit of 4 steps.
+  RCFD_CHECK_CLOSE(kac(bulk), 1.0 / kColumn, 1e-9);
+  RCFD_CHECK_CLOSE(bulk.residence.mean, 4 * dt, 1e-9);
+  RCFD_CHECK(small.residence.mean > 1.1 * bulk.residence.mean);
+  RCFD_CHECK(large.residence.mean < bulk.residence.mean / 1.1);
+  RCFD_CHECK(kac(small) > 1.5 * kac(bulk));
+  RCFD_CHECK(kac(large) < kac(bulk) / 1.5);
+  // (The large class's time away has a tail after 20 s: it rarely climbs.)
+  for (const auto &zones : drifting.classes)
+    for (const ZonePassages &z : zones) {
+      checkSumsToOne(z.residence);
+      checkSumsToOne(z.away);
+    }
+  RCFD_CHECK(small.away.tail < 1e-12 && large.away.tail > 1e-9);
+  if (rank == 0)
+    std::printf("column, top cell: bulk visit %.4g s, share %.4f; small %.4g s, %.4f; large %.4g s, %.4f\n",
+                bulk.residence.mean, kac(bulk), small.residence.mean, kac(small), large.residence.mean, kac(large));
+}
+
+// The wrap carried as a run carries its state (-markov_wrap carry).  One
+// frame on a column of 3 cells holding alpha (0.3, 0.3, 0): the bottom cell
+// keeps half and sends half up, the middle cell sends half down and half into
+// the empty top cell (a splash), so the frame's shift leaves (0.3, 0.15,
+// 0.15), not frame 0's bed.  Periodic, the top cell keeps what reaches it
+// (its column is the identity's: it holds no solid in frame 0), so half of a
+// visit's leavers never come back.  Carried by height onto (0.3, 0.3, 0), the
+// splash lands in the middle cell again: the chain is two cells exchanging
+// half each step, a visit to the middle cell and the time away last n steps
+// with probability 2^-n, and a tracer is mixed after one step.
+void wrapCarried() {
+  const std::string path = dir + "/splash.h5";
+  BoxSpec b;
+  b.nx = 1;
+  b.ny = 1;
+  b.nz = 3;
+  b.length = {0.01, 0.01, 0.03};
+  writeChain(path, rcfd::test::boxMesh(b), {0.3, 0.3, 0.0},
+             {shiftFromTransfers(3, {0, 1, 0, 2}, {0, 0, 1, 1}, {0.5, 0.5, 0.5, 0.5})});
+  const Zone middle("middle", Zone::Shape::Box, {0.0, 0.01, 0.0, 0.01, 0.01, 0.02});
+  for (bool carry : {false, true}) {
+    Loaded l;
+    WrapCarry wrap;
+    std::vector<ZonePassages> zones;
+    MixingResult mixing;
+    auto run = [&]() -> PetscErrorCode {
+      PetscFunctionBeginUser;
+      PetscCall(load(path, middle, &l));
+      std::vector<ChainStep *> steps;
+      if (carry) {
+        PetscCall(wrap.setFromOptions(PETSC_COMM_WORLD));
+        PetscCall(wrap.setUp(l.chain, 1440.0));
+        steps.push_back(&wrap);
+      }
+      PassageSettings passages;
+      passages.horizon = 1.0; // 100 steps
+      passages.tail = 1e-13;
+      passages.departures = {0};
+      PetscCall(zonePassages(l.chain, {l.zone()}, passages, &zones, steps));
+      MixingSettings m;
+      m.starts = {0};
+      m.horizon = 0.5;
+      PetscCall(tracerMixing(l.chain, m, &mixing, steps));
+      PetscFunctionReturn(PETSC_SUCCESS);
+    };
+    RCFD_CHECK(succeeded(run()));
+    RCFD_CHECK(zones.size() == 1 && mixing.time.size() == 1);
+    if (zones.size() != 1 || mixing.time.size() != 1) continue;
+    const ZonePassages &z = zones[0];
+    checkSumsToOne(z.residence);
+    checkSumsToOne(z.away);
+    if (!carry) {
+      RCFD_CHECK_CLOSE(z.away.tail, 0.5, 1e-12); // half of the leavers splash into the top cell for ever
+      continue;
+    }
+    checkAbsorption(z.residence);
+    checkAbsorption(z.away);
+    for (int n = 1; n <= 20; ++n) {
+      RCFD_CHECK_CLOSE(z.residence.probability[n - 1], std::pow(0.5, n), 1e-14);
+      RCFD_CHECK_CLOSE(z.away.probability[n - 1], std::pow(0.5, n), 1e-14);
+    }
+    RCFD_CHECK_CLOSE(mixing.time[0], dt, 1e-14);
   }
 }
 
@@ -289,20 +545,15 @@ void nonConserving() {
 // cells within r steps of the zone.
 PetscErrorCode countPasses(const std::string &path, double time, int maxPasses, std::vector<double> *p,
                            double *mean, double *conservation) {
-  std::unique_ptr<Database> db;
-  FrameChain chain;
-  ZoneSet zones;
+  Loaded l;
   PetscFunctionBeginUser;
-  PetscCall(Database::load(PETSC_COMM_WORLD, path, DatabaseLoadOptions{}, &db));
-  PetscCall(chain.setUp(*db));
-  zones.add(firstCell());
-  PetscCall(zones.setUp(db->mesh(), db->layout(), db->metadata().gravity));
+  PetscCall(load(path, firstCell(), &l));
   PassCountSettings settings;
   settings.time = time;
   settings.maxPasses = maxPasses;
   settings.departures = {0};
   std::vector<PassCounts> out;
-  PetscCall(passCounts(chain, {&zones.all()[0]}, settings, &out));
+  PetscCall(passCounts(l.chain, {l.zone()}, settings, &out));
   *p = out.at(0).probability;
   *mean = out[0].mean;
   *conservation = out[0].conservation;
@@ -366,6 +617,10 @@ int main(int argc, char **argv) {
   ringWithPauses();
   nonConserving();
   passes();
+  freeboardLeftOut();
+  sizeClasses();
+  wrapCarried();
+  zoneStart();
   PetscPopErrorHandler();
   PetscCall(PetscFinalize());
   return RCFD_TEST_RESULT();

@@ -12,6 +12,10 @@ db=$data/small.h5
 common=(-zones low -zone_low_layers 0,4 -markov_mix_starts all -markov_mix_alpha_min 0.3 -markov_mix_horizon 60
   -markov_mix_tolerance 0.3
   -markov_departures 6 -markov_passage_horizon 5 -markov_passes_time 1 -markov_passes_max 8 -quiet)
+# Two size classes drifting by law B: each class's chain.
+classes=(-zones low,top -zone_low_layers 0,4 -zone_top_layers 8,11 -markov_mix_alpha_min 0.3 -markov_mix_horizon 20 -markov_mix_tolerance 0.3
+  -markov_departures 6 -markov_passage_horizon 5 -quiet -fractions_diameters 1e-3,3e-3 -fractions_mass_shares 0.5,0.5
+  -drift_model B -drift_kd 5e4)
 mpiexec -n 1 "$rcfd" markov "$db" "${common[@]}" -plot 1 -o "$work/np1" && ok || fail "rcfd markov on 1 rank failed"
 mpiexec -n 2 "$rcfd" markov "$db" "${common[@]}" -o "$work/np2" && ok || fail "rcfd markov on 2 ranks failed"
 # Propagations: the sums over cells differ in order only (1e-12).  lambda2_decay
@@ -21,6 +25,21 @@ mpiexec -n 2 "$rcfd" markov "$db" "${common[@]}" -o "$work/np2" && ok || fail "r
   fail "relaxation.csv differs between 1 and 2 ranks"
 "$compare" "$work/np1/zone_low.csv" "$work/np2/zone_low.csv" 1e-12 1e-15 && ok || fail "zone_low.csv differs"
 "$compare" "$work/np1/passes_low.csv" "$work/np2/passes_low.csv" 1e-12 1e-15 && ok || fail "passes_low.csv differs"
+# Size classes (the drift linearised on the mean composition): the same on 2 ranks; the small class
+# spends less of its time in the low zone than the large one (Kac's share: 0.46 against 0.76) and
+# more in the top zone, the bed's surface (0.073 against 0.056).
+mpiexec -n 1 "$rcfd" markov "$db" "${classes[@]}" -o "$work/classes1" && ok || fail "rcfd markov with classes, 1 rank"
+mpiexec -n 2 "$rcfd" markov "$db" "${classes[@]}" -o "$work/classes2" && ok || fail "rcfd markov with classes, 2 ranks"
+"$compare" "$work/classes1/classes.csv" "$work/classes2/classes.csv" 1e-12 1e-15 && ok || fail "classes.csv differs"
+"$compare" "$work/classes1/zone_low_d1.000mm.csv" "$work/classes2/zone_low_d1.000mm.csv" 1e-12 1e-15 && ok ||
+  fail "zone_low_d1.000mm.csv differs"
+kac() { awk -F, -v c="$2" -v z="$3" '$1 == c && $3 == z { print $6 }' "$1/classes.csv"; }
+awk -v s="$(kac "$work/classes1" d1.000mm low)" -v l="$(kac "$work/classes1" d3.000mm low)" 'BEGIN { exit !(s > 0 && l > s + 0.1) }' &&
+  ok || fail "low zone's share of time: small class $(kac "$work/classes1" d1.000mm low), large $(kac "$work/classes1" d3.000mm low)"
+awk -v s="$(kac "$work/classes1" d1.000mm top)" -v l="$(kac "$work/classes1" d3.000mm top)" 'BEGIN { exit !(l > 0 && s > 1.2 * l) }' &&
+  ok || fail "top zone's share of time: small class $(kac "$work/classes1" d1.000mm top), large $(kac "$work/classes1" d3.000mm top)"
+awk -F, 'NR > 2 && !($9 < 1e-12) { bad = 1 } END { exit bad }' "$work/classes1/classes.csv" && ok ||
+  fail "a class's absorbed + left is not 1 within 1e-12"
 "$compare" "$work/np1/stationary.csv" "$work/np2/stationary.csv" 1e-12 1e-15 stationary_share=1e-8 && ok ||
   fail "stationary.csv differs"
 value() { grep "^$2," "$1/summary.csv" | cut -d, -f2; }
@@ -34,6 +53,20 @@ awk -v c="$(value "$work/np1" zone_low_conservation)" 'BEGIN { exit !(c < 1e-12)
   fail "absorbed + left - 1 = $(value "$work/np1" zone_low_conservation)"
 awk -v c="$(value "$work/np1" zone_low_passes_conservation)" 'BEGIN { exit !(c < 1e-12) }' && ok ||
   fail "sum of the pass counts - 1 = $(value "$work/np1" zone_low_passes_conservation)"
+# The run's markov monitor: the same chain as rcfd markov with the wrap carried (as the run carries
+# its state) and the run's fractions and drift (the defaults: 1.95 and 2.82 mm, law B): the same
+# distributions, to the digits written.
+zone=(-zones low -zone_low_layers 0,4 -markov_departures 6 -markov_passage_horizon 5)
+"$rcfd" run -db "$db" -t_end 0.01 -quiet -monitors markov "${zone[@]}" -output_dir "$work/run" && ok ||
+  fail "rcfd run -monitors markov failed"
+"$rcfd" markov "$db" "${zone[@]}" -markov_mix 0 -markov_wrap carry -quiet -fractions_diameters 1.95e-3,2.82e-3 \
+  -fractions_mass_shares 0.473,0.527 -drift_model B -o "$work/carried" && ok || fail "rcfd markov -markov_wrap carry failed"
+for f in low low_d1.950mm low_d2.820mm; do
+  cmp <(tail -n +2 "$work/run/markov_zone_$f.csv") <(tail -n +2 "$work/carried/zone_$f.csv") && ok ||
+    fail "the run's markov_zone_$f.csv differs from rcfd markov's zone_$f.csv"
+done
+grep -q "^wrap,carry column$" "$work/carried/summary.csv" && ok || fail "summary.csv does not say the wrap was carried"
+expect_error "-monitors markov needs zones" run -db "$db" -t_end 0.01 -monitors markov -output_dir "$work/refused-run"
 # The figures, where matplotlib is there to draw them.
 if /usr/bin/python3 -c "import matplotlib, numpy" 2>/dev/null; then
   for png in relaxation zone_low; do
@@ -45,6 +78,7 @@ fi
 expect_error "Unknown option -markov_mix_tolerence" markov "$db" -markov_mix_tolerence 0.1 -o "$work/bad"
 expect_error "-markov_mix_tolerance 2: expected a number between 0 and 1" markov "$db" -markov_mix_tolerance 2 -o "$work/bad"
 expect_error "No database given" markov -o "$work/bad"
+expect_error "-markov_mix_zone nope is none of -zones" markov "$db" -zones low -zone_low_layers 0,4 -markov_mix_zone nope -o "$work/bad"
 [ ! -e "$work/bad" ] && ok || fail "a refused rcfd markov wrote $work/bad"
 echo "$passed passed, $failures failed"
 [ $failures -eq 0 ]

@@ -89,7 +89,7 @@ same "rows of mixing.csv (20 steps, every 2nd, and the start)" "$(grep -c . "$wo
 grep -q "monitor mixing_index" "$work/mixing-view.txt" && ok || fail "-mixing_index_view printed nothing"
 expect_error "-monitors mixing_index and -mixing_index both ask for mixing.csv; give one of them" \
   run -db "$data/small.h5" -monitors mixing_index -mixing_index
-expect_error "-monitors: unknown monitor 'fines'; known monitors: mixing_index" run -db "$data/small.h5" -monitors fines
+expect_error "-monitors: unknown monitor 'fines'; known monitors: markov, mixing_index" run -db "$data/small.h5" -monitors fines
 
 # rcfd calibrate: the plugin's operator in the pipeline, its law fitted.
 run "calibrate with the plugin" "$rcfd" calibrate -plugin "$plugin" -db "$data/small.h5" \

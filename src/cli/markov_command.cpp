@@ -2,15 +2,19 @@
 // a run (docs/markov.md): the averaged chain's stationary distribution against
 // the database's mean mass share, its second eigenvalue and relaxation time,
 // the tracer mixing time from the frames, and for named zones the time per
-// visit and the time away between visits.
+// visit and the time away between visits; with size classes and a drift law,
+// the mixing and the zones of each class's chain.
 #include "cli/commands.hpp"
 #include "base/petsc_compat.hpp"
 
 #include "cli/figures.hpp"
+#include "markov/chain_files.hpp"
+#include "markov/class_drift.hpp"
 #include "markov/frame_chain.hpp"
 #include "markov/pass_counts.hpp"
 #include "markov/spectrum.hpp"
 #include "markov/tracer_mixing.hpp"
+#include "markov/wrap_carry.hpp"
 #include "markov/zone_passages.hpp"
 #include "rcfd/zone.hpp"
 #include "base/atomic_file.hpp"
@@ -37,13 +41,18 @@ struct MarkovOptions {
   PetscInt departures = 16;
   PassCountSettings passCounts; // time 0: not computed
   bool quiet = false, plot = true;
+  bool classes = false; // -fractions_diameters given: every class's chain too
+  bool carryWrap = false; // -markov_wrap carry
+  std::string mixZone;    // -markov_mix_zone: a tracer started in that zone too
+  double solidDensity = 0.0; // 0: the database's
 };
 
 PetscErrorCode readOptions(MPI_Comm comm, const char *positional, MarkovOptions *o) {
   char text[PETSC_MAX_PATH_LEN] = "", dir[PETSC_MAX_PATH_LEN] = "";
   const char *averages[] = {"mass", "plain"};
   const char *startKinds[] = {"layers", "all"};
-  PetscInt average = 0, starts = 0;
+  const char *wraps[] = {"periodic", "carry"};
+  PetscInt average = 0, starts = 0, wrap = 0;
   PetscBool mix = PETSC_TRUE, quiet = PETSC_FALSE, plot = figuresByDefault() ? PETSC_TRUE : PETSC_FALSE;
   PetscFunctionBeginUser;
   PetscOptionsBegin(comm, nullptr, "rcfd markov: the database's frames as the solid's Markov chain", "rcfd");
@@ -71,6 +80,11 @@ PetscErrorCode readOptions(MPI_Comm comm, const char *positional, MarkovOptions 
                               startKinds, 2, startKinds[starts], &starts, nullptr));
   PetscCall(checkedInt(PetscOptionsObject, "-markov_mix_stride",
                        "With -markov_mix_starts layers: every this many layers from the bottom", &o->stride, 1, 1000000));
+  char mixZone[256] = "";
+  PetscCall(PetscOptionsString("-markov_mix_zone",
+                               "Also a tracer started as the solid in this zone of -zones at frame 0 (as a run's "
+                               "-scalar_NAME_zones)", "", mixZone, mixZone, sizeof mixZone, nullptr));
+  o->mixZone = mixZone;
   PetscCall(checkedInt(PetscOptionsObject, "-markov_departures",
                        "Frames whose zone crossings are followed (spread evenly)", &o->departures, 1, 1000000));
   PetscCall(checkedReal(PetscOptionsObject, "-markov_passage_horizon", "Longest time a crossing is followed [s]",
@@ -86,6 +100,13 @@ PetscErrorCode readOptions(MPI_Comm comm, const char *positional, MarkovOptions 
                        "With -markov_passes_time: the last count holds this many entries or more", &maxPasses, 1, 100000));
   o->passCounts.time = passTime;
   o->passCounts.maxPasses = static_cast<int>(maxPasses);
+  PetscCall(PetscOptionsEList("-markov_wrap",
+                              "The step from the last frame to the first: periodic (as if the bed at the end were the "
+                              "bed at the start) or carry (onto frame 0's bed as a run carries its state, -carry_type)",
+                              "", wraps, 2, wraps[wrap], &wrap, nullptr));
+  PetscCall(checkedReal(PetscOptionsObject, "-solid_density",
+                        "With -fractions_diameters: particle density for the drift [kg/m^3] (default: the database's)",
+                        &o->solidDensity, {0.0, 1e6, false, true, "a positive density in kg/m^3"}));
   PetscCall(PetscOptionsBool("-quiet", "No report", "", quiet, &quiet, nullptr));
   PetscCall(PetscOptionsBool("-plot", "Draw the figures (default: $RCFD_PLOT, else true)", "", plot, &plot, nullptr));
   PetscOptionsEnd();
@@ -96,14 +117,27 @@ PetscErrorCode readOptions(MPI_Comm comm, const char *positional, MarkovOptions 
   o->quiet = quiet;
   o->plot = plot;
   o->directory = *dir ? dir : o->file.substr(0, o->file.rfind('.')) + "-markov";
+  PetscBool classes = PETSC_FALSE;
+  PetscCall(PetscOptionsHasName(nullptr, nullptr, "-fractions_diameters", &classes));
+  o->classes = classes;
+  o->carryWrap = wrap == 1;
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
-std::string number(double v) {
-  char text[32];
-  std::snprintf(text, sizeof text, "%.10g", v);
-  return text;
+std::string number(double v) { return chainNumber(v); }
+
+// A zone's distributions as zone_NAME[SUFFIX].csv (rank 0).
+void writeZone(const std::string &dir, const ZonePassages &p, const std::string &suffix, const std::string &what,
+               size_t departures, double dt) {
+  writeTextAtomically(dir + "zone_" + p.zone + suffix + ".csv", zoneFileText(p, what, departures, dt));
 }
+
+// One size class's answers (its chain: the shift and its linearised drift).
+struct ClassAnswers {
+  MixingResult mixing;
+  double zoneMixTime = std::nan(""); // of the tracer started in -markov_mix_zone
+  std::vector<ZonePassages> zones;
+};
 
 } // namespace
 
@@ -119,6 +153,14 @@ PetscErrorCode markovCommand(MPI_Comm comm, const char *positional) {
   PetscCall(Database::optionsFromCommandLine(&loadOptions));
   PetscCall(zones.setFromOptions(comm));
   PetscCall(solver.setFromOptions(comm, "markov_"));
+  FractionSet fractions;
+  ClassDrift classDrift;
+  WrapCarry wrapCarry;
+  if (o.carryWrap) PetscCall(wrapCarry.setFromOptions(comm));
+  if (o.classes) {
+    PetscCall(FractionSet::fromOptions(comm, &fractions));
+    PetscCall(classDrift.setFromOptions(comm));
+  }
   if (helpRequested()) PetscFunctionReturn(PETSC_SUCCESS);
   PetscCall(rejectUnusedOptions(comm, "markov"));
   PetscCheck(!o.file.empty(), comm, PETSC_ERR_USER_INPUT, "No database given: rcfd markov FILE");
@@ -127,9 +169,22 @@ PetscErrorCode markovCommand(MPI_Comm comm, const char *positional) {
   std::unique_ptr<Database> db;
   PetscCall(Database::load(comm, o.file, loadOptions, &db));
   PetscCall(zones.setUp(db->mesh(), db->layout(), db->metadata().gravity));
+  PetscCheck(o.mixZone.empty() || zones.find(o.mixZone), comm, PETSC_ERR_USER_INPUT,
+             "-markov_mix_zone %s is none of -zones", o.mixZone.c_str());
   const double tLoad = MPI_Wtime();
   FrameChain chain;
   PetscCall(chain.setUp(*db)); // refuses frames that do not conserve mass, before anything is computed
+  const double rho = o.solidDensity > 0 ? o.solidDensity : db->metadata().solidDensity;
+  if (o.classes) // the drift refuses what it lacks (e.g. u_sup for -drift_excess_gas) before anything is computed
+    PetscCall(classDrift.setUp(chain, fractions, rho));
+  // What follows each frame's shift: for the bulk the carry at the wrap (with
+  // -markov_wrap carry), for a class its drift first.
+  std::vector<ChainStep *> bulkSteps, classSteps{&classDrift};
+  if (o.carryWrap) {
+    PetscCall(wrapCarry.setUp(chain, rho));
+    bulkSteps.push_back(&wrapCarry);
+    classSteps.push_back(&wrapCarry);
+  }
   const double tChain = MPI_Wtime();
   ChainSpectrum spectrum;
   PetscCall(solver.solve(chain, o.average, o.alphaMeanMin, &spectrum));
@@ -142,11 +197,20 @@ PetscErrorCode markovCommand(MPI_Comm comm, const char *positional) {
   PetscCall(layout.gatherToAll(1, db->alphaS(0), &alpha0));
 
   MixingResult mixing;
+  double zoneMixTime = std::nan("");
   if (o.mix) {
     o.mixing.starts = mixingStarts(db->mesh(), db->metadata().gravity, alpha0, o.mixing.alphaMin, o.allStarts,
                                    static_cast<int>(o.stride));
     o.mixing.excluded = spectrum.absorbingLocal;
-    PetscCall(tracerMixing(chain, o.mixing, &mixing));
+    if (!o.mixZone.empty()) {
+      o.mixing.startZone = zones.find(o.mixZone)->localCells(); // found: checked after the load
+      o.mixing.zoneStart = true;
+    }
+    PetscCall(tracerMixing(chain, o.mixing, &mixing, bulkSteps));
+    if (o.mixing.zoneStart) { // the zone's tracer, apart from the cells'
+      zoneMixTime = mixing.time.back();
+      mixing.time.pop_back();
+    }
   }
   const double tMixing = MPI_Wtime();
 
@@ -154,7 +218,7 @@ PetscErrorCode markovCommand(MPI_Comm comm, const char *positional) {
   for (const Zone &z : zones.all()) zoneList.push_back(&z);
   o.passages.departures = evenFrames(chain.numFrames(), static_cast<int>(o.departures));
   std::vector<ZonePassages> passages;
-  PetscCall(zonePassages(chain, zoneList, o.passages, &passages));
+  PetscCall(zonePassages(chain, zoneList, o.passages, &passages, bulkSteps));
   for (size_t z = 0; z < passages.size(); ++z)
     for (PetscInt i : zoneList[z]->localCells()) passages[z].stationaryShare += stationary[layout.naturalCell(layout.rowStart() + i)];
   for (ZonePassages &p : passages)
@@ -162,17 +226,53 @@ PetscErrorCode markovCommand(MPI_Comm comm, const char *positional) {
   std::vector<PassCounts> counts;
   if (o.passCounts.time > 0) {
     o.passCounts.departures = o.passages.departures;
-    PetscCall(passCounts(chain, zoneList, o.passCounts, &counts));
+    PetscCall(passCounts(chain, zoneList, o.passCounts, &counts, bulkSteps));
   }
   const double tZones = MPI_Wtime();
 
+  // Each size class's chain: the frame's shift, then the class's drift
+  // linearised on the bed's mean composition (markov/class_drift.hpp).
+  std::vector<ClassAnswers> classes;
+  if (o.classes) {
+    for (int i = 0; i < fractions.size(); ++i) {
+      ClassAnswers a;
+      if (!classDrift.moves()) { // no drift (k_d = 0, one class): every class's chain is the bulk's, to the bit
+        a.mixing = mixing;
+        a.zoneMixTime = zoneMixTime;
+        a.zones = passages;
+        classes.push_back(std::move(a));
+        continue;
+      }
+      classDrift.setClass(i);
+      if (o.mix) PetscCall(tracerMixing(chain, o.mixing, &a.mixing, classSteps));
+      if (o.mix && o.mixing.zoneStart) {
+        a.zoneMixTime = a.mixing.time.back();
+        a.mixing.time.pop_back();
+      }
+      PetscCall(zonePassages(chain, zoneList, o.passages, &a.zones, classSteps));
+      classes.push_back(std::move(a));
+    }
+  }
+  const double tClasses = MPI_Wtime();
+
   // Mixing summary over the starts.
-  double mixMean = 0.0, mixWorst = 0.0;
-  int mixed = 0;
-  for (double t : mixing.time)
-    if (!std::isnan(t)) mixMean += t, ++mixed, mixWorst = std::max(mixWorst, t);
-  if (mixed) mixMean /= mixed;
-  const bool allMixed = mixed == static_cast<int>(mixing.time.size());
+  struct MixingSummary {
+    double mean = 0.0, worst = 0.0;
+    int mixed = 0;
+    bool all = false;
+  };
+  auto summarise = [](const MixingResult &m) {
+    MixingSummary r;
+    for (double t : m.time)
+      if (!std::isnan(t)) r.mean += t, ++r.mixed, r.worst = std::max(r.worst, t);
+    if (r.mixed) r.mean /= r.mixed;
+    r.all = r.mixed == static_cast<int>(m.time.size());
+    return r;
+  };
+  const MixingSummary bulkMixing = summarise(mixing);
+  const double mixMean = bulkMixing.mean, mixWorst = bulkMixing.worst;
+  const int mixed = bulkMixing.mixed;
+  const bool allMixed = bulkMixing.all;
   const double dt = chain.dt();
 
   const std::string dir = o.directory + "/";
@@ -192,10 +292,13 @@ PetscErrorCode markovCommand(MPI_Comm comm, const char *positional) {
       std::ostringstream r;
       r << "# tracer deviation max_i |c_i - 1| over cells with alpha_s >= " << o.mixing.alphaMin << ", over "
         << mixing.time.size() << " start cells; lambda2_decay = |lambda2|^n of the averaged chain\n"
-        << "time,mean_deviation,worst_deviation,lambda2_decay\n";
-      for (size_t n = 0; n < mixing.meanDeviation.size(); ++n)
+        << "time,mean_deviation,worst_deviation,lambda2_decay" << (o.mixing.zoneStart ? ",zone_deviation" : "") << '\n';
+      for (size_t n = 0; n < mixing.meanDeviation.size(); ++n) {
         r << number((n + 1) * dt) << ',' << number(mixing.meanDeviation[n]) << ',' << number(mixing.worstDeviation[n])
-          << ',' << number(std::pow(spectrum.lambda2, static_cast<double>(n + 1))) << '\n';
+          << ',' << number(std::pow(spectrum.lambda2, static_cast<double>(n + 1)));
+        if (o.mixing.zoneStart) r << ',' << (n < mixing.zoneDeviation.size() ? number(mixing.zoneDeviation[n]) : "");
+        r << '\n';
+      }
       writeTextAtomically(dir + "relaxation.csv", r.str());
       std::ostringstream m;
       m << "# mixing time per start cell (empty: not mixed within " << o.mixing.horizon << " s)\ncell,x,y,z,mixing_time\n";
@@ -205,20 +308,38 @@ PetscErrorCode markovCommand(MPI_Comm comm, const char *positional) {
           << number(mesh.cellCentre[cell][2]) << ',' << (std::isnan(mixing.time[c]) ? "" : number(mixing.time[c]))
           << '\n';
       }
+      if (o.mixing.zoneStart) // the tracer started as the zone's solid
+        m << "zone " << o.mixZone << ",,,," << (std::isnan(zoneMixTime) ? "" : number(zoneMixTime)) << '\n';
       writeTextAtomically(dir + "mixing.csv", m.str());
     }
-    for (const ZonePassages &p : passages) {
-      std::ostringstream z;
-      z << "# zone " << p.zone << ": probability that a visit lasts t (residence) and that the time outside "
-        << "between leaving and entering again is t (away), from " << o.passages.departures.size()
-        << " departure frames; tails left after the horizon: residence " << p.residence.tail << ", away "
-        << p.away.tail << "\ntime,residence,away\n";
-      const size_t rows = std::max(p.residence.probability.size(), p.away.probability.size());
-      for (size_t n = 0; n < rows; ++n)
-        z << number((n + 1) * dt) << ','
-          << number(n < p.residence.probability.size() ? p.residence.probability[n] : 0.0) << ','
-          << number(n < p.away.probability.size() ? p.away.probability[n] : 0.0) << '\n';
-      writeTextAtomically(dir + "zone_" + p.zone + ".csv", z.str());
+    for (const ZonePassages &p : passages) writeZone(dir, p, "", "", o.passages.departures.size(), dt);
+    if (!classes.empty()) {
+      // Per class: its distributions, and one table of every class's numbers.
+      std::ostringstream c;
+      c << "# rcfd markov " << o.file << ": each size class's chain (the shift, then its drift linearised on the "
+        << "bed's mean composition; docs/markov.md, \"Size classes\"); kac_share = E[visit] / (E[visit] + E[away])\n"
+        << "class,diameter,zone,mean_residence,mean_away,kac_share,residence_tail,away_tail,conservation,"
+        << "mixing_mean,mixing_worst,mixing_mixed,mixing_starts" << (o.mixing.zoneStart ? ",mixing_zone" : "") << '\n';
+      for (int i = 0; i < fractions.size(); ++i) {
+        const ClassAnswers &a = classes[static_cast<size_t>(i)];
+        const MixingSummary m = summarise(a.mixing);
+        for (const ZonePassages &p : a.zones)
+          writeZone(dir, p, "_" + fractions.label(i), ", size class " + fractions.label(i),
+                    o.passages.departures.size(), dt);
+        auto row = [&](const std::string &zone, const std::string &numbers) {
+          c << fractions.label(i) << ',' << number(fractions.diameter(i)) << ',' << zone << ',' << numbers << ','
+            << (o.mix ? number(m.mean) : "") << ',' << (o.mix && m.all ? number(m.worst) : "") << ','
+            << (o.mix ? std::to_string(m.mixed) : "") << ',' << (o.mix ? std::to_string(a.mixing.time.size()) : "");
+          if (o.mixing.zoneStart) c << ',' << (std::isnan(a.zoneMixTime) ? "" : number(a.zoneMixTime));
+          c << '\n';
+        };
+        if (a.zones.empty()) row("", ",,,,,");
+        for (const ZonePassages &p : a.zones)
+          row(p.zone, number(p.residence.mean) + ',' + number(p.away.mean) + ',' + number(kacShare(p)) + ',' +
+                          number(p.residence.tail) + ',' + number(p.away.tail) + ',' +
+                          number(std::max(p.residence.conservation, p.away.conservation)));
+      }
+      writeTextAtomically(dir + "classes.csv", c.str());
     }
     for (const PassCounts &c : counts) {
       std::ostringstream z;
@@ -238,9 +359,12 @@ PetscErrorCode markovCommand(MPI_Comm comm, const char *positional) {
         << "\nstationary_max," << number(spectrum.max) << "\nmean_share_residual," << number(spectrum.residual)
         << "\nstates_left_out_share," << number(spectrum.leftOut) << "\nabsorbing_cells," << spectrum.absorbing
         << "\nabsorbing_share," << number(spectrum.absorbingShare) << '\n';
+    if (o.carryWrap) sum << "wrap,carry " << wrapCarry.kind() << '\n'; // (periodic when absent)
     if (o.mix)
       sum << "mixing_starts," << mixing.time.size() << "\nmixing_mixed," << mixed << "\nmixing_mean,"
           << number(mixMean) << "\nmixing_worst," << (allMixed ? number(mixWorst) : "") << '\n';
+    if (o.mix && o.mixing.zoneStart)
+      sum << "mixing_zone_" << o.mixZone << ',' << (std::isnan(zoneMixTime) ? "" : number(zoneMixTime)) << '\n';
     for (const ZonePassages &p : passages)
       sum << "zone_" << p.zone << "_stationary_share," << number(p.stationaryShare) << "\nzone_" << p.zone
           << "_database_share," << number(p.databaseShare) << "\nzone_" << p.zone << "_mean_residence,"
@@ -264,16 +388,29 @@ PetscErrorCode markovCommand(MPI_Comm comm, const char *positional) {
       PetscCall(drawFigure(comm, "markov_zone.py",
                            {dir + "zone_" + p.zone + ".csv", "-o", dir + "zone_" + p.zone + ".png", "--title",
                             "zone " + p.zone + ", " + o.file}));
+  for (int i = 0; i < static_cast<int>(classes.size()); ++i)
+    for (const ZonePassages &p : classes[static_cast<size_t>(i)].zones)
+      if (o.plot && (!p.residence.probability.empty() || !p.away.probability.empty())) {
+        const std::string name = dir + "zone_" + p.zone + "_" + fractions.label(i);
+        PetscCall(drawFigure(comm, "markov_zone.py",
+                             {name + ".csv", "-o", name + ".png", "--title",
+                              "zone " + p.zone + ", size class " + fractions.label(i) + ", " + o.file}));
+      }
 
   if (!o.quiet) {
+    if (o.carryWrap)
+      PetscCall(PetscPrintf(comm, "  the propagations carry their distributions from the last frame onto frame 0's bed (carry %s)\n",
+                            wrapCarry.kind().c_str()));
     PetscCall(PetscPrintf(comm,
-                          "Markov chain of %s: %d frames, dt_rec %g s; columns sum to 1 within %.1e\n"
+                          "Markov chain of %s: %d frames, dt_rec %g s; columns sum to 1 within %.1e; %d of the %d cells "
+                          "hold or exchange solid in some frame (the others are left out of the propagations)\n"
                           "  averaged chain (%s): |Q m - m|_1 = %.3e for the mean mass share m\n"
                           "  %d cells keep their solid in every frame they hold some (absorbing; %.2e of the mass)\n"
                           "  on the %d other cells with mean alpha_s >= %g (the rest hold %.2e of the mass): lambda1 = %.10f, "
                           "lambda2 = %.8f%+.8fi, |lambda2| = %.8f, relaxation time %.4g s (SLEPc, %d restarts)\n"
                           "  stationary distribution against the mean mass share: L1 %.3e, max %.3e\n",
-                          o.file.c_str(), chain.numFrames(), dt, chain.columnError(), averageName(o.average),
+                          o.file.c_str(), chain.numFrames(), dt, chain.columnError(),
+                          static_cast<int>(chain.numChainCellsGlobal()), db->mesh().numCells(), averageName(o.average),
                           spectrum.residual, spectrum.absorbing, spectrum.absorbingShare, spectrum.cells, o.alphaMeanMin, spectrum.leftOut, spectrum.lambda1,
                           spectrum.lambda2Re, spectrum.lambda2Im, spectrum.lambda2, spectrum.relaxationTime,
                           spectrum.iterations, spectrum.l1, spectrum.max));
@@ -284,6 +421,9 @@ PetscErrorCode markovCommand(MPI_Comm comm, const char *positional) {
       else
         PetscCall(PetscPrintf(comm, "  tracer mixing (within %g in cells with alpha_s >= %g): %d of %zu start cells mixed within %g s (mean of those %.4g s)\n",
                               o.mixing.tolerance, o.mixing.alphaMin, mixed, mixing.time.size(), o.mixing.horizon, mixMean));
+      if (o.mixing.zoneStart)
+        PetscCall(PetscPrintf(comm, "  tracer started as the solid in zone %s: mixed after %.4g s%s\n", o.mixZone.c_str(),
+                              zoneMixTime, std::isnan(zoneMixTime) ? " (not within the horizon)" : ""));
     }
     for (const ZonePassages &p : passages)
       if (p.residence.flux == 0 && p.away.flux == 0)
@@ -294,14 +434,32 @@ PetscErrorCode markovCommand(MPI_Comm comm, const char *positional) {
                             "  zone %s: mass share %.4f (stationary) / %.4f (frames); per visit %.4g s (tail %.1e), "
                             "away %.4g s (tail %.1e); Kac: %.4f; absorbed + left = 1 within %.1e\n",
                             p.zone.c_str(), p.stationaryShare, p.databaseShare, p.residence.mean, p.residence.tail,
-                            p.away.mean, p.away.tail, p.residence.mean / (p.residence.mean + p.away.mean),
+                            p.away.mean, p.away.tail, kacShare(p),
                             std::max(p.residence.conservation, p.away.conservation)));
     for (const PassCounts &c : counts)
       PetscCall(PetscPrintf(comm, "  zone %s: entries within %g s: mean %.4g, none %.4f, %d or more %.2e; sum 1 within %.1e\n",
                             c.zone.c_str(), c.steps * dt, c.mean, c.probability[0], o.passCounts.maxPasses,
                             c.probability.back(), c.conservation));
-    PetscCall(PetscPrintf(comm, "  seconds: load %.2f, chain %.2f, eigenvalues %.2f, mixing %.2f, zones %.2f; wrote %s\n",
+    for (int i = 0; i < static_cast<int>(classes.size()); ++i) {
+      const ClassAnswers &a = classes[static_cast<size_t>(i)];
+      const MixingSummary m = summarise(a.mixing);
+      PetscCall(PetscPrintf(comm, "  size class %s (drift linearised on the mean composition):", fractions.label(i).c_str()));
+      if (o.mix && m.all)
+        PetscCall(PetscPrintf(comm, " tracer mixing mean %.4g s, worst %.4g s;", m.mean, m.worst));
+      else if (o.mix)
+        PetscCall(PetscPrintf(comm, " tracer mixing: %d of %zu starts within %g s (mean of those %.4g s);", m.mixed,
+                              a.mixing.time.size(), o.mixing.horizon, m.mean));
+      for (const ZonePassages &p : a.zones)
+        PetscCall(PetscPrintf(comm, " zone %s per visit %.4g s, away %.4g s, Kac %.4f (absorbed + left = 1 within %.1e);",
+                              p.zone.c_str(), p.residence.mean, p.away.mean, kacShare(p),
+                              std::max(p.residence.conservation, p.away.conservation)));
+      PetscCall(PetscPrintf(comm, "\n"));
+    }
+    char classTime[64] = "";
+    if (!classes.empty()) std::snprintf(classTime, sizeof classTime, ", size classes %.2f", tClasses - tZones);
+    PetscCall(PetscPrintf(comm, "  seconds: load %.2f, chain %.2f, eigenvalues %.2f, mixing %.2f, zones %.2f%s; wrote %s\n",
                           tLoad - t0, tChain - tLoad, tSpectrum - tChain, tMixing - tSpectrum, tZones - tMixing,
+                          classTime,
                           o.directory.c_str()));
   }
   PetscFunctionReturn(PETSC_SUCCESS);

@@ -3,6 +3,7 @@
 #include "base/checked_options.hpp"
 #include "base/petsc_compat.hpp"
 #include "cli/figures.hpp"
+#include "markov/markov_monitor.hpp"
 
 #include "rcfd/study.hpp"
 #include "base/collective.hpp"
@@ -28,6 +29,16 @@ PetscErrorCode runEnsemble(MPI_Comm comm, Ensemble &ensemble, bool plot) {
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
+// The program's monitors from rooms above the run (src/markov), which the
+// run's own registry cannot name.
+PetscErrorCode addProgramMonitors(Registries *registries) {
+  PetscFunctionBeginUser;
+  PetscCall(registries->monitors.add("markov", [] { return std::make_unique<MarkovMonitor>(); },
+                                     "the zones' time per visit and away from the database as a Markov chain "
+                                     "(markov.csv; docs/markov.md)"));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
 PetscErrorCode viewExtensions(MPI_Comm comm, const Registries &registries) {
   PetscFunctionBeginUser;
   PetscCall(PetscPrintf(comm, "Registered by name (built-in and from plugins, docs/extending.md):\n"));
@@ -40,6 +51,7 @@ PetscErrorCode viewExtensions(MPI_Comm comm, const Registries &registries) {
 PetscErrorCode listExtensions(MPI_Comm comm) {
   PetscFunctionBeginUser;
   Registries registries = Registries::withBuiltins();
+  PetscCall(addProgramMonitors(&registries));
   PetscCall(loadPlugins(comm, &registries));
   PetscCall(viewExtensions(comm, registries));
   PetscFunctionReturn(PETSC_SUCCESS);
@@ -50,6 +62,7 @@ PetscErrorCode runCommand(MPI_Comm comm) {
   PetscBool plot = figuresByDefault() ? PETSC_TRUE : PETSC_FALSE;
   PetscFunctionBeginUser;
   Registries registry = Registries::withBuiltins();
+  PetscCall(addProgramMonitors(&registry));
   PetscCall(loadPlugins(comm, &registry)); // -plugin, $RCFD_PLUGINS: before the options name what they add
   Run run(comm, registry);
   PetscCall(run.setFromOptions());

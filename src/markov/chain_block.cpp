@@ -3,11 +3,12 @@
 
 namespace rcfd {
 
-PetscErrorCode ChainBlock::setUp(const FrameChain &chain, PetscInt columns) {
+PetscErrorCode ChainBlock::setUp(const FrameChain &chain, PetscInt columns, const std::vector<ChainStep *> &steps) {
   PetscFunctionBeginUser;
   PetscCheck(a_.empty(), chain.database().layout().comm(), PETSC_ERR_ARG_WRONGSTATE,
              "ChainBlock::setUp between getArrays and restoreArrays");
   chain_ = &chain;
+  after_ = steps;
   columns_ = columns;
   if (step_.empty()) PetscCall(chain.blockTransfers(kWidth, &step_));
   x_.clear();
@@ -26,8 +27,8 @@ PetscErrorCode ChainBlock::keepColumns(const std::vector<PetscInt> &keep) {
   PetscFunctionBeginUser;
   ChainBlock kept;
   kept.step_ = std::move(step_);
-  PetscCall(kept.setUp(*chain_, static_cast<PetscInt>(keep.size())));
-  const PetscInt n = chain_->database().layout().numLocal();
+  PetscCall(kept.setUp(*chain_, static_cast<PetscInt>(keep.size()), after_));
+  const PetscInt n = chain_->numChainCells();
   PetscCall(getArrays());
   PetscCall(kept.getArrays());
   for (PetscInt i = 0; i < n; ++i)
@@ -43,6 +44,7 @@ PetscErrorCode ChainBlock::step(long long k) {
   const Mat T = step_[static_cast<size_t>(k % chain_->numFrames())];
   for (size_t b = 0; b < x_.size(); ++b) {
     PetscCall(MatMult(T, x_[b], y_[b]));
+    for (ChainStep *s : after_) PetscCall(s->apply(k, y_[b], kWidth));
     std::swap(x_[b], y_[b]);
   }
   PetscFunctionReturn(PETSC_SUCCESS);

@@ -31,8 +31,27 @@ public:
   const Database &database() const { return *db_; }
   int numFrames() const { return static_cast<int>(transfer_.size()); }
   double dt() const { return db_->metadata().dtRec; }
-  /// The transfer matrix of frame k (k taken modulo the number of frames).
+  /// The chain's cells on this rank (local indices, ascending): those that
+  /// hold solid in some frame or whose row or column of some frame's shift is
+  /// not the identity's.  Every other cell holds no solid in any frame and
+  /// keeps what it has, receiving nothing: a distribution that starts on the
+  /// solid is zero there for ever.  The propagations (ChainBlock) hold only
+  /// these, which on the default bed are fewer than half of the cells (the
+  /// freeboard is never reached), and give the same numbers to the bit: a
+  /// row's entries are the same, in the same order (docs/markov.md, "Cost").
+  const std::vector<PetscInt> &chainCells() const { return cells_; }
+  PetscInt numChainCells() const { return static_cast<PetscInt>(cells_.size()); }
+  /// All ranks' chain cells.
+  PetscInt numChainCellsGlobal() const { return static_cast<PetscInt>(rowsAll_.size()); }
+  /// The transfer matrix of frame k (k taken modulo the number of frames)
+  /// over the chain cells: row and column c are chain cell c of all ranks
+  /// (this rank's in chainCells() order after the lower ranks').
   Mat transfer(long long k) const { return transfer_[static_cast<size_t>(k % numFrames())]; }
+  /// Per chain cell of this rank, whether it is among `localCells` (local
+  /// indices, e.g. a zone's localCells()).
+  std::vector<char> chainMask(const std::vector<PetscInt> &localCells) const;
+  /// Collective.  A zeroed vector over the chain cells (as transfer() moves).
+  PetscErrorCode chainVector(Vec *x) const;
   /// Mass share of frame k (sums to 1; k modulo the number of frames).
   Vec massShare(long long k) const { return share_[static_cast<size_t>(k % numFrames())]; }
   /// The mean over the frames of the mass shares (sums to 1).
@@ -47,7 +66,8 @@ public:
   /// distributions over the cells step together.
   PetscErrorCode blockTransfers(PetscInt columns, std::vector<OwnedMat> *maij) const;
   /// Collective.  A zeroed block vector of `columns` distributions over the
-  /// cells (cell-major: entry i * columns + c), as blockTransfers moves them.
+  /// chain cells (cell-major: entry k * columns + c for chain cell k), as
+  /// blockTransfers moves them.
   PetscErrorCode blockVector(PetscInt columns, Vec *x) const;
 
   /// How frames are averaged into one chain.
@@ -62,8 +82,12 @@ public:
   PetscErrorCode averageChain(Average average, Mat *Q) const;
 
 private:
+  PetscErrorCode findChainCells(const std::vector<OwnedMat> &full);
+
   const Database *db_ = nullptr;
-  std::vector<OwnedMat> transfer_;
+  std::vector<PetscInt> cells_;  // this rank's chain cells (local indices)
+  std::vector<PetscInt> rowsAll_; // every rank's chain cells as PETSc rows, in chain order
+  std::vector<OwnedMat> transfer_; // over the chain cells
   std::vector<OwnedVec> share_;
   OwnedVec meanShare_, meanAlpha_;
   double columnError_ = 0.0;

@@ -8,10 +8,13 @@
 namespace rcfd {
 
 PetscErrorCode passCounts(const FrameChain &chain, const std::vector<const Zone *> &zones,
-                          const PassCountSettings &settings, std::vector<PassCounts> *out) {
+                          const PassCountSettings &settings, std::vector<PassCounts> *out,
+                          const std::vector<ChainStep *> &after) {
   const Layout &layout = chain.database().layout();
   const MPI_Comm comm = layout.comm();
-  const PetscInt nlocal = layout.numLocal();
+  // The block holds the chain's cells only: chain cell k is local cell cells[k].
+  const std::vector<PetscInt> &cells = chain.chainCells();
+  const PetscInt ncells = chain.numChainCells();
   PetscFunctionBeginUser;
   out->clear();
   const PetscInt J = settings.maxPasses + 1; // counters 0 .. maxPasses
@@ -23,11 +26,10 @@ PetscErrorCode passCounts(const FrameChain &chain, const std::vector<const Zone 
   // it, so that one MatMult moves both and what came from outside is known.
   const PetscInt D = static_cast<PetscInt>(dep.size()), Z = static_cast<PetscInt>(zones.size());
   const PetscInt C = Z * D * J, bs = 2 * C;
-  std::vector<std::vector<char>> inside(zones.size(), std::vector<char>(nlocal, 0));
-  for (size_t z = 0; z < zones.size(); ++z)
-    for (PetscInt i : zones[z]->localCells()) inside[z][i] = 1;
+  std::vector<std::vector<char>> inside(zones.size()); // per chain cell
+  for (size_t z = 0; z < zones.size(); ++z) inside[z] = chain.chainMask(zones[z]->localCells());
   ChainBlock x;
-  PetscCall(x.setUp(chain, bs));
+  PetscCall(x.setUp(chain, bs, after));
   const int first = *std::min_element(dep.begin(), dep.end());
   const int last = *std::max_element(dep.begin(), dep.end());
   std::vector<std::vector<double>> result(static_cast<size_t>(Z * D));
@@ -40,7 +42,7 @@ PetscErrorCode passCounts(const FrameChain &chain, const std::vector<const Zone 
       PetscCall(VecGetArrayRead(chain.massShare(s), &pm));
       PetscCall(x.getArrays());
       for (PetscInt z = 0; z < Z; ++z)
-        for (PetscInt i = 0; i < nlocal; ++i) x.at(i, inside[z][i] * C + z * D * J + d * J) = pm[i];
+        for (PetscInt i = 0; i < ncells; ++i) x.at(i, inside[z][i] * C + z * D * J + d * J) = pm[cells[i]];
       PetscCall(x.restoreArrays());
       PetscCall(VecRestoreArrayRead(chain.massShare(s), &pm));
     }
@@ -50,7 +52,7 @@ PetscErrorCode passCounts(const FrameChain &chain, const std::vector<const Zone 
     for (PetscInt d = 0; d < D; ++d) reading = reading || dep[static_cast<size_t>(d)] + steps == s;
     if (reading) {
       PetscCall(x.getArrays());
-      for (PetscInt i = 0; i < nlocal; ++i)
+      for (PetscInt i = 0; i < ncells; ++i)
         for (PetscInt c = 0; c < C; ++c) sums[static_cast<size_t>(c)] += x.at(i, c) + x.at(i, C + c);
       PetscCall(x.restoreArrays());
       PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, sums.data(), static_cast<int>(C), MPI_DOUBLE, MPI_SUM, comm));
@@ -65,7 +67,7 @@ PetscErrorCode passCounts(const FrameChain &chain, const std::vector<const Zone 
     // Sort the moved solid by side at t_{s+1}, in place: what entered the
     // zone (from the outside half into a zone cell) passes to the next counter.
     PetscCall(x.getArrays());
-    for (PetscInt i = 0; i < nlocal; ++i)
+    for (PetscInt i = 0; i < ncells; ++i)
       for (PetscInt z = 0; z < Z; ++z) {
         const bool in = inside[z][i];
         for (PetscInt d = 0; d < D; ++d) {

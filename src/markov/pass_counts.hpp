@@ -6,6 +6,7 @@
 #pragma once
 
 #include "markov/frame_chain.hpp"
+#include "markov/operator_step.hpp"
 #include "rcfd/zone.hpp"
 
 #include <vector>
@@ -29,8 +30,11 @@ struct PassCounts {
   double conservation = 0.0; ///< largest |sum_j P_j - 1| of a departure
 };
 
-/// Collective.  The pass counts of every zone (set up on the database's layout).
+/// Collective.  The pass counts of every zone (set up on the database's
+/// layout); each step is the frame's shift followed by `after` (the carry at
+/// the wrap).
 PetscErrorCode passCounts(const FrameChain &chain, const std::vector<const Zone *> &zones,
-                          const PassCountSettings &settings, std::vector<PassCounts> *out);
+                          const PassCountSettings &settings, std::vector<PassCounts> *out,
+                          const std::vector<ChainStep *> &after = {});
 
 } // namespace rcfd

@@ -33,39 +33,61 @@ std::vector<int> mixingStarts(const Mesh &mesh, const Vec3 &gravity, const std::
   return starts;
 }
 
-PetscErrorCode tracerMixing(const FrameChain &chain, const MixingSettings &settings, MixingResult *out) {
+PetscErrorCode tracerMixing(const FrameChain &chain, const MixingSettings &settings, MixingResult *out,
+                            const std::vector<ChainStep *> &steps) {
   const Database &db = chain.database();
   const Layout &layout = db.layout();
   const MPI_Comm comm = layout.comm();
-  const PetscInt s = static_cast<PetscInt>(settings.starts.size());
+  const PetscInt cellStarts = static_cast<PetscInt>(settings.starts.size());
+  const PetscInt s = cellStarts + (settings.zoneStart ? 1 : 0);
   const PetscInt bs = s + 1; // column 0: the bulk; 1..s: the tracers
-  const PetscInt nlocal = layout.numLocal();
+  const std::vector<PetscInt> &cells = chain.chainCells(); // the block's cells (local indices)
+  const PetscInt ncells = chain.numChainCells();
   PetscFunctionBeginUser;
   out->time.assign(s, std::numeric_limits<double>::quiet_NaN());
   out->meanDeviation.clear();
   out->worstDeviation.clear();
+  out->zoneDeviation.clear();
   out->confirm = chain.numFrames();
   if (s == 0) PetscFunctionReturn(PETSC_SUCCESS);
   ChainBlock x;
-  PetscCall(x.setUp(chain, bs));
+  PetscCall(x.setUp(chain, bs, steps));
   {
     const PetscScalar *pm;
     PetscCall(x.getArrays());
     PetscCall(VecGetArrayRead(chain.massShare(0), &pm));
-    for (PetscInt i = 0; i < nlocal; ++i) x.at(i, 0) = pm[i];
+    for (PetscInt k = 0; k < ncells; ++k) x.at(k, 0) = pm[cells[k]];
     PetscCall(VecRestoreArrayRead(chain.massShare(0), &pm));
-    for (PetscInt c = 0; c < s; ++c) {
+    int outside = -1; // a start that is none of the chain's cells (it never holds solid)
+    for (PetscInt c = 0; c < cellStarts; ++c) {
       const PetscInt row = layout.petscRow(settings.starts[c]);
-      if (row >= layout.rowStart() && row < layout.rowEnd()) x.at(row - layout.rowStart(), 1 + c) = 1.0;
+      if (row < layout.rowStart() || row >= layout.rowEnd()) continue;
+      const auto k = std::lower_bound(cells.begin(), cells.end(), row - layout.rowStart());
+      if (k == cells.end() || *k != row - layout.rowStart()) outside = std::max(outside, settings.starts[c]);
+      else x.at(k - cells.begin(), 1 + c) = 1.0;
+    }
+    if (settings.zoneStart) { // the zone's share of the solid, as one distribution
+      const std::vector<char> in = chain.chainMask(settings.startZone);
+      double share = 0.0;
+      for (PetscInt k = 0; k < ncells; ++k) share += in[k] ? x.at(k, 0) : 0.0;
+      PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, &share, 1, MPI_DOUBLE, MPI_SUM, comm));
+      PetscCheck(share > 0, comm, PETSC_ERR_USER_INPUT,
+                 "Database '%s': the tracer's start zone holds no solid at frame 0", db.path().c_str());
+      for (PetscInt k = 0; k < ncells; ++k) x.at(k, s) = in[k] ? x.at(k, 0) / share : 0.0;
     }
     PetscCall(x.restoreArrays());
+    PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, &outside, 1, MPI_INT, MPI_MAX, comm));
+    PetscCheck(outside < 0, comm, PETSC_ERR_USER_INPUT,
+               "Database '%s': the tracer start cell %d holds no solid in any frame and exchanges none, so no "
+               "tracer can start there",
+               db.path().c_str(), outside);
   }
   // The bulk's share y_i holds alpha y_i S / V_i, S the solid volume of frame 0.
   double solid = 0.0;
   {
     const PetscScalar *pa;
     PetscCall(VecGetArrayRead(db.alphaS(0), &pa));
-    for (PetscInt i = 0; i < nlocal; ++i) solid += pa[i] * db.localVolumes()[i];
+    for (PetscInt i = 0; i < layout.numLocal(); ++i) solid += pa[i] * db.localVolumes()[i];
     PetscCall(VecRestoreArrayRead(db.alphaS(0), &pa));
     PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, &solid, 1, MPI_DOUBLE, MPI_SUM, comm));
   }
@@ -78,18 +100,24 @@ PetscErrorCode tracerMixing(const FrameChain &chain, const MixingSettings &setti
     // Deviation at t_n, over the cells where the propagated bulk holds alpha_s >= alphaMin.
     PetscCall(x.getArrays());
     std::fill(deviation.begin(), deviation.end(), 0.0);
-    for (PetscInt i = 0; i < nlocal; ++i) {
-      const double bulk = x.at(i, 0);
+    // (The other cells hold no bulk: alphaMin > 0 leaves them out.)
+    for (PetscInt k = 0; k < ncells; ++k) {
+      const PetscInt i = cells[k];
+      const double bulk = x.at(k, 0);
       if (bulk * solid < settings.alphaMin * db.localVolumes()[i]) continue;
       if (!settings.excluded.empty() && settings.excluded[i]) continue;
-      for (PetscInt c = 0; c < s; ++c) deviation[c] = std::max(deviation[c], std::fabs(x.at(i, 1 + c) / bulk - 1.0));
+      for (PetscInt c = 0; c < s; ++c) deviation[c] = std::max(deviation[c], std::fabs(x.at(k, 1 + c) / bulk - 1.0));
     }
     PetscCall(x.restoreArrays());
     PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, deviation.data(), static_cast<int>(s), MPI_DOUBLE, MPI_MAX, comm));
     double mean = 0.0, worst = 0.0;
     for (PetscInt c = 0; c < s; ++c) {
-      mean += deviation[c] / s;
-      worst = std::max(worst, deviation[c]);
+      if (c < cellStarts) {
+        mean += deviation[c] / cellStarts;
+        worst = std::max(worst, deviation[c]);
+      } else {
+        out->zoneDeviation.push_back(deviation[c]);
+      }
       if (!std::isnan(out->time[c])) continue;
       if (deviation[c] > settings.tolerance) {
         within[c] = -1;
@@ -101,8 +129,10 @@ PetscErrorCode tracerMixing(const FrameChain &chain, const MixingSettings &setti
         --open;
       }
     }
-    out->meanDeviation.push_back(mean);
-    out->worstDeviation.push_back(worst);
+    if (cellStarts > 0) {
+      out->meanDeviation.push_back(mean);
+      out->worstDeviation.push_back(worst);
+    }
   }
   PetscFunctionReturn(PETSC_SUCCESS);
 }

@@ -30,16 +30,20 @@ struct Cohort {
 } // namespace
 
 PetscErrorCode zonePassages(const FrameChain &chain, const std::vector<const Zone *> &zones,
-                            const PassageSettings &settings, std::vector<ZonePassages> *out) {
+                            const PassageSettings &settings, std::vector<ZonePassages> *out,
+                            const std::vector<ChainStep *> &steps) {
   const Layout &layout = chain.database().layout();
   const MPI_Comm comm = layout.comm();
-  const PetscInt nlocal = layout.numLocal();
+  // The block holds the chain's cells only (the others hold no solid and
+  // receive none): chain cell k is the local cell cells[k].
+  const std::vector<PetscInt> &cells = chain.chainCells();
+  const PetscInt ncells = chain.numChainCells();
   PetscFunctionBeginUser;
   out->clear();
   std::vector<Cohort> cohorts;
-  std::vector<std::vector<char>> inside(zones.size(), std::vector<char>(nlocal, 0));
+  std::vector<std::vector<char>> inside(zones.size()); // per chain cell
   for (size_t z = 0; z < zones.size(); ++z) {
-    for (PetscInt i : zones[z]->localCells()) inside[z][i] = 1;
+    inside[z] = chain.chainMask(zones[z]->localCells());
     for (bool away : {false, true})
       for (int k : settings.departures) {
         Cohort h;
@@ -69,7 +73,7 @@ PetscErrorCode zonePassages(const FrameChain &chain, const std::vector<const Zon
   for (size_t c = 0; c < cohorts.size(); ++c) column[c] = c;
   std::vector<double> left(cohorts.size(), 0.0);
   ChainBlock x;
-  PetscCall(x.setUp(chain, static_cast<PetscInt>(cohorts.size())));
+  PetscCall(x.setUp(chain, static_cast<PetscInt>(cohorts.size()), steps));
   OwnedVec source, moved;
   // Keeps the cohorts in `keep`, the rest's content counted as their `left`.
   auto rebuild = [&](const std::vector<size_t> &keep) -> PetscErrorCode {
@@ -81,7 +85,7 @@ PetscErrorCode zonePassages(const FrameChain &chain, const std::vector<const Zon
     std::vector<PetscInt> from;
     for (size_t h : keep) from.push_back(static_cast<PetscInt>(std::find(column.begin(), column.end(), h) - column.begin()));
     PetscCall(x.getArrays());
-    for (PetscInt i = 0; i < nlocal; ++i)
+    for (PetscInt i = 0; i < ncells; ++i)
       for (PetscInt c = 0; c < bs; ++c)
         if (!kept[column[static_cast<size_t>(c)]]) dropped[column[static_cast<size_t>(c)]] += x.at(i, c);
     PetscCall(x.restoreArrays());
@@ -94,8 +98,8 @@ PetscErrorCode zonePassages(const FrameChain &chain, const std::vector<const Zon
     column = keep;
     PetscFunctionReturn(PETSC_SUCCESS);
   };
-  PetscCall(VecDuplicate(chain.meanShare(), source.put()));
-  PetscCall(VecDuplicate(chain.meanShare(), moved.put()));
+  PetscCall(chain.chainVector(source.put()));
+  PetscCall(VecDuplicate(source, moved.put()));
   const long long horizon = std::max<long long>(1, std::llround(settings.horizon / chain.dt()));
   const int lastDeparture = *std::max_element(settings.departures.begin(), settings.departures.end());
   std::vector<double> sums;
@@ -120,7 +124,7 @@ PetscErrorCode zonePassages(const FrameChain &chain, const std::vector<const Zon
     sums.assign(static_cast<size_t>(bs), 0.0);
     // Cell by cell, the columns in memory order (a column at a time would
     // stride through the whole block vector once per column).
-    for (PetscInt i = 0; i < nlocal; ++i)
+    for (PetscInt i = 0; i < ncells; ++i)
       for (PetscInt c = 0; c < bs; ++c) {
         const char *in = mask[static_cast<size_t>(c)];
         if (in && in[i] == side[static_cast<size_t>(c)]) {
@@ -154,20 +158,21 @@ PetscErrorCode zonePassages(const FrameChain &chain, const std::vector<const Zon
       PetscScalar *pv;
       PetscCall(VecGetArrayRead(chain.massShare(s), &pm));
       PetscCall(VecGetArrayWrite(source, &pv));
-      for (PetscInt i = 0; i < nlocal; ++i) pv[i] = static_cast<bool>(in[i]) == h.away ? pm[i] : 0.0;
+      for (PetscInt i = 0; i < ncells; ++i) pv[i] = static_cast<bool>(in[i]) == h.away ? pm[cells[i]] : 0.0;
       PetscCall(VecRestoreArrayWrite(source, &pv));
       PetscCall(VecRestoreArrayRead(chain.massShare(s), &pm));
       PetscCall(MatMult(chain.transfer(s), source, moved));
+      for (ChainStep *step : steps) PetscCall(step->apply(s, moved, 1));
       double w = 0.0;
       PetscCall(VecGetArray(moved, &pv));
-      for (PetscInt i = 0; i < nlocal; ++i) {
+      for (PetscInt i = 0; i < ncells; ++i) {
         if (static_cast<bool>(in[i]) == h.away) pv[i] = 0.0; // stayed on its side
         w += pv[i];
       }
       PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, &w, 1, MPI_DOUBLE, MPI_SUM, comm));
       h.weight = w;
       PetscCall(x.getArrays());
-      for (PetscInt i = 0; i < nlocal; ++i) x.at(i, c) = w > 0 ? pv[i] / w : 0.0;
+      for (PetscInt i = 0; i < ncells; ++i) x.at(i, c) = w > 0 ? pv[i] / w : 0.0;
       PetscCall(x.restoreArrays());
       PetscCall(VecRestoreArray(moved, &pv));
       open = open || w > 0;

@@ -5,6 +5,7 @@
 #pragma once
 
 #include "markov/frame_chain.hpp"
+#include "markov/operator_step.hpp"
 #include "rcfd/zone.hpp"
 
 #include <vector>
@@ -35,9 +36,12 @@ struct ZonePassages {
   PassageDistribution away;      ///< time outside between leaving and entering again (from the outflow)
 };
 
-/// Collective.  The passages of every zone (set up on the database's layout).
+/// Collective.  The passages of every zone (set up on the database's layout);
+/// every step (the crossings' too) is the frame's shift followed by `steps`
+/// (a size class's drift: the class's chain; the carry at the wrap).
 PetscErrorCode zonePassages(const FrameChain &chain, const std::vector<const Zone *> &zones,
-                            const PassageSettings &settings, std::vector<ZonePassages> *out);
+                            const PassageSettings &settings, std::vector<ZonePassages> *out,
+                            const std::vector<ChainStep *> &steps = {});
 
 /// `count` departure frames spread evenly over K frames: floor(j K / count).
 std::vector<int> evenFrames(int K, int count);
