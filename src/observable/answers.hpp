@@ -238,6 +238,9 @@ public:
   /// The case's conditions and u_mf correlation (after setFromOptions), which
   /// the switcher's umf_usup uses as the bottom layer does.
   const FluidizationModel &fluidization() const { return fluidization_; }
+  /// -moisture_warning [kg/kg] (0: off) and -moisture_warning_umf_share: the wet-bottom warning's.
+  double moistureWarningThreshold() const { return moistureWarning; }
+  double moistureWarningUmfShare() const { return moistureUmfShare; }
 
 private:
   MPI_Comm comm = MPI_COMM_NULL;

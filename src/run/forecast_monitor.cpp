@@ -41,13 +41,26 @@ void meanSpread(const std::vector<double> &v, double *mean, double *spread, int 
   *count = n;
 }
 
+/// A warning's columns from each member's time until it fires (NaN: not within the horizon): how
+/// many members see it, after how long on average, the earliest.
+void appendWarning(const std::vector<double> &times, std::vector<double> *row) {
+  int n;
+  double mean, spread, first = kNaN;
+  meanSpread(times, &mean, &spread, &n);
+  for (double w : times)
+    if (std::isfinite(w) && !(w >= first)) first = w;
+  row->push_back(n);
+  row->push_back(mean);
+  row->push_back(first);
+}
+
 } // namespace
 
 ForecastMonitor::ForecastMonitor(const OperatorRegistry &operators, const PathRegistry &paths, const Pipeline &live,
                                  std::vector<std::string> pipeline, const FluidizationModel &fluidization,
-                                 bool fixedDatabase)
+                                 bool fixedDatabase, const ScalarSet &scalars)
     : operators(operators), paths(paths), live(live), names(std::move(pipeline)), fluidization(fluidization),
-      fixedDatabase(fixedDatabase) {}
+      fixedDatabase(fixedDatabase), liveScalars(scalars) {}
 
 PetscErrorCode ForecastMonitor::setFromOptions(MPI_Comm c) {
   PetscFunctionBeginUser;
@@ -74,8 +87,6 @@ long ForecastMonitor::everySteps(double dt) const { return every > 0 ? std::max(
 
 PetscErrorCode ForecastMonitor::setUp(const RunContext &run, const FractionState &state, const std::string &dir) {
   PetscFunctionBeginUser;
-  PetscCheck(state.numScalars() == 0, comm, PETSC_ERR_USER_INPUT,
-             "-forecast_every with -scalars: the forecast's members do not carry scalars yet; run without one of them");
   const Vec3 &g = run.db.metadata().gravity;
   gravity = std::hypot(g[0], g[1], g[2]);
   PetscCall(layers.setUp(run.db));
@@ -93,6 +104,13 @@ PetscErrorCode ForecastMonitor::setUp(const RunContext &run, const FractionState
     memberPaths.push_back(std::move(path));
   }
   if (!scheduleFile.empty()) PetscCall(readSchedule(run));
+  moisture = -1;
+  memberScalars.reset();
+  if (state.numScalars() > 0) {
+    for (int s = 0; s < state.numScalars(); ++s)
+      if (state.scalarNames()[s] == "moisture") moisture = s;
+    PetscCall(setUpScalars(run));
+  }
   std::string header = "time_s,horizon_s,members,delta_z_mean_m,delta_z_spread_m,d32_bottom_mean_m,d32_bottom_spread_m,"
                        "umf_usup_mean,umf_usup_spread,warning_members,warning_in_mean_s,warning_in_first_s";
   labels.clear();
@@ -103,7 +121,37 @@ PetscErrorCode ForecastMonitor::setUp(const RunContext &run, const FractionState
       header += ",product_share_" + labels.back() + "_mean,product_share_" + labels.back() + "_spread";
     }
   }
+  scalarLabels.clear();
+  if (!labels.empty()) // the product's value of each scalar: its amount discharged over the mass
+    for (const std::string &name : state.scalarNames()) {
+      scalarLabels.push_back(name);
+      header += ",product_" + name + "_mean,product_" + name + "_spread";
+    }
+  if (moisture >= 0) header += ",moisture_bottom_mean,moisture_bottom_spread";
+  if (moisture >= 0 && wetThreshold > 0.0) header += ",wet_warning_members,wet_warning_in_mean_s,wet_warning_in_first_s";
+  columns.clear();
+  for (std::size_t at = 0; at <= header.size();) {
+    const std::size_t comma = std::min(header.find(',', at), header.size());
+    columns.push_back(header.substr(at, comma - at));
+    at = comma + 1;
+  }
   csv = std::make_unique<CsvSeries>(comm, dir + "/forecast.csv", header);
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+int ForecastMonitor::column(const std::string &name) const {
+  const auto at = std::find(columns.begin(), columns.end(), name);
+  return at == columns.end() ? -1 : static_cast<int>(at - columns.begin());
+}
+
+PetscErrorCode ForecastMonitor::setUpScalars(const RunContext &run) {
+  PetscFunctionBeginUser;
+  memberScalars = std::make_unique<ScalarSet>();
+  PetscCall(memberScalars->setFromOptions(comm));
+  const ScalarSources &held = liveScalars.sources();
+  // The spray zone wherever the run's or the what-if's spray may be on, even at a rate of 0 now.
+  if (held.canSpray() && (held.followsSpray() || schedule.has(LiveInput::SprayRate))) memberScalars->sources().followSpray();
+  PetscCall(memberScalars->setUp(run.db, run.fractions, run.solidDensity));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
@@ -111,11 +159,14 @@ PetscErrorCode ForecastMonitor::readSchedule(const RunContext &run) {
   PetscFunctionBeginUser;
   PetscCall(schedule.readWhole(comm, "-forecast_schedule", scheduleFile, run.fractions));
   const std::string file = "-forecast_schedule " + scheduleFile + ": ";
-  for (auto [q, name] : {std::make_pair(LiveInput::SprayRate, "spray_rate"),
-                         std::make_pair(LiveInput::GasTemperature, "gas_temperature")})
-    PetscCheck(!schedule.has(q), comm, PETSC_ERR_USER_INPUT,
-               "%sthe column %s drives the scalars, which a forecast's members do not carry; leave it out",
-               file.c_str(), name);
+  // The scalars' columns, as the live file's (docs/live.md): the members carry the run's scalars.
+  const ScalarSources &sources = liveScalars.sources();
+  PetscCheck(!schedule.has(LiveInput::SprayRate) || (liveScalars.size() > 0 && sources.canSpray()), comm,
+             PETSC_ERR_USER_INPUT, "%sthe column spray_rate needs a scalar named moisture in -scalars (the liquid it "
+             "adds, kg per kg solid)", file.c_str());
+  PetscCheck(!schedule.has(LiveInput::GasTemperature) || (liveScalars.size() > 0 && sources.exchanges()), comm,
+             PETSC_ERR_USER_INPUT, "%sthe column gas_temperature needs the scalars' exchange with the gas (-scalars "
+             "temperature and -scalar_exchange_model gunn or constant)", file.c_str());
   const std::string missing = granulatorColumnWithoutOperator(schedule, live);
   PetscCheck(missing.empty(), comm, PETSC_ERR_USER_INPUT, "%s%s", file.c_str(), missing.c_str());
   // Two answers to "what is u_sup": -superficial_velocity wins over any other wherever the gas is resolved.
@@ -128,9 +179,13 @@ PetscErrorCode ForecastMonitor::readSchedule(const RunContext &run) {
 void ForecastMonitor::followSchedule(double t, const Pipeline &ops, OperatingConditions *gas) const {
   if (schedule.has(LiveInput::SuperficialVelocity)) gas->superficialVelocity = schedule.at(LiveInput::SuperficialVelocity, t);
   setGranulatorRates(schedule, t, ops);
+  if (!memberScalars) return;
+  ScalarSources &sources = memberScalars->sources();
+  if (schedule.has(LiveInput::SprayRate)) sources.setSprayRate(schedule.at(LiveInput::SprayRate, t));
+  if (schedule.has(LiveInput::GasTemperature)) sources.setGasTemperature(schedule.at(LiveInput::GasTemperature, t));
 }
 
-PetscErrorCode ForecastMonitor::member(const MonitorContext &ctx, int m, std::vector<double> *out) {
+PetscErrorCode ForecastMonitor::member(const MonitorContext &ctx, int m, Outcome *out) {
   const RunContext &run = ctx.run;
   const Database &db = run.db;
   const double dt = db.metadata().dtRec;
@@ -147,6 +202,7 @@ PetscErrorCode ForecastMonitor::member(const MonitorContext &ctx, int m, std::ve
     }
     PetscCall(memberOps->setFromOptions(comm));
     PetscCall(memberOps->setUp(run));
+    if (memberScalars && !fixedDatabase) PetscCall(setUpScalars(run)); // their sources on the database in use
   }
   Pipeline &ops = *memberOps;
   // The same options leave out the same operators at set-up: the run's and the member's lists match.
@@ -159,15 +215,33 @@ PetscErrorCode ForecastMonitor::member(const MonitorContext &ctx, int m, std::ve
   FractionState state;
   PetscCall(state.create(db.layout(), run.fractions.size()));
   PetscCall(VecCopy(ctx.state.masses(), state.masses()));
+  if (memberScalars) {
+    PetscCall(state.createScalars(ctx.state.scalarNames()));
+    PetscCall(VecCopy(ctx.state.amounts(), state.amounts()));
+  }
   FramePath &path = *memberPaths[m];
   // Held: the gas of the moment (the drift's excess gas, the bottom layer's u_mf/u_sup), unless the
   // what-if schedule gives it.
   OperatingConditions gas = run.operatingConditions();
   OperatingConditions now = fluidization.resolve(gas);
+  // The scalars' sources hold the run's conditions of the moment: the spray rate, the gas's inlet
+  // temperature and the u_sup of its exchange; they follow the gas's u_sup where the run's do (a live
+  // u_sup, a database set) or a what-if gives one.
+  ScalarSources *sources = memberScalars ? &memberScalars->sources() : nullptr;
+  const bool followVelocity = run.conditions != nullptr || schedule.has(LiveInput::SuperficialVelocity);
+  if (sources) {
+    const ScalarSources &held = liveScalars.sources();
+    sources->setSprayRate(held.sprayRateNow());
+    sources->setGasTemperature(held.gasInletTemperature());
+    sources->setSuperficialVelocity(held.superficialVelocity());
+  }
   const DischargeOperator *discharge = findOperator<DischargeOperator>(ops);
   const std::vector<double> dischargedBefore = discharge ? discharge->discharged() : std::vector<double>{};
+  const std::vector<double> amountsBefore = discharge && sources ? discharge->dischargedAmounts() : std::vector<double>{};
+  const bool watchWet = moisture >= 0 && wetThreshold > 0.0;
   int frame = ctx.frame;
-  double d32 = kNaN, umfUsup = kNaN, warning = kNaN;
+  double d32 = kNaN, umfUsup = kNaN, warning = kNaN, wet = kNaN, wetWarning = kNaN;
+  std::vector<double> amounts; // the bottom layer's scalars
   std::vector<double> perLayer;
   StepInfo info;
   info.dt = dt;
@@ -185,6 +259,10 @@ PetscErrorCode ForecastMonitor::member(const MonitorContext &ctx, int m, std::ve
     // The first step leaves the run's frame for the path's: a jump unless it follows.
     info.jump = (s == 0 ? next != frame + 1 : path.lastWasJump()) || (next == frame + 1 && !db.nextFollows(frame));
     PetscCall(ops.apply(info, state));
+    if (sources) { // as the run's time loop: the sources after the operators
+      if (followVelocity) sources->setSuperficialVelocity(gas.superficialVelocity);
+      PetscCall(memberScalars->applySources(dt, next, state));
+    }
     frame = next;
     PetscCall(layers.fractionMasses(state, &perLayer));
     d32 = layers::sauterDiameter(perLayer, 0, run.fractions);
@@ -193,51 +271,68 @@ PetscErrorCode ForecastMonitor::member(const MonitorContext &ctx, int m, std::ve
         umfUsup = fluidization.minFluidizationVelocity(d32, run.solidDensity, now, gravity) / now.superficialVelocity;
       }, PETSC_ERR_USER_INPUT));
     if (!std::isfinite(warning) && umfUsup >= 1.0) warning = (s + 1) * dt;
+    if (moisture >= 0 && (watchWet || s + 1 == steps)) { // the bottom layer's liquid over its solid
+      PetscCall(layers.layerAmounts(state, 0, &amounts));
+      const int nf = run.fractions.size();
+      double water = 0.0, solid = 0.0;
+      for (int i = 0; i < nf; ++i) water += amounts[moisture * nf + i], solid += perLayer[i];
+      wet = solid > 0.0 ? water / solid : kNaN;
+      // The run's wet-bottom warning (BottomLayerMonitor): wet while u_mf is near u_sup.
+      if (watchWet && !std::isfinite(wetWarning) && wet > wetThreshold && umfUsup >= wetShare) wetWarning = (s + 1) * dt;
+    }
   }
   BedSample end;
   PetscCall(cog.measure(ctx.time + steps * dt, state.masses(), db.alphaS(frame), run.solidDensity, &end));
-  *out = {end.deltaZ, d32, umfUsup, warning};
+  *out = Outcome{end.deltaZ, d32, umfUsup, warning, {}, wet, wetWarning};
   if (discharge) { // the product discharged over the horizon (global sums): its mass and size distribution
+    std::vector<double> &product = out->product;
     const std::vector<double> after = discharge->discharged();
     double mass = 0.0;
     for (std::size_t i = 0; i < after.size(); ++i) mass += after[i] - dischargedBefore[i];
-    out->push_back(mass);
-    for (std::size_t i = 0; i < after.size(); ++i) out->push_back(mass > 0.0 ? (after[i] - dischargedBefore[i]) / mass : kNaN);
+    product.push_back(mass);
+    for (std::size_t i = 0; i < after.size(); ++i) product.push_back(mass > 0.0 ? (after[i] - dischargedBefore[i]) / mass : kNaN);
+    if (sources) { // each scalar's value in it: its amount discharged over the horizon over the mass
+      const std::vector<double> taken = discharge->dischargedAmounts();
+      const std::size_t nf = after.size();
+      for (std::size_t k = 0; k < scalarLabels.size(); ++k) {
+        double amount = 0.0;
+        for (std::size_t i = 0; i < nf; ++i) amount += taken[k * nf + i] - amountsBefore[k * nf + i];
+        product.push_back(mass > 0.0 ? amount / mass : kNaN);
+      }
+    }
   }
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
 PetscErrorCode ForecastMonitor::sample(const MonitorContext &ctx) {
   PetscFunctionBeginUser;
-  // Per answer (Delta z, d32, u_mf/u_sup, the warning's time, then the product's), each member's value.
-  std::vector<std::vector<double>> answers;
+  // Per answer, each member's value: Delta z, d32, u_mf/u_sup, the warning's time, the bottom
+  // layer's moisture, the wet warning's time, then the product's (mass, shares, scalars).
+  std::vector<double> dz, d32, ratio, warn, wet, wetWarn;
+  std::vector<std::vector<double>> product;
   for (PetscInt m = 0; m < members; ++m) {
-    std::vector<double> out;
+    Outcome out;
     PetscCall(member(ctx, static_cast<int>(m), &out));
-    answers.resize(out.size());
-    for (std::size_t k = 0; k < out.size(); ++k) answers[k].push_back(out[k]);
+    dz.push_back(out.deltaZ), d32.push_back(out.d32), ratio.push_back(out.umfUsup), warn.push_back(out.warning);
+    wet.push_back(out.wetBottom), wetWarn.push_back(out.wetWarning);
+    product.resize(out.product.size());
+    for (std::size_t k = 0; k < out.product.size(); ++k) product[k].push_back(out.product[k]);
   }
-  const std::vector<double> &dz = answers[0], &d32 = answers[1], &ratio = answers[2], &warn = answers[3];
   ++issued;
   std::vector<double> row{ctx.time, horizon, static_cast<double>(members)};
   int n;
-  double mean, spread, first = kNaN;
-  for (const auto *v : {&dz, &d32, &ratio}) {
-    meanSpread(*v, &mean, &spread, &n);
+  double mean, spread;
+  const auto appendMean = [&](const std::vector<double> &v) {
+    meanSpread(v, &mean, &spread, &n);
     row.push_back(mean);
     row.push_back(spread);
-  }
-  meanSpread(warn, &mean, &spread, &n);
-  for (double w : warn)
-    if (std::isfinite(w) && !(w >= first)) first = w;
-  row.push_back(n);
-  row.push_back(mean); // NaN: no member's bottom layer de-fluidizes within the horizon
-  row.push_back(first); // what it costs is the run's summary's (monitors: forecast.csv)
-  for (std::size_t k = 4; k < answers.size(); ++k) { // the product: NaN shares where a member discharged nothing
-    meanSpread(answers[k], &mean, &spread, &n);
-    row.push_back(mean);
-    row.push_back(spread);
-  }
+  };
+  for (const auto *v : {&dz, &d32, &ratio}) appendMean(*v);
+  appendWarning(warn, &row); // NaN: no member's bottom layer de-fluidizes within the horizon
+  // What it costs is the run's summary's (monitors: forecast.csv).
+  for (const auto &v : product) appendMean(v); // NaN shares and values where a member discharged nothing
+  if (moisture >= 0) appendMean(wet);
+  if (moisture >= 0 && wetThreshold > 0.0) appendWarning(wetWarn, &row); // NaN: not wet within the horizon
   PetscCall(csv->add(numberRow(row)));
   latest = row;
   PetscFunctionReturn(PETSC_SUCCESS);
