@@ -32,7 +32,7 @@ const std::string kBed = " -fractions_diameters 1.459e-3,4.075e-3 -fractions_mas
                          " -zone_discharge_box 0.18,0.2,0,0.05,0,0.03 -discharge_rate 0.1"
                          " -scalars temperature,moisture,tracer -scalar_tracer_initial 1"
                          " -scalar_temperature_initial 300 -scalar_exchange_model gunn"
-                         " -scalar_gas_humidity_deficit 0.02 -scalar_heat_of_evaporation 2.26e6"
+                         " -scalar_gas_model plug -scalar_gas_humidity 0.005 -scalar_heat_of_evaporation 2.26e6"
                          " -bottom_layer -moisture_warning 0.03 -moisture_warning_umf_share 0.5 -monitor_digits 17"
                          " -status 0 -live_poll 0.01";
 const std::string kForecast = " -forecast_every 0.1 -forecast_horizon 0.1 -forecast_members 2";
