@@ -10,6 +10,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <cstdio>
 #include <limits>
 
 namespace rcfd {
@@ -58,9 +59,9 @@ void appendWarning(const std::vector<double> &times, std::vector<double> *row) {
 
 ForecastMonitor::ForecastMonitor(const OperatorRegistry &operators, const PathRegistry &paths, const Pipeline &live,
                                  std::vector<std::string> pipeline, const FluidizationModel &fluidization,
-                                 bool fixedDatabase, const ScalarSet &scalars)
+                                 DatabaseSwitcher *switcher, const ScalarSet &scalars)
     : operators(operators), paths(paths), live(live), names(std::move(pipeline)), fluidization(fluidization),
-      fixedDatabase(fixedDatabase), liveScalars(scalars) {}
+      switcher(switcher), fixedDatabase(switcher == nullptr), liveScalars(scalars) {}
 
 PetscErrorCode ForecastMonitor::setFromOptions(MPI_Comm c) {
   PetscFunctionBeginUser;
@@ -71,6 +72,8 @@ PetscErrorCode ForecastMonitor::setFromOptions(MPI_Comm c) {
   PetscCall(checkedReal(PetscOptionsObject, "-forecast_horizon", "How far each forecast looks ahead [s]", &horizon,
                         {0.0, 1e9, false, true, "a positive time in s"}));
   PetscCall(checkedInt(PetscOptionsObject, "-forecast_members", "Stitched paths per forecast", &members, 1, 10000));
+  PetscCall(checkedInt(PetscOptionsObject, "-forecast_digits", "Significant digits of forecast.csv's numbers", &digits, 3,
+                       17));
   PetscCall(checkedInt(PetscOptionsObject, "-forecast_seed", "Seed of the first member's path (the others s+1, ...)",
                        &seed, 0, 2000000000));
   char file[PETSC_MAX_PATH_LEN] = "";
@@ -185,10 +188,49 @@ void ForecastMonitor::followSchedule(double t, const Pipeline &ops, OperatingCon
   if (schedule.has(LiveInput::GasTemperature)) sources.setGasTemperature(schedule.at(LiveInput::GasTemperature, t));
 }
 
+PetscErrorCode ForecastMonitor::switchMember(const SwitchDecision &choice, int pathFrame, const RunContext &run,
+                                             const OperatingConditions &gas, Pipeline &ops, FractionState &state,
+                                             std::shared_ptr<Database> *db) {
+  PetscFunctionBeginUser;
+  std::vector<std::vector<double>> kept; // what each operator keeps across a switch, as the run's
+  for (const auto &op : ops.operators()) kept.push_back(op->saveState());
+  char key[64];
+  std::snprintf(key, sizeof key, "%d+%d@%.17g", choice.database, choice.partner, choice.partner < 0 ? 1.0 : choice.weight);
+  std::shared_ptr<Database> &found = loaded[key]; // loaded once per forecast, whichever member comes first
+  if (!found) PetscCall(switcher->load(choice, &found));
+  *db = found;
+  RunContext on{**db, run.fractions, run.solidDensity, &gas};
+  on.numScalars = run.numScalars;
+  on.scalarNames = run.scalarNames;
+  for (std::size_t k = 0; k < ops.operators().size(); ++k) {
+    PetscCall(ops.operators()[k]->setUp(on));
+    PetscCall(ops.operators()[k]->restoreState(kept[k]));
+  }
+  if (memberScalars) { // the sources on the new database, at the member's conditions
+    const ScalarSources &was = memberScalars->sources();
+    const double spray = was.sprayRateNow(), inlet = was.gasInletTemperature(), u = was.superficialVelocity();
+    PetscCall(setUpScalars(on));
+    memberScalars->sources().setSprayRate(spray);
+    memberScalars->sources().setGasTemperature(inlet);
+    memberScalars->sources().setSuperficialVelocity(u);
+  }
+  if (!remap) {
+    remap = std::make_unique<CarryOperator>();
+    PetscCall(remap->setKind(comm, "remap"));
+  }
+  PetscCall(remap->setUp(on));
+  StepInfo jump;
+  jump.jump = true;
+  jump.frame = jump.nextFrame = pathFrame % (*db)->numFrames();
+  PetscCall(remap->apply(jump, state));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
 PetscErrorCode ForecastMonitor::member(const MonitorContext &ctx, int m, Outcome *out) {
   const RunContext &run = ctx.run;
-  const Database &db = run.db;
-  const double dt = db.metadata().dtRec;
+  const Database *db = &run.db; // the member's: another after its switches
+  std::shared_ptr<Database> switched;
+  const double dt = db->metadata().dtRec;
   const long steps = std::max(1L, std::lround(horizon / dt));
   PetscFunctionBeginUser;
   // Operators of its own from the run's options, continuing the run's saved state at its rates:
@@ -213,7 +255,7 @@ PetscErrorCode ForecastMonitor::member(const MonitorContext &ctx, int m, Outcome
     PetscCall(ops.operators()[k]->restoreState(live.operators()[k]->saveState()));
   holdRates(live, ops);
   FractionState state;
-  PetscCall(state.create(db.layout(), run.fractions.size()));
+  PetscCall(state.create(db->layout(), run.fractions.size()));
   PetscCall(VecCopy(ctx.state.masses(), state.masses()));
   if (memberScalars) {
     PetscCall(state.createScalars(ctx.state.scalarNames()));
@@ -239,7 +281,11 @@ PetscErrorCode ForecastMonitor::member(const MonitorContext &ctx, int m, Outcome
   const std::vector<double> dischargedBefore = discharge ? discharge->discharged() : std::vector<double>{};
   const std::vector<double> amountsBefore = discharge && sources ? discharge->dischargedAmounts() : std::vector<double>{};
   const bool watchWet = moisture >= 0 && wetThreshold > 0.0;
-  int frame = ctx.frame;
+  // On a set whose rule chooses by u_sup, the member switches by its own: held, or the what-if's.
+  const bool switches = switcher && switcher->choosesByVelocity();
+  SwitchDecision choice = switcher ? switcher->active() : SwitchDecision{};
+  const double heldVelocity = gas.superficialVelocity;
+  int frame = ctx.frame, pathFrame = ctx.frame;
   double d32 = kNaN, umfUsup = kNaN, warning = kNaN, wet = kNaN, wetWarning = kNaN;
   std::vector<double> amounts; // the bottom layer's scalars
   std::vector<double> perLayer;
@@ -251,13 +297,27 @@ PetscErrorCode ForecastMonitor::member(const MonitorContext &ctx, int m, Outcome
       followSchedule(s * dt, ops, &gas);
       now = fluidization.resolve(gas);
     }
-    const int next = path.next() % db.numFrames();
+    if (switches) { // as the run decides after each step, on the u_sup of the next one's start
+      const double u = schedule.has(LiveInput::SuperficialVelocity) ? gas.superficialVelocity : heldVelocity;
+      const SwitchDecision wanted = switcher->choiceFor(u);
+      const bool change = !wanted.sameAs(choice);
+      if (change) choice = wanted;
+      gas = switcher->conditionsFor(choice, u);
+      now = fluidization.resolve(gas);
+      if (change) {
+        PetscCall(switchMember(choice, pathFrame, run, gas, ops, state, &switched));
+        db = switched.get();
+        frame = pathFrame % db->numFrames();
+      }
+    }
+    pathFrame = path.next();
+    const int next = pathFrame % db->numFrames();
     info.step = ctx.step + s;
     info.time = ctx.time + s * dt;
     info.frame = frame;
     info.nextFrame = next;
     // The first step leaves the run's frame for the path's: a jump unless it follows.
-    info.jump = (s == 0 ? next != frame + 1 : path.lastWasJump()) || (next == frame + 1 && !db.nextFollows(frame));
+    info.jump = (s == 0 ? next != frame + 1 : path.lastWasJump()) || (next == frame + 1 && !db->nextFollows(frame));
     PetscCall(ops.apply(info, state));
     if (sources) { // as the run's time loop: the sources after the operators
       if (followVelocity) sources->setSuperficialVelocity(gas.superficialVelocity);
@@ -282,7 +342,7 @@ PetscErrorCode ForecastMonitor::member(const MonitorContext &ctx, int m, Outcome
     }
   }
   BedSample end;
-  PetscCall(cog.measure(ctx.time + steps * dt, state.masses(), db.alphaS(frame), run.solidDensity, &end));
+  PetscCall(cog.measure(ctx.time + steps * dt, state.masses(), db->alphaS(frame), run.solidDensity, &end));
   *out = Outcome{end.deltaZ, d32, umfUsup, warning, {}, wet, wetWarning};
   if (discharge) { // the product discharged over the horizon (global sums): its mass and size distribution
     std::vector<double> &product = out->product;
@@ -318,6 +378,7 @@ PetscErrorCode ForecastMonitor::sample(const MonitorContext &ctx) {
     product.resize(out.product.size());
     for (std::size_t k = 0; k < out.product.size(); ++k) product[k].push_back(out.product[k]);
   }
+  loaded.clear(); // the databases members switched to: not held between forecasts
   ++issued;
   std::vector<double> row{ctx.time, horizon, static_cast<double>(members)};
   int n;
@@ -333,7 +394,7 @@ PetscErrorCode ForecastMonitor::sample(const MonitorContext &ctx) {
   for (const auto &v : product) appendMean(v); // NaN shares and values where a member discharged nothing
   if (moisture >= 0) appendMean(wet);
   if (moisture >= 0 && wetThreshold > 0.0) appendWarning(wetWarn, &row); // NaN: not wet within the horizon
-  PetscCall(csv->add(numberRow(row)));
+  PetscCall(csv->add(numberRow(row, static_cast<int>(digits))));
   latest = row;
   PetscFunctionReturn(PETSC_SUCCESS);
 }

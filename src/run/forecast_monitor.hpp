@@ -18,9 +18,12 @@
 
 #include "database/fluidization_model.hpp"
 #include "run/live_input.hpp"
+#include "rcfd/carry.hpp"
 #include "state/layer_masses.hpp"
 #include "state/scalars.hpp"
+#include "switching/database_switcher.hpp"
 
+#include <map>
 #include <memory>
 #include <string>
 #include <vector>
@@ -32,16 +35,17 @@ public:
   /// `operators` and `paths` make the members' operators (named by `pipeline`) and
   /// paths; `live` is the run's pipeline, whose saved state and rates the members
   /// start from; `fluidization` the bottom layer's u_mf correlation and gas.  All
-  /// must outlive the monitor.  `fixedDatabase`: the run stays on one database, so the
-  /// members' operators are set up once (else for each member, on the database in use).
+  /// must outlive the monitor.  `switcher`: the run's on a database set (null: one database, and the
+  /// members' operators are set up once; else for each member, on the database in use, and with a
+  /// rule that chooses by u_sup each member switches by its own u_sup, docs/live.md).
   /// `scalars`: the run's (-scalars), whose conditions of the moment (spray rate, gas
   /// temperature, u_sup) the members hold; the members carry their own, made from the same options.
   ForecastMonitor(const OperatorRegistry &operators, const PathRegistry &paths, const Pipeline &live,
-                  std::vector<std::string> pipeline, const FluidizationModel &fluidization, bool fixedDatabase,
+                  std::vector<std::string> pipeline, const FluidizationModel &fluidization, DatabaseSwitcher *switcher,
                   const ScalarSet &scalars);
   std::string type() const override { return "forecast"; }
   /// -forecast_every [s] (0: none), -forecast_horizon [s], -forecast_members,
-  /// -forecast_seed, -forecast_schedule FILE (a what-if: the live file's format, times
+  /// -forecast_seed, -forecast_digits (10), -forecast_schedule FILE (a what-if: the live file's format, times
   /// from each forecast's start; read at setUp); the members' stitching reads
   /// -forecast_path_* (docs/paths.md).
   PetscErrorCode setFromOptions(MPI_Comm comm) override;
@@ -88,6 +92,12 @@ private:
   void followSchedule(double t, const Pipeline &ops, OperatingConditions *gas) const;
   /// Collective.  The members' scalars, set up on the database in use.
   PetscErrorCode setUpScalars(const RunContext &run);
+  /// Collective.  A member's switch to `choice` before a step that starts on the path's frame
+  /// `pathFrame`, as the run's (Run::Impl::switchTo): its operators set up on the database (kept
+  /// state restored), its state carried onto it by the composition remap; `*db` the database now.
+  PetscErrorCode switchMember(const SwitchDecision &choice, int pathFrame, const RunContext &run,
+                              const OperatingConditions &gas, Pipeline &ops, FractionState &state,
+                              std::shared_ptr<Database> *db);
   /// Collective.  Reads -forecast_schedule and refuses a column nothing in the members follows.
   PetscErrorCode readSchedule(const RunContext &run);
 
@@ -96,7 +106,10 @@ private:
   const Pipeline &live;
   std::vector<std::string> names;
   const FluidizationModel &fluidization;
+  DatabaseSwitcher *switcher; // the run's, on a database set
   bool fixedDatabase;
+  std::unique_ptr<CarryOperator> remap;                       // a member's switch: the state onto the new database
+  std::map<std::string, std::shared_ptr<Database>> loaded;    // the databases members switched to, this forecast
   const ScalarSet &liveScalars;
   std::unique_ptr<ScalarSet> memberScalars; // the members' (-scalars), their sources set to the run's conditions
   int moisture = -1;                        // the scalar named moisture, -1: none
@@ -106,7 +119,7 @@ private:
   std::unique_ptr<Pipeline> memberOps; // the members' operators; each member restores the run's state into them
   MPI_Comm comm = MPI_COMM_NULL;
   double every = 0.0, horizon = 10.0;
-  PetscInt members = 4, seed = 1;
+  PetscInt members = 4, seed = 1, digits = 10;
   std::string scheduleFile; // -forecast_schedule
   LiveInput schedule;       // its rows, read once
   std::vector<std::string> labels; // the product's fractions (with a discharge)

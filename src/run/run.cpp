@@ -213,7 +213,7 @@ PetscErrorCode Run::setFromOptions() {
   PetscCall(r.scalars.setFromOptions(r.comm));
   PetscCall(r.live.setFromOptions(r.comm));
   r.forecast = std::make_unique<ForecastMonitor>(r.registry, r.paths, r.ops, names, r.answers.fluidization(),
-                                                 r.switching == nullptr, r.scalars);
+                                                 r.switching.get(), r.scalars);
   PetscCall(r.forecast->setFromOptions(r.comm));
   r.status = std::make_unique<StatusMonitor>(r.live.enabled()); // on by default beside a process
   PetscCall(r.status->setFromOptions(r.comm));
