@@ -6,7 +6,8 @@
 //    forecast.csv byte for byte as none;
 //  - a what-if that stops the spray forecasts a drier bottom layer and product than holding it;
 //  - the product's tracer (1 everywhere) is 1 in every forecast, to 1e-12;
-//  - the wet-bottom warning's forecast (-moisture_warning) in forecast.csv and, in words, status.json;
+//  - the wet-bottom warning's forecast (-moisture_warning) in forecast.csv and, in words, status.json
+//    (with the run's own wet-bottom warning);
 //  - a run stopped by its stop file and restarted writes the uninterrupted forecast.csv byte for byte;
 //  - the ranks of the test write one rank's forecast.csv (1e-10).
 // Runs at 1 and 2 ranks.  usage: test_forecast_scalars DIR -db SMALL.h5
@@ -155,6 +156,8 @@ int main(int argc, char **argv) {
     RCFD_CHECK(status.find("\"Forecast: 2 of 2 members' bottom layers get wet near de-fluidization within 0.1 s "
                            "(moisture above 0.03 kg/kg while u_mf is at least 50 % of u_sup), in about ") !=
                std::string::npos);
+    // The run's own wet-bottom warning, once fired, in words too.
+    RCFD_CHECK(status.find("\"Wet bottom layer: its moisture passed 0.03 kg/kg at t = ") != std::string::npos);
     if (status.find("bottom layers get wet") == std::string::npos)
       PetscCall(PetscPrintf(PETSC_COMM_WORLD, "status.json: %s\n", status.c_str()));
 

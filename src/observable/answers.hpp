@@ -141,6 +141,9 @@ public:
   void setMoistureWarning(double threshold, double umfShare) { wetThreshold = threshold, nearShare = umfShare; }
   /// Time of the moisture warning [s] (NaN: not given).
   double wetSince() const { return wetTime; }
+  /// Its threshold [kg/kg] and u_mf's share of u_sup (0: no warning).
+  double wetThresholdValue() const { return wetThreshold; }
+  double wetUmfShare() const { return nearShare; }
 
 private:
   int moisture = -1, ns = 0; // the moisture's column among the scalars, their number

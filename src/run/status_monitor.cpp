@@ -122,6 +122,10 @@ std::string StatusMonitor::json(double t, long k, bool end) const {
                                     "below u_sup = %.4g m/s again (bottom d32 = %.4g mm).", w.firstTime(), r[2], r[3],
                                     1e3 * r[1]));
       }
+      if (std::isfinite(bottom->wetSince())) // the wet-bottom warning (docs/scalars.md), once fired
+        warnings.push_back(format("Wet bottom layer: its moisture passed %.4g kg/kg at t = %.6g s while u_mf was at "
+                                  "least %.0f %% of u_sup (near de-fluidization by size).", bottom->wetThresholdValue(),
+                                  bottom->wetSince(), 100.0 * bottom->wetUmfShare()));
     } else if (const auto *fc = dynamic_cast<const ForecastMonitor *>(m)) {
       const std::vector<double> &r = fc->latestRow(); // forecast.csv's columns (docs/live.md)
       if (r.size() < 12) continue;
@@ -202,8 +206,10 @@ PetscErrorCode StatusMonitor::sample(const MonitorContext &ctx) {
 std::vector<double> StatusMonitor::news() const {
   std::vector<double> now;
   for (const Monitor *m : watched) {
-    if (const auto *bottom = dynamic_cast<const BottomLayerMonitor *>(m))
+    if (const auto *bottom = dynamic_cast<const BottomLayerMonitor *>(m)) {
       now.push_back(bottom->warning().fired() ? bottom->warning().firstTime() : -1.0);
+      now.push_back(std::isfinite(bottom->wetSince()) ? bottom->wetSince() : -1.0);
+    }
     else if (const auto *fc = dynamic_cast<const ForecastMonitor *>(m))
       now.push_back(fc->latestRow().empty() ? -1.0 : fc->latestRow()[0]);
   }
