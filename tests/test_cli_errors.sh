@@ -112,7 +112,7 @@ expect_error "-output_dir '$work/plain' is a file; expected a directory" run -db
 expect_error "-checkpoint_file '$work' is a directory" run -db "$db" -checkpoint_file "$work" \
   -checkpoint_every 0.01 -output_dir "$work/cp"
 [ ! -e "$work/cp" ] && ok || fail "a refused checkpoint file left $work/cp behind"
-# Scalars (docs/scalars.md): negative or NaN values, bad names, operators that do not carry them.
+# Scalars (docs/scalars.md): negative or NaN values, bad names, a feed without their values.
 expect_error "-scalar_temperature_initial -1: expected a value >= 0 (no negative or NaN values)" run -db "$db" \
   -scalars temperature -scalar_temperature_initial -1 -output_dir "$work/sc"
 expect_error "-scalar_temperature_initial nan: expected a value >= 0 (no negative or NaN values)" run -db "$db" \
@@ -120,12 +120,12 @@ expect_error "-scalar_temperature_initial nan: expected a value >= 0 (no negativ
 expect_error "-scalar_moisture_zone_values: value 1 is -0.5; expected a value >= 0" run -db "$db" -scalars moisture \
   -zones low -zone_low_layers 0,3 -scalar_moisture_zones low -scalar_moisture_zone_values -0.5 -output_dir "$work/sc"
 expect_error "-scalars: 'bad-name' is not a scalar name" run -db "$db" -scalars bad-name -output_dir "$work/sc"
-expect_error "-scalars: the operator 'carry' of -pipeline does not carry scalars yet" run -db "$db" -scalars tracer \
-  -pipeline shift,drift,carry -carry_type remap -output_dir "$work/sc"
 expect_error "-feed_scalar_tracer is not given; the feed needs the value of every scalar it brings" run -db "$db" \
   -scalars tracer -pipeline shift,drift,carry,feed -zones f -zone_f_layers 0,3 -feed_zone f -feed_rate 0.1 \
   -output_dir "$work/sc"
 [ ! -e "$work/sc" ] && ok || fail "a refused run with scalars left $work/sc behind"
+expect_error "-moisture_umf_coefficient needs a scalar named moisture in -scalars" run -db "$db" -bottom_layer \
+  -moisture_umf_coefficient 50 -output_dir "$work/wet-umf"
 # Help from the program itself, not "unknown command".
 if "$rcfd" -help | grep -q "usage: rcfd <command>"; then ok; else fail "rcfd -help"; fi
 

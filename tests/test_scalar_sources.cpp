@@ -7,9 +7,13 @@
 //    checks it every step at 1e-12 and would stop) and is never negative;
 //  - a well-mixed bed (one class) relaxes to the gas temperature as
 //    exp(-t / tau) with tau = rho_s c_p d / (6 h), to 1e-12;
+//  - falling-rate drying (-scalar_critical_moisture) of a well-mixed bed: the constant rate down to X_c,
+//    then X_c exp(-r (t - t_1) / X_c), to 1e-12;
 //  - sprayed liquid = liquid held + liquid dried, to 1e-12 of the sprayed,
 //    with the heat of evaporation taken from the temperature; no negative
 //    amount; a bed dried out ends with exactly zero moisture, all of it dried;
+//  - the bottom layer's u_mf raised by its moisture (-moisture_umf_coefficient): u_mf (1 + kappa X) in
+//    bottom.csv, and the de-fluidized flag following it;
 //  - the plug-flow gas (-scalar_gas_model plug): one layer against the closed-form implicit exchange;
 //    over several layers of random particles the gas never overshoots (each layer's gas between its
 //    inlet and its particles' temperatures), the heat the gas gives equals what the particles take to
@@ -21,6 +25,7 @@
 // Runs at 1 and 2 ranks.  usage: test_scalar_sources DIR -db SMALL.h5
 #include "check.hpp"
 #include "scalar_run.hpp"
+#include "base/csv.hpp"
 #include "base/petsc_compat.hpp"
 #include "state/scalar_sources.hpp"
 
@@ -54,10 +59,7 @@ const std::string kSpray =
 using Outcome = test::ScalarOutcome;
 constexpr auto &runCase = test::runScalarCase;
 
-std::string fileBytes(const std::string &path) {
-  std::ifstream in(path, std::ios::binary);
-  return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
-}
+using test::fileBytes;
 
 // The last row's value of a CSV column (NaN when there is none).
 double lastValue(const std::string &path, const std::string &column) {
@@ -90,6 +92,17 @@ void valueSpread(const Outcome &o, int s, double value, double *worst, double *l
 }
 
 using test::scalarTotal;
+
+// A well-mixed bed (its first scalar at `expected` in every cell holding more than a trace, to 1e-12, and
+// its total mass x expected); returns the bed's mass.
+double checkWellMixed(const Outcome &o, double expected) {
+  double worst, lowest, mass = 0.0;
+  valueSpread(o, 0, expected, &worst, &lowest);
+  RCFD_CHECK_CLOSE(worst, 0.0, 1e-12);
+  for (double m : o.masses) mass += m;
+  RCFD_CHECK_CLOSE(scalarTotal(o, 0) / (mass * expected), 1.0, 1e-12);
+  return mass;
+}
 
 } // namespace
 
@@ -132,15 +145,37 @@ int main(int argc, char **argv) {
                         " -solid_density 1440 -t_end 0.3",
                         dir + "/relax", &o));
       const double tau = rho * cp * d / (6.0 * h), expected = 300.0 + 100.0 * std::exp(-t / tau);
-      double worst, lowest;
-      valueSpread(o, 0, expected, &worst, &lowest);
-      RCFD_CHECK_CLOSE(worst, 0.0, 1e-12);
-      double mass = 0.0;
-      for (double m : o.masses) mass += m;
-      RCFD_CHECK_CLOSE(scalarTotal(o, 0) / (mass * expected), 1.0, 1e-12);
+      const double mass = checkWellMixed(o, expected);
       RCFD_CHECK(expected < 380.0); // a visible relaxation: t is a few tenths of tau
       // The heat from the gas is what the temperature lost, times c_p.
       RCFD_CHECK_CLOSE(o.account[3] / (mass * cp * (expected - 400.0)), 1.0, 1e-12);
+    }
+
+    // Falling-rate drying of a well-mixed bed (one class, constant beta): the constant rate
+    // r = beta rho_g (Y_s - Y_g) 6 / (rho_s d) down to X_c, reached at t_1 = (X_0 - X_c) / r, then
+    // X = X_c exp(-r (t - t_1) / X_c); to 1e-12 in every cell, and the liquid dried is what the bed lost.
+    {
+      const double rho = 1440.0, d = 2e-3, beta = 1.0, rhoG = 1.2, deficit = 0.02, X0 = 0.05, Xc = 0.04, t = 0.5;
+      const double r = beta * rhoG * deficit * 6.0 / (rho * d), t1 = (X0 - Xc) / r;
+      const double expected = Xc * std::exp(-r * (t - t1) / Xc);
+      Outcome o;
+      PetscCall(runCase(PETSC_COMM_WORLD,
+                        " -fractions_diameters 2e-3 -fractions_mass_shares 1 -pipeline shift,carry -path_type random"
+                        " -path_seed 5 -scalars moisture -scalar_moisture_initial 0.05 -scalar_exchange_model constant"
+                        " -scalar_exchange_beta 1 -gas_density 1.2 -scalar_gas_humidity_deficit 0.02"
+                        " -scalar_critical_moisture 0.04 -solid_density 1440 -t_end 0.5",
+                        dir + "/falling", &o));
+      const double mass = checkWellMixed(o, expected);
+      RCFD_CHECK_CLOSE(o.account[2] / (mass * (X0 - expected)), 1.0, 1e-12);
+      RCFD_CHECK(t1 > 0.1 && t1 < t - 0.1 && expected < 0.75 * Xc); // both periods, the falling one visibly
+      // The closed form itself, step by step against one step: the same to round-off, from above and below X_c.
+      for (const double start : {X0, 0.03}) {
+        double X = start;
+        for (int k = 0; k < 100; ++k) X = dryingRemains(X, r, t / 100, Xc);
+        RCFD_CHECK_CLOSE(X / dryingRemains(start, r, t, Xc), 1.0, 1e-13);
+      }
+      RCFD_CHECK_CLOSE(dryingRemains(0.03, r, t, Xc) / (0.03 * std::exp(-r * t / Xc)), 1.0, 1e-15);
+      RCFD_CHECK(dryingRemains(0.0, r, t, Xc) == 0.0 && dryingRemains(0.06, r, 0.1, Xc) == 0.06 - r * 0.1);
     }
 
     // A hot batch in the bottom layers mixes: its spread over the bed (scalar_mixing.csv) starts at 1
@@ -185,13 +220,26 @@ int main(int argc, char **argv) {
       PetscCall(runCase(PETSC_COMM_WORLD,
                         kSpray + " -zones wet -zone_wet_layers 0,1 -scalar_spray_zone wet -scalar_exchange_model none -bottom_layer"
                                  " -moisture_warning 1e-3 -moisture_warning_umf_share 0.01 -superficial_velocity 1.1"
-                                 " -t_end 0.2",
+                                 " -moisture_umf_coefficient 50 -t_end 0.2",
                         dir + "/wet", &o));
       if (rank == 0) {
         const double wet = lastValue(dir + "/wet/bottom.csv", "moisture_bottom");
         RCFD_CHECK(wet > 1e-3); // above the warning's threshold
         // Nothing dries: the bed holds all that was sprayed.
         RCFD_CHECK_CLOSE(scalarTotal(o, 1) / (0.05 * 0.2), 1.0, 1e-12);
+        // The moisture raises u_mf: u_mf,wet = u_mf (1 + 50 X) in every row (to the 10 digits printed), and the
+        // de-fluidized flag follows it, here from a row where u_mf by size alone stays below u_sup.
+        const csv::Table bottom = csv::Table::read(dir + "/wet/bottom.csv");
+        const int umf = bottom.find({"umf_m_s"}), usup = bottom.find({"usup_m_s"}), flag = bottom.find({"defluidized"}),
+                  X = bottom.find({"moisture_bottom"}), umfWet = bottom.find({"umf_wet_m_s"});
+        int wrong = 0, wetOnly = 0;
+        for (std::size_t r = 0; r < bottom.numRows(); ++r) {
+          const double raised = bottom.number(r, umf) * (1.0 + 50.0 * bottom.number(r, X));
+          wrong += !(std::fabs(bottom.number(r, umfWet) / raised - 1.0) < 1e-9);
+          wrong += (bottom.number(r, flag) == 1.0) != (bottom.number(r, umfWet) >= bottom.number(r, usup));
+          wetOnly += bottom.number(r, flag) == 1.0 && bottom.number(r, umf) < bottom.number(r, usup);
+        }
+        RCFD_CHECK(umfWet > 0 && wrong == 0 && wetOnly > 10);
       }
     }
 
@@ -280,6 +328,13 @@ int main(int argc, char **argv) {
       double worst, lowest;
       valueSpread(plug, 0, 300.0, &worst, &lowest);
       RCFD_CHECK(lowest >= 0.0);
+      // With a critical moisture above what the bed holds, its drying falls with its moisture: it dries
+      // less, and its balances close as before.
+      Outcome falling;
+      PetscCall(runCase(PETSC_COMM_WORLD, plugOptions + " -scalar_critical_moisture 0.1", dir + "/plug_falling", &falling));
+      RCFD_CHECK(falling.account[2] > 0.0 && falling.account[2] < 0.5 * dried);
+      RCFD_CHECK_CLOSE((scalarTotal(falling, 1) + falling.account[2]) / falling.account[0], 1.0, 1e-12);
+      RCFD_CHECK_CLOSE(falling.account[5] / falling.account[3], 1.0, 1e-12);
     }
 
     // The ranks of the test equal one rank to 1e-12 (granulator, spray and dry, plug-flow gas).

@@ -10,17 +10,21 @@
 //  - a first-order decay's total is exp(-k t) times its start, to 1e-12;
 //  - the run on the ranks of the test equals the same run on one rank
 //    (PETSC_COMM_SELF) to 1e-12, masses and amounts (as rcfd's masses do);
+//  - profiles.csv and halves.csv gain each scalar's value per layer and per
+//    class and half (the uniform one's 300, the zone's scalar_profiles.csv's);
 //  - a run restarted from its mid-run checkpoint ends with the same bits, and
-//    writes the same scalars.csv, byte for byte;
+//    writes the same scalars.csv, profiles.csv and halves.csv, byte for byte;
 //  - initial values from a file (a value per cell and fraction) give amount =
 //    mass x value exactly;
-//  - an operator that does not carry scalars, a negative or NaN initial value
+//  - a negative or NaN initial value
 //    (given or in a file), a file of another shape are refused with one sentence.
 // Runs at 1 and 2 ranks.  usage: test_scalars DIR -db SMALL.h5 [run options]
 #include "check.hpp"
 #include "scoped_options.hpp"
 #include "state_access.hpp"
+#include "scalar_run.hpp"
 #include "base/petsc_compat.hpp"
+#include "base/csv.hpp"
 #include "base/h5.hpp"
 #include "rcfd/run.hpp"
 
@@ -40,40 +44,56 @@ const std::string kScalars =
     " -zones hot -zone_hot_layers 0,3 -scalar_moisture_zones hot -scalar_moisture_zone_values 0.4"
     " -scalar_tracer_initial 2 -scalar_tracer_decay 1.7 -pipeline shift,drift,dispersion,carry"
     " -dispersion_coefficient 2e-4 -path_type random"
-    " -path_seed 5 -monitor_digits 17";
+    " -path_seed 5 -monitor_digits 17 -profiles -halves -halves_split 0.1 -scalar_profiles";
 
-struct Outcome {
-  std::vector<double> masses, amounts; // natural order
-  std::vector<double> initialMass;     // per fraction
-  int jumps = 0;
-  std::vector<std::string> labels; // of the fractions
-};
+using Outcome = test::ScalarOutcome;
+using test::fileBytes;
 
 PetscErrorCode runCase(MPI_Comm comm, const std::string &options, const std::string &dir, Outcome *out,
                        bool fields = false) {
-  PetscFunctionBeginUser;
-  ScopedOptions scoped(options + " -output_dir " + dir);
-  const OperatorRegistry registry = OperatorRegistry::withBuiltins();
-  Run run(comm, registry);
-  PetscCall(run.setFromOptions());
-  run.setQuiet(true);
-  run.keepHistory(true);
-  run.setWriteFields(fields);
-  PetscCall(run.setUp());
-  PetscCall(run.state().totals(&out->initialMass));
-  PetscCall(run.solve());
-  const int nf = run.state().numFractions(), na = nf * run.state().numScalars();
-  out->masses = test::gatherNatural(run.database(), run.state().masses(), nf);
-  out->amounts = test::gatherNatural(run.database(), run.state().amounts(), na);
-  const std::vector<int> &frames = run.framesUsed();
-  for (std::size_t k = 1; k < frames.size(); ++k) out->jumps += frames[k] != frames[k - 1] + 1;
-  for (int i = 0; i < nf; ++i) out->labels.push_back(run.fractions().label(i));
-  PetscFunctionReturn(PETSC_SUCCESS);
+  return test::runScalarCaseWith(comm, OperatorRegistry::withBuiltins(), options, dir, out, fields);
 }
 
-std::string fileBytes(const std::string &path) {
-  std::ifstream in(path, std::ios::binary);
-  return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+/// profiles.csv and halves.csv (rank 0): each scalar's value per layer and per half, mass-weighted over
+/// the classes and the window: the uniform temperature 300 wherever there is solid (NaN elsewhere),
+/// the moisture per layer scalar_profiles.csv's moisture_all, and per class and half the mass-weighted
+/// mean of scalar_profiles.csv's values per layer below and above the split (z <= 0.1 m), to the
+/// digits the files hold (9).
+void checkProfilesAndHalves(const std::string &dir, const std::vector<std::string> &labels) {
+  const csv::Table profiles = csv::Table::read(dir + "/profiles.csv"),
+                   halves = csv::Table::read(dir + "/halves.csv"),
+                   scalar = csv::Table::read(dir + "/scalar_profiles.csv");
+  RCFD_CHECK(profiles.columns().back() == "tracer" && profiles.find({"alpha_total"}) + 4 ==
+                                                          static_cast<int>(profiles.columns().size()));
+  RCFD_CHECK(profiles.numRows() == scalar.numRows());
+  int solid = 0, wrong = 0;
+  for (std::size_t r = 0; r < profiles.numRows(); ++r) {
+    const double T = profiles.numberOrNan(r, profiles.find({"temperature"}));
+    const double X = profiles.numberOrNan(r, profiles.find({"moisture"}));
+    const double all = scalar.numberOrNan(r, scalar.find({"moisture_all"}));
+    if (!(profiles.number(r, profiles.find({"alpha_total"})) > 0.0)) {
+      wrong += !std::isnan(T);
+      continue;
+    }
+    ++solid;
+    wrong += !(std::fabs(T / 300.0 - 1.0) < 1e-9) || !(std::fabs(X / all - 1.0) < 1e-8);
+  }
+  RCFD_CHECK(solid >= 5 && wrong == 0);
+  for (std::size_t c = 0; c < labels.size(); ++c) {
+    double mass[2] = {0.0, 0.0}, amount[2] = {0.0, 0.0}; // bottom, top
+    for (std::size_t r = 0; r < scalar.numRows(); ++r) {
+      const double m = scalar.number(r, scalar.find({"mass_" + labels[c]}));
+      if (!(m > 0.0)) continue;
+      const int half = scalar.number(r, 0) <= 0.1 ? 0 : 1;
+      mass[half] += m;
+      amount[half] += m * scalar.number(r, scalar.find({"moisture_" + labels[c]}));
+    }
+    RCFD_CHECK(halves.field(c, 0) == labels[c]);
+    RCFD_CHECK_CLOSE(halves.number(c, halves.find({"bottom_moisture"})) / (amount[0] / mass[0]), 1.0, 1e-8);
+    RCFD_CHECK_CLOSE(halves.number(c, halves.find({"top_moisture"})) / (amount[1] / mass[1]), 1.0, 1e-8);
+    RCFD_CHECK(halves.number(c, halves.find({"bottom_moisture"})) > 0.15); // the wet zone is at the bottom
+    RCFD_CHECK(halves.number(c, halves.find({"top_temperature"})) == 300.0);
+  }
 }
 
 } // namespace
@@ -92,34 +112,9 @@ int main(int argc, char **argv) {
     RCFD_CHECK(all.jumps >= 5);
     RCFD_CHECK(all.amounts.size() == cells * w);
 
-    // Uniform stays uniform; the zone's values stay within their bounds; no negative amount.
-    double worstUniform = 0.0, lowMoisture = 1e300, highMoisture = -1e300, lowest = 0.0;
-    std::vector<double> total(w, 0.0), mass(nf, 0.0);
-    for (std::size_t c = 0; c < cells; ++c)
-      for (int i = 0; i < nf; ++i) {
-        const double m = all.masses[c * nf + i];
-        mass[i] += m;
-        for (int s = 0; s < ns; ++s) {
-          const double a = all.amounts[c * w + s * nf + i];
-          total[s * nf + i] += a;
-          lowest = std::fmin(lowest, a);
-        }
-        if (!(m > 1e-12 * all.initialMass[i])) continue; // a trace: its value is round-off over round-off
-        worstUniform = std::fmax(worstUniform, std::fabs(all.amounts[c * w + i] / m / 300.0 - 1.0));
-        const double moisture = all.amounts[c * w + nf + i] / m;
-        lowMoisture = std::fmin(lowMoisture, moisture);
-        highMoisture = std::fmax(highMoisture, moisture);
-      }
-    RCFD_CHECK_CLOSE(worstUniform, 0.0, 1e-12);
-    RCFD_CHECK(lowest >= 0.0);
-    RCFD_CHECK(lowMoisture >= 0.1 * (1.0 - 1e-12) && highMoisture <= 0.4 * (1.0 + 1e-12));
-    RCFD_CHECK(highMoisture - lowMoisture > 0.01); // the hot zone is not mixed away: the bound is tested
-    for (int i = 0; i < nf; ++i) {
-      RCFD_CHECK_CLOSE(total[i] / (300.0 * all.initialMass[i]), 1.0, 1e-12);
-      // The tracer: 2 x mass at the start, times exp(-k t).
-      RCFD_CHECK_CLOSE(total[2 * nf + i] / (2.0 * all.initialMass[i]), std::exp(-kDecay * kT), 1e-12);
-      RCFD_CHECK_CLOSE(total[2 * nf + i] / (2.0 * all.initialMass[i] * std::exp(-kDecay * kT)), 1.0, 1e-12);
-    }
+    // Uniform stays uniform; the zone's values stay within their bounds; no negative amount; totals kept
+    // (the tracer's: 2 x mass at the start, times exp(-k t)).
+    test::checkScalarsCarried(all, kT, kDecay, true, "stitched");
 
     // The last field file: the uniform scalar's value per fraction and cell is
     // 300 where the fraction has mass (NaN elsewhere), the zone's within its bounds.
@@ -141,14 +136,7 @@ int main(int argc, char **argv) {
     // ledgers', the drift's limits) round in another order.
     Outcome alone;
     PetscCall(runCase(PETSC_COMM_SELF, opts, dir + "/alone" + std::to_string(rank), &alone));
-    double worstRanks = 0.0;
-    for (std::size_t k = 0; k < all.amounts.size(); ++k)
-      worstRanks = std::fmax(worstRanks, std::fabs(alone.amounts[k] - all.amounts[k]) /
-                                             std::fmax(1e-300, std::fabs(all.amounts[k])));
-    for (std::size_t k = 0; k < all.masses.size(); ++k)
-      if (all.masses[k] > 1e-12 * all.initialMass[k % nf]) // traces: round-off over round-off
-        worstRanks = std::fmax(worstRanks, std::fabs(alone.masses[k] / all.masses[k] - 1.0));
-    RCFD_CHECK_CLOSE(worstRanks, 0.0, 1e-12);
+    RCFD_CHECK_CLOSE(test::largestDifference(alone, all), 0.0, 1e-12);
 
     // Restarted at half time: the same bits and the same scalars.csv.
     Outcome first, second;
@@ -157,10 +145,12 @@ int main(int argc, char **argv) {
     PetscCall(runCase(PETSC_COMM_WORLD, opts + " -restart " + dir + "/first/checkpoint.h5", dir + "/first", &second));
     RCFD_CHECK(second.masses == all.masses);
     RCFD_CHECK(second.amounts == all.amounts);
-    if (rank == 0) {
-      const std::string a = fileBytes(dir + "/all/scalars.csv"), b = fileBytes(dir + "/first/scalars.csv");
-      RCFD_CHECK(!a.empty() && a == b);
-    }
+    if (rank == 0)
+      for (const std::string name : {"scalars.csv", "profiles.csv", "halves.csv"}) {
+        const std::string a = fileBytes(dir + "/all/" + name), b = fileBytes(dir + "/first/" + name);
+        RCFD_CHECK(!a.empty() && a == b);
+      }
+    if (rank == 0) checkProfilesAndHalves(dir + "/all", all.labels);
 
     auto refused = [&](const std::string &more, const std::string &sentence) {
       ErrorCapture capture;
@@ -217,7 +207,6 @@ int main(int argc, char **argv) {
             "-feed_scalar_temperature is not given; the feed needs the value of every scalar it brings");
     refused(" -restart " + dir + "/first/checkpoint.h5 -scalar_tracer_decay 1",
             "continues a run made with other scalars or scalar options");
-    refused(" -carry_type remap", "-scalars: the operator 'carry' of -pipeline does not carry scalars yet");
     refused(" -scalar_temperature_initial -1", "-scalar_temperature_initial");
     refused(" -scalar_temperature_initial nan", "-scalar_temperature_initial");
     refused(" -scalar_moisture_zone_values -0.5", "-scalar_moisture_zone_values");

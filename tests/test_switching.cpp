@@ -14,6 +14,7 @@
 #include "base/petsc_compat.hpp"
 #include "scoped_options.hpp"
 #include "state_access.hpp"
+#include "synthetic_beds.hpp"
 
 #include "base/csv.hpp"
 #include "base/h5.hpp"
@@ -28,30 +29,9 @@
 #include <map>
 
 using namespace rcfd;
+using rcfd::test::writeBed;
 
 namespace {
-
-void writeBed(const std::string &path, int nz, double rate, std::uint64_t seed, int frames = 12,
-              const OperatingConditions &recorded = {}) {
-  int rank;
-  MPI_Comm_rank(PETSC_COMM_WORLD, &rank);
-  if (rank == 0) {
-    SyntheticBedOptions o;
-    o.box.nx = 10;
-    o.box.ny = 2;
-    o.box.nz = nz;
-    o.numFrames = frames;
-    o.warmUpTime = 0.1;
-    o.nucleationRate = rate;
-    o.seed = seed;
-    DatabaseMetadata metadata;
-    metadata.conditions = recorded;
-    DatabaseFileWriter w(path, rcfd::test::boxMesh(o.box), metadata);
-    generateSyntheticBed(o, [&](const FrameRecord &f) { w.append(f); });
-    w.finish();
-  }
-  MPI_Barrier(PETSC_COMM_WORLD);
-}
 
 /// max over cells of |column sum - 1| of T, and of |T m_k - m_{k+1}| / max(m) with m = alpha V.
 PetscErrorCode frameErrors(const Database &db, int k, double *column, double *consistency) {

@@ -44,7 +44,7 @@ public:
   bool needed(const RunContext &ctx) const override;
   PetscErrorCode apply(const StepInfo &step, FractionState &state) override;
   PetscErrorCode view(PetscViewer viewer) const override;
-  /// Whether its kind carries the scalars (the column kind does).
+  /// Whether its kind carries the scalars (the built-in kinds do).
   bool carriesScalars() const override { return kind && kind->carriesScalars(); }
   /// Collective on `comm`.  Chooses the kind by name, before setUp
   /// (setFromOptions reads -carry_type over it).

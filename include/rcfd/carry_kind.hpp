@@ -17,12 +17,15 @@
 namespace rcfd {
 
 /// What a carry kind works with: the case, and the carry operator's face
-/// exchange over all internal faces.
+/// exchange over all internal faces.  With scalars (docs/scalars.md), a second
+/// exchange over the same faces for the state's ns x nf amounts per cell (its
+/// gathered cells numbered as `exchange`'s); null without scalars.
 struct CarryContext {
   const Database &db;
   FaceExchange &exchange;
   double solidDensity; // [kg/m^3]
   int numFractions;
+  FaceExchange *amountExchange = nullptr;
 };
 
 class CarryKind {

@@ -35,7 +35,9 @@ AnswerFile answerFileKind(const CsvTable &t) {
                                   std::vector<std::string>{"class", "diameter", "bottom_mass_fraction",
                                                            "top_mass_fraction"}.begin()))
     return AnswerFile::halves;
-  if (!c.empty() && c.front() == "z" && c.back() == "alpha_total") return AnswerFile::profiles;
+  // Profiles: z, the classes' alpha, alpha_total; the scalars' columns after it are read past.
+  if (!c.empty() && c.front() == "z" && std::find(c.begin(), c.end(), "alpha_total") != c.end())
+    return AnswerFile::profiles;
   if (t.find({"delta_z_cog_m"}) >= 0 && t.find({"mean_z_cog_m"}) >= 0) return AnswerFile::bedDynamics;
   if (t.find({"time_s", "time"}) >= 0) {
     if (t.find({"d32_bottom_m", "d32_bottom_m_mean"}) >= 0) return AnswerFile::bottomLayer;

@@ -9,7 +9,10 @@
 
 namespace rcfd {
 ProfileTable readProfiles(const CsvTable &table) {
-  const auto &c = table.columns();
+  // The columns up to alpha_total; a run's scalars follow it (docs/scalars.md) and are not compared.
+  const auto &all = table.columns();
+  const auto total = std::find(all.begin(), all.end(), "alpha_total");
+  const std::vector<std::string> c(all.begin(), total == all.end() ? all.end() : total + 1);
   ProfileTable p{table.path(), {}, {}, {}, {}};
   bool ok = c.size() >= 2 && c.front() == "z" && c.back() == "alpha_total";
   for (std::size_t i = 1; ok && i + 1 < c.size(); ++i)

@@ -12,6 +12,7 @@ namespace {
 /// Whether every cell of the graph (CSR: degree as row starts) reaches cell 0.
 bool connected(const std::vector<idx_t> &start, const std::vector<idx_t> &adjacency) {
   const idx_t n = static_cast<idx_t>(start.size()) - 1;
+  if (n <= 0) return true;
   std::vector<char> seen(n, 0);
   std::vector<idx_t> queue(1, 0);
   seen[0] = 1;

@@ -40,6 +40,18 @@ PetscErrorCode LayerSampler::masses(const MonitorContext &ctx, const std::vector
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
+PetscErrorCode LayerSampler::amounts(const MonitorContext &ctx, const std::vector<double> **perLayer) {
+  PetscFunctionBeginUser;
+  if (ctx.step != cachedAmountStep || ctx.time != cachedAmountTime) {
+    const int na = ctx.state.numScalars() * ctx.state.numFractions();
+    PetscCall(layers.fractionMasses(ctx.state.amounts(), na, &cachedAmounts));
+    cachedAmountStep = ctx.step;
+    cachedAmountTime = ctx.time;
+  }
+  *perLayer = &cachedAmounts;
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
 namespace {
 
 /// Reads "t0,t1" into a window; refuses other counts and t0 > t1.
@@ -95,6 +107,10 @@ PetscErrorCode Answers::setFromOptions(MPI_Comm c) {
   PetscCall(checkedReal(PetscOptionsObject, "-moisture_warning_umf_share",
                         "Near de-fluidization for the moisture warning: u_mf of the bottom layer at least this share "
                         "of u_sup", &moistureUmfShare, kPositive));
+  PetscCall(checkedReal(PetscOptionsObject, "-moisture_umf_coefficient",
+                        "kappa of the bottom layer's u_mf raised by its moisture X (a scalar named moisture): "
+                        "u_mf (1 + kappa X), fitted to the material (0: u_mf by size alone)", &moistureUmf,
+                        kNonNegative));
   PetscCall(PetscOptionsString("-umf_correlation", "Minimum fluidization correlation", "", correlation.c_str(),
                                text, sizeof text, &set));
   if (set) correlation = text;
@@ -161,6 +177,7 @@ PetscErrorCode Answers::createMonitors(const RunContext &run, double tEnd, bool 
   {
     auto monitor = std::make_unique<BottomLayerMonitor>(sampler, fluidization_, &zones, quiet);
     monitor->setMoistureWarning(moistureWarning, moistureUmfShare);
+    monitor->setMoistureUmf(moistureUmf);
     out->push_back({std::move(monitor), every, "bottom.csv"});
   }
   }

@@ -49,17 +49,21 @@ public:
   const HorizontalLayers &geometry() const { return layers; }
   /// Collective: [l * nf + i], the same on every rank.
   PetscErrorCode masses(const MonitorContext &ctx, const std::vector<double> **perLayer);
+  /// Collective, with scalars (docs/scalars.md): their amounts per layer,
+  /// [(l * ns + s) * nf + i], the same on every rank (a pass and a reduction per step).
+  PetscErrorCode amounts(const MonitorContext &ctx, const std::vector<double> **perLayer);
 
 private:
   HorizontalLayers layers;
-  long cachedStep = -1;
-  double cachedTime = 0.0;
-  std::vector<double> cached;
+  long cachedStep = -1, cachedAmountStep = -1;
+  double cachedTime = 0.0, cachedAmountTime = 0.0;
+  std::vector<double> cached, cachedAmounts;
 };
 
 /// profiles.csv: the window mean of each fraction's volume fraction per cell
 /// layer (its mass / (rho_p V_layer)) and their sum alpha_total, in the layout
-/// of rcfd reference's profiles.csv.
+/// of rcfd reference's profiles.csv; with scalars, then a column per scalar:
+/// its value in the layer, mass-weighted over the classes and the window.
 class ProfilesMonitor final : public Monitor {
 public:
   ProfilesMonitor(std::shared_ptr<LayerSampler> sampler, TimeWindow window)
@@ -79,11 +83,15 @@ private:
   std::string path;
   double count = 0.0;       // samples in the window
   std::vector<double> sums; // [l * nf + i] summed masses [kg]
+  std::vector<std::string> scalars; // their names; none without -scalars
+  std::vector<double> amountSums;   // [l * ns + s] summed over the classes
 };
 
 /// halves.csv: the window mean of each class's mass fraction in the bottom
 /// half (layers up to the split) and the top half, with d_i / d32 of the
 /// inventory; the layout of rcfd reference's halves.csv plus that column.
+/// With scalars, then per scalar the class's value in the bottom and the top
+/// half (bottom_NAME, top_NAME), mass-weighted over the window.
 class HalvesMonitor final : public Monitor {
 public:
   /// splitHeight NaN: split at the mass-median layer of each sample.
@@ -105,6 +113,9 @@ private:
   std::string path;
   double count = 0.0;
   std::vector<double> bottomSum, topSum;
+  std::vector<std::string> scalars; // their names; none without -scalars
+  // With scalars: each half's summed masses [i] and amounts [s * nf + i].
+  std::vector<double> bottomMass, topMass, bottomAmount, topAmount;
 };
 
 /// bottom.csv: time_s,d32_bottom_m,umf_m_s,usup_m_s,defluidized[,d32_<zone>_m...]
@@ -139,6 +150,10 @@ public:
   /// is printed once when it passes `threshold` (> 0) while u_mf of the bottom
   /// layer is at least `umfShare` of u_sup (near de-fluidization by size).
   void setMoistureWarning(double threshold, double umfShare) { wetThreshold = threshold, nearShare = umfShare; }
+  /// With a scalar named moisture and kappa > 0 (docs/scalars.md, "Wet bottom"): the bottom layer's
+  /// u_mf raised by its moisture X, u_mf,wet = u_mf (1 + kappa X); bottom.csv gains umf_wet_m_s and
+  /// the de-fluidization flag and warning use it (u_mf by size stays in umf_m_s).
+  void setMoistureUmf(double kappa) { wetUmf = kappa; }
   /// Time of the moisture warning [s] (NaN: not given).
   double wetSince() const { return wetTime; }
   /// Its threshold [kg/kg] and u_mf's share of u_sup (0: no warning).
@@ -148,6 +163,7 @@ public:
 private:
   int moisture = -1, ns = 0; // the moisture's column among the scalars, their number
   double wetThreshold = 0.0, nearShare = 0.8, wetTime = std::numeric_limits<double>::quiet_NaN();
+  double wetUmf = 0.0; // kappa of u_mf (1 + kappa X); 0: u_mf by size alone
   std::shared_ptr<LayerSampler> sampler;
   FluidizationModel model; // the case's conditions (NaN: the database's in use) and correlation
   DefluidizationDetector detector;
@@ -249,6 +265,7 @@ private:
   MPI_Comm comm = MPI_COMM_NULL;
   PetscInt every = 1;
   double moistureWarning = 0.0, moistureUmfShare = 0.8; // -moisture_warning, -moisture_warning_umf_share
+  double moistureUmf = 0.0;                              // -moisture_umf_coefficient
   PetscBool profiles = PETSC_FALSE, halves = PETSC_FALSE, bottom = PETSC_FALSE, mixing = PETSC_FALSE,
             dynamics = PETSC_FALSE;
   TimeWindow profilesWindow, halvesWindow;

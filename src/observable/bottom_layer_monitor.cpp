@@ -25,6 +25,10 @@ PetscErrorCode BottomLayerMonitor::setUp(const RunContext &run, const FractionSt
   for (int s = 0; run.scalarNames && s < ns; ++s)
     if ((*run.scalarNames)[s] == "moisture") moisture = s;
   if (moisture >= 0) header += ",moisture_bottom";
+  PetscCheck(wetUmf == 0.0 || moisture >= 0, comm, PETSC_ERR_USER_INPUT,
+             "-moisture_umf_coefficient needs a scalar named moisture in -scalars (the bottom layer's moisture "
+             "raises its u_mf)");
+  if (wetUmf > 0.0) header += ",umf_wet_m_s";
   csv = std::make_unique<CsvSeries>(comm, dir + "/bottom.csv", header);
   PetscFunctionReturn(PETSC_SUCCESS);
 }
@@ -48,12 +52,30 @@ PetscErrorCode BottomLayerMonitor::sample(const MonitorContext &ctx) {
     PetscCall(collectively(
         PETSC_COMM_SELF, [&] { umf = model.minFluidizationVelocity(d32, rhoP, now, gravity); },
         PETSC_ERR_USER_INPUT));
-  if (detector.update(ctx.time, umf))
-    PetscCall(PetscPrintf(comm,
-                          "WARNING: de-fluidization at t = %.6g s: u_mf of the bottom layer (d32 = %.4g mm, %s) "
-                          "= %.4g m/s reached the superficial velocity %.4g m/s\n",
-                          ctx.time, 1e3 * d32, model.correlation.name.c_str(), umf, detector.superficialVelocity()));
-  std::vector<double> row{ctx.time, d32, umf, detector.superficialVelocity(), umf >= detector.superficialVelocity() ? 1.0 : 0.0};
+  // The bottom layer's moisture amount over its solid (a scalar named moisture); with -moisture_umf_coefficient
+  // it raises u_mf: the flag and the warning follow u_mf,wet = u_mf (1 + kappa X).
+  double wet = std::numeric_limits<double>::quiet_NaN(), limit = umf;
+  if (moisture >= 0) {
+    std::vector<double> amounts;
+    PetscCall(sampler->geometry().layerAmounts(ctx.state, 0, &amounts));
+    double water = 0.0, solid = 0.0;
+    for (int i = 0; i < nf; ++i) water += amounts[moisture * nf + i], solid += (*perLayer)[i];
+    if (solid > 0.0) wet = water / solid;
+    if (wetUmf > 0.0) limit = umf * (1.0 + wetUmf * wet);
+  }
+  if (detector.update(ctx.time, limit)) {
+    if (wetUmf > 0.0)
+      PetscCall(PetscPrintf(comm,
+                            "WARNING: de-fluidization at t = %.6g s: u_mf of the bottom layer (d32 = %.4g mm, %s; "
+                            "raised by its moisture %.4g kg/kg to %.4g m/s) reached the superficial velocity %.4g m/s\n",
+                            ctx.time, 1e3 * d32, model.correlation.name.c_str(), wet, limit, detector.superficialVelocity()));
+    else
+      PetscCall(PetscPrintf(comm,
+                            "WARNING: de-fluidization at t = %.6g s: u_mf of the bottom layer (d32 = %.4g mm, %s) "
+                            "= %.4g m/s reached the superficial velocity %.4g m/s\n",
+                            ctx.time, 1e3 * d32, model.correlation.name.c_str(), umf, detector.superficialVelocity()));
+  }
+  std::vector<double> row{ctx.time, d32, umf, detector.superficialVelocity(), limit >= detector.superficialVelocity() ? 1.0 : 0.0};
   latest = row;
   if (!zones->all().empty()) { // each zone's mass per fraction, one reduction for all zones
     std::vector<double> local(zones->all().size() * nf, 0.0), global(local.size());
@@ -67,13 +89,9 @@ PetscErrorCode BottomLayerMonitor::sample(const MonitorContext &ctx) {
     for (std::size_t z = 0; z < zones->all().size(); ++z) // a zone is one "layer" of nf masses
       row.push_back(layers::sauterDiameter(global, static_cast<int>(z), *fractions));
   }
-  if (moisture >= 0) { // the bottom layer's moisture amount over its solid
-    std::vector<double> amounts;
-    PetscCall(sampler->geometry().layerAmounts(ctx.state, 0, &amounts));
-    double water = 0.0, solid = 0.0;
-    for (int i = 0; i < nf; ++i) water += amounts[moisture * nf + i], solid += (*perLayer)[i];
-    const double wet = solid > 0.0 ? water / solid : std::numeric_limits<double>::quiet_NaN();
+  if (moisture >= 0) {
     row.push_back(wet);
+    if (wetUmf > 0.0) row.push_back(limit);
     if (wetThreshold > 0.0 && std::isnan(wetTime) && wet > wetThreshold &&
         umf >= nearShare * detector.superficialVelocity()) {
       wetTime = ctx.time;

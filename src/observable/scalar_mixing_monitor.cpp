@@ -61,10 +61,10 @@ PetscErrorCode ScalarMixingMonitor::sample(const MonitorContext &ctx) {
   if (ctx.last)
     for (int s = 0; s < ns; ++s) {
       if (std::isfinite(since[s]))
-        PetscCall(PetscPrintf(comm, "  %s: mixed within %.0f %% of its starting contrast from t = %.6g s "
+        PetscCall(PetscPrintf(comm, "  %s: mixed within %.3g %% of its starting contrast from t = %.6g s "
                                     "(scalar_mixing.csv)\n", names[s].c_str(), 100 * tolerance, since[s]));
       else
-        PetscCall(PetscPrintf(comm, "  %s: not mixed within %.0f %% at the end (spread %.4g of its starting "
+        PetscCall(PetscPrintf(comm, "  %s: not mixed within %.3g %% at the end (spread %.4g of its starting "
                                     "contrast; scalar_mixing.csv)\n", names[s].c_str(), 100 * tolerance, row[1 + s]));
     }
   PetscFunctionReturn(PETSC_SUCCESS);

@@ -42,6 +42,8 @@ PetscErrorCode ProfilesMonitor::setUp(const RunContext &run, const FractionState
   rho = run.solidDensity;
   path = dir + "/profiles.csv";
   sums.assign(static_cast<std::size_t>(sampler->geometry().numLayers()) * fractions->size(), 0.0);
+  scalars = run.scalarNames ? *run.scalarNames : std::vector<std::string>{};
+  amountSums.assign(static_cast<std::size_t>(sampler->geometry().numLayers()) * scalars.size(), 0.0);
   count = 0.0;
   PetscFunctionReturn(PETSC_SUCCESS);
 }
@@ -52,6 +54,13 @@ PetscErrorCode ProfilesMonitor::sample(const MonitorContext &ctx) {
   const std::vector<double> *perLayer;
   PetscCall(sampler->masses(ctx, &perLayer));
   for (std::size_t k = 0; k < sums.size(); ++k) sums[k] += (*perLayer)[k];
+  if (!scalars.empty()) {
+    const std::vector<double> *amounts;
+    PetscCall(sampler->amounts(ctx, &amounts));
+    const std::size_t nf = fractions->size();
+    for (std::size_t k = 0; k < amountSums.size(); ++k) // k = l * ns + s
+      for (std::size_t i = 0; i < nf; ++i) amountSums[k] += (*amounts)[k * nf + i];
+  }
   count += 1.0;
   PetscFunctionReturn(PETSC_SUCCESS);
 }
@@ -70,16 +79,22 @@ PetscErrorCode ProfilesMonitor::flush() {
                 count, window.begin, window.end);
   std::string text = line;
   for (int i = 0; i < nf; ++i) text += ",alpha_" + fractions->label(i);
-  text += ",alpha_total\n";
+  text += ",alpha_total";
+  for (const std::string &name : scalars) text += "," + name; // mass-weighted over the classes and the window
+  text += "\n";
+  const std::size_t ns = scalars.size();
   for (int l = 0; l < g.numLayers(); ++l) {
     text += formatNumber(g.height(l));
-    double total = 0.0;
+    double total = 0.0, mass = 0.0;
     for (int i = 0; i < nf; ++i) {
       const double alpha = sums[static_cast<std::size_t>(l) * nf + i] / count / (rho * g.volume(l));
       total += alpha;
+      mass += sums[static_cast<std::size_t>(l) * nf + i];
       text += "," + formatNumber(alpha);
     }
-    text += "," + formatNumber(total) + "\n";
+    text += "," + formatNumber(total);
+    for (std::size_t s = 0; s < ns; ++s) text += "," + formatNumber(mass > 0.0 ? amountSums[l * ns + s] / mass : std::nan(""));
+    text += "\n";
   }
   PetscCall(writeFileAtomically(path, text));
   PetscFunctionReturn(PETSC_SUCCESS);
@@ -88,11 +103,12 @@ PetscErrorCode ProfilesMonitor::flush() {
 std::vector<double> ProfilesMonitor::saveState() const {
   std::vector<double> state{count};
   state.insert(state.end(), sums.begin(), sums.end());
+  state.insert(state.end(), amountSums.begin(), amountSums.end()); // none without scalars
   return state;
 }
 
 PetscErrorCode ProfilesMonitor::restoreState(const std::vector<double> &state) {
-  return restoreSums(state, "profiles.csv", &count, {&sums});
+  return restoreSums(state, "profiles.csv", &count, {&sums, &amountSums});
 }
 
 PetscErrorCode HalvesMonitor::setUp(const RunContext &run, const FractionState &, const std::string &dir) {
@@ -102,6 +118,12 @@ PetscErrorCode HalvesMonitor::setUp(const RunContext &run, const FractionState &
   path = dir + "/halves.csv";
   bottomSum.assign(fractions->size(), 0.0);
   topSum.assign(fractions->size(), 0.0);
+  scalars = run.scalarNames ? *run.scalarNames : std::vector<std::string>{};
+  const std::size_t withScalars = scalars.empty() ? 0 : fractions->size();
+  bottomMass.assign(withScalars, 0.0);
+  topMass.assign(withScalars, 0.0);
+  bottomAmount.assign(withScalars * scalars.size(), 0.0);
+  topAmount.assign(withScalars * scalars.size(), 0.0);
   count = 0.0;
   if (!std::isnan(splitHeight)) { // the last layer whose centre is at or below the height
     const HorizontalLayers &g = sampler->geometry();
@@ -131,6 +153,16 @@ PetscErrorCode HalvesMonitor::sample(const MonitorContext &ctx) {
     if (std::isfinite(bottom[i])) bottomSum[i] += bottom[i];
     if (std::isfinite(top[i])) topSum[i] += top[i];
   }
+  if (!scalars.empty()) { // the halves' masses and amounts, for the classes' values in each
+    const std::vector<double> *amounts;
+    PetscCall(sampler->amounts(ctx, &amounts));
+    const int na = static_cast<int>(scalars.size()) * nf, nl = static_cast<int>(perLayer->size()) / nf;
+    for (int l = 0; l < nl; ++l) {
+      const bool low = l <= split;
+      for (int i = 0; i < nf; ++i) (low ? bottomMass : topMass)[i] += (*perLayer)[l * nf + i];
+      for (int k = 0; k < na; ++k) (low ? bottomAmount : topAmount)[k] += (*amounts)[l * na + k];
+    }
+  }
   count += 1.0;
   PetscFunctionReturn(PETSC_SUCCESS);
 }
@@ -147,11 +179,19 @@ PetscErrorCode HalvesMonitor::flush() {
                 "mean over %.0f samples in [%g, %g] s; diameter [m]; d_over_d32: diameter / inventory d32 = %.6g m\n",
                 std::isnan(splitHeight) ? "bed's mass-median layer" : "layer of -halves_split", count, window.begin,
                 window.end, d32);
-  std::string text = std::string(line) + "class,diameter,bottom_mass_fraction,top_mass_fraction,d_over_d32\n";
-  for (int i = 0; i < fractions->size(); ++i)
+  std::string text = std::string(line) + "class,diameter,bottom_mass_fraction,top_mass_fraction,d_over_d32";
+  for (const std::string &name : scalars) text += ",bottom_" + name + ",top_" + name; // mass-weighted, the window
+  text += "\n";
+  const int nf = fractions->size();
+  const auto value = [](double amount, double mass) { return formatNumber(mass > 0.0 ? amount / mass : std::nan("")); };
+  for (int i = 0; i < nf; ++i) {
     text += fractions->label(i) + "," + formatNumber(fractions->diameter(i)) + "," +
             formatNumber(bottomSum[i] / count) + "," + formatNumber(topSum[i] / count) + "," +
-            formatNumber(fractions->diameter(i) / d32) + "\n";
+            formatNumber(fractions->diameter(i) / d32);
+    for (std::size_t s = 0; s < scalars.size(); ++s)
+      text += "," + value(bottomAmount[s * nf + i], bottomMass[i]) + "," + value(topAmount[s * nf + i], topMass[i]);
+    text += "\n";
+  }
   PetscCall(writeFileAtomically(path, text));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
@@ -160,11 +200,13 @@ std::vector<double> HalvesMonitor::saveState() const {
   std::vector<double> state{count};
   state.insert(state.end(), bottomSum.begin(), bottomSum.end());
   state.insert(state.end(), topSum.begin(), topSum.end());
+  for (const auto *sum : {&bottomMass, &topMass, &bottomAmount, &topAmount}) // none without scalars
+    state.insert(state.end(), sum->begin(), sum->end());
   return state;
 }
 
 PetscErrorCode HalvesMonitor::restoreState(const std::vector<double> &state) {
-  return restoreSums(state, "halves.csv", &count, {&bottomSum, &topSum});
+  return restoreSums(state, "halves.csv", &count, {&bottomSum, &topSum, &bottomMass, &topMass, &bottomAmount, &topAmount});
 }
 
 PetscErrorCode ScalarProfilesMonitor::setUp(const RunContext &run, const FractionState &, const std::string &dir) {

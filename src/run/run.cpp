@@ -217,8 +217,6 @@ PetscErrorCode Run::setFromOptions() {
   PetscCall(r.forecast->setFromOptions(r.comm));
   r.status = std::make_unique<StatusMonitor>(r.live.enabled()); // on by default beside a process
   PetscCall(r.status->setFromOptions(r.comm));
-  PetscCheck(r.scalars.size() == 0 || !r.switching, r.comm, PETSC_ERR_USER_INPUT,
-             "-scalars cannot be carried across database switches yet; give one database with -db");
   // An operator's options per scalar, -<prefix>scalar_NAME (the feed's values), are read at its set-up,
   // where it learns the names; looked up now, so that the program's check of unused options knows them.
   for (const auto &op : r.ops.operators())
@@ -314,7 +312,7 @@ PetscErrorCode Run::setUp() {
   PetscCall(r.ops.setUp(ctx));
   for (const auto &op : r.ops.operators())
     PetscCheck(r.scalars.size() == 0 || op->carriesScalars(), r.comm, PETSC_ERR_USER_INPUT,
-               "-scalars: the operator '%s' of -pipeline does not carry scalars yet (shift, drift, dispersion, the column "
+               "-scalars: the operator '%s' of -pipeline does not carry scalars yet (shift, drift, dispersion, the "
                "carry, growth, feed and discharge do); run without -scalars or without '%s'", op->type().c_str(), op->type().c_str());
   PetscCall(r.path->setUp(PathContext{*r.db, r.quiet == PETSC_TRUE}));
   r.pathFrames = r.db->numFrames();

@@ -48,7 +48,10 @@ PetscErrorCode Run::Impl::switchTo(const SwitchDecision &target, int nextFrame, 
     PetscCall(ops.operators()[k]->restoreState(kept[k]));
   }
   switching->set().dropUnused(); // a blend's two databases
-  if (remap) { // the composition remap of a stitching jump, onto the new database's frame
+  // The scalars' sources hold the database (spray zone, layers, gas conditions): set up on the new one,
+  // their account kept.
+  if (scalars.size() > 0) PetscCall(scalars.setUp(*db, set, solidDensity));
+  if (remap) { // the composition remap of a stitching jump, onto the new database's frame (amounts with their masses)
     PetscCall(switchCarry->setUp(ctx));
     StepInfo jump;
     jump.jump = true;

@@ -53,6 +53,9 @@ PetscErrorCode ScalarSources::setFromOptions(MPI_Comm c, const std::vector<std::
   PetscCall(checkedReal(PetscOptionsObject, "-heat_of_evaporation",
                         "Heat of evaporation of the liquid [J/kg], taken from the temperature as it dries (0: none)",
                         &evaporation, nonNegative));
+  PetscCall(checkedReal(PetscOptionsObject, "-critical_moisture", "Critical moisture X_c [kg/kg]: below it the drying "
+                        "rate falls linearly to zero at zero moisture (0: the constant rate throughout)", &critical,
+                        nonNegative));
   PetscCall(PetscOptionsString("-gas_model", "The gas: inlet (well mixed at its inlet state) or plug (rising layer by "
                                "layer with its own energy and vapour balance)", "", gasKind, gasKind, sizeof gasKind, &set));
   PetscCall(checkedReal(PetscOptionsObject, "-gas_humidity", "The plug-flow gas's inlet humidity Y_in [kg vapour/kg gas]",
@@ -231,9 +234,13 @@ PetscErrorCode ScalarSources::apply(double dt, int frame, FractionState &state, 
         }
         if (!dries) continue;
         // The first drying period: beta rho_g (Y_s - Y_g) per unit surface, 6 m / (rho_s d) of it;
-        // it stops when the moisture is gone, never below zero.
-        const double wanted = beta * gasDensity * humidityDeficit * 6.0 * mass /
-                              (solidDensity * d) * dt;
+        // it stops when the moisture is gone, never below zero.  With X_c, the falling rate below it.
+        const double wanted =
+            critical > 0.0
+                ? mass * (a[c * w + moisture * nf + i] / mass -
+                          dryingRemains(a[c * w + moisture * nf + i] / mass,
+                                        beta * gasDensity * humidityDeficit * 6.0 / (solidDensity * d), dt, critical))
+                : beta * gasDensity * humidityDeficit * 6.0 * mass / (solidDensity * d) * dt;
         dry(wanted, i, &a[c * w], sums.data(), dried, evaporated);
       }
     }
@@ -263,6 +270,14 @@ PetscErrorCode ScalarSources::apply(double dt, int frame, FractionState &state, 
   totals[4] += *evaporated;
   change->assign(sums.begin(), sums.begin() + w);
   PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+double dryingRemains(double X, double rate, double dt, double critical) {
+  if (!(X > 0.0) || !(rate > 0.0)) return X;
+  const double above = X - critical; // kg/kg to dry at the constant rate
+  if (above >= rate * dt) return X - rate * dt;
+  const double rest = above > 0.0 ? dt - above / rate : dt; // the time below X_c
+  return std::min(X, critical) * std::exp(-rate * rest / critical);
 }
 
 void gas_layer::sweep(double inletT, double inletY, double heatFlow, double vapourFlow, const std::vector<double> &sums,
@@ -317,7 +332,8 @@ PetscErrorCode ScalarSources::applyPlug(double dt, int frame, PetscInt end, cons
       // than it holds, and the layer's gas sees exactly what the particles give (no cap after the sweep).
       // Continuous in X: a trace of moisture has a trace of conductance, the same on any number of ranks.
       q.Ys = gas_layer::saturationHumidity(q.T, pressure);
-      q.k = std::min(beta * gasDensity * surface * dt, static_cast<double>(a[c * w + moisture * nf + i]) / q.Ys);
+      const double X = a[c * w + moisture * nf + i] / mass, falling = critical > X ? X / critical : 1.0;
+      q.k = std::min(beta * gasDensity * surface * dt * falling, static_cast<double>(a[c * w + moisture * nf + i]) / q.Ys);
     }
     return q;
   };

@@ -44,6 +44,12 @@ void sweep(double inletT, double inletY, double heatFlow, double vapourFlow, con
 double saturationHumidity(double T, double pressure);
 } // namespace gas_layer
 
+/// Drying's two periods (docs/scalars.md, "Falling rate"): the moisture X [kg/kg] left after dt of
+/// drying at the constant rate r [kg/kg/s] while X > X_c and at r X / X_c below (falling linearly to
+/// zero at zero moisture): X - r dt, or X_c exp(-r (dt - t_1) / X_c) once it crosses X_c at
+/// t_1 = (X - X_c) / r, or X exp(-r dt / X_c) from below; exact for any dt, never below zero.
+double dryingRemains(double X, double rate, double dt, double critical);
+
 class ScalarSources {
 public:
   /// Collective.  Reads, for the scalars `names` (-scalars):
@@ -57,6 +63,8 @@ public:
   ///  -scalar_gas_conductivity, -scalar_gas_prandtl, -scalar_gas_schmidt, and the
   ///  solid's -scalar_solid_heat_capacity [J/kg/K] and the liquid's
   ///  -scalar_heat_of_evaporation [J/kg] (taken from the temperature as it dries);
+  ///  -scalar_critical_moisture X_c [kg/kg]: below it the drying rate falls linearly to zero at zero
+  ///   moisture (0, the default: the constant rate down to zero);
   ///  -scalar_gas_model inlet|plug: the gas well mixed at its inlet state, or rising layer by layer
   ///   with its own energy and vapour balance (-scalar_gas_humidity Y_in [kg/kg],
   ///   -scalar_gas_pressure [Pa]; drying toward the saturation humidity of water at the particle's
@@ -149,7 +157,7 @@ private:
   std::unique_ptr<Zone> sprayZone;
   Model model = Model::None;
   double h = 0.0, beta = 0.0, gasTemperature = 293.15, humidityDeficit = 0.0, conductivity = 0.026,
-         prandtl = 0.71, schmidt = 0.6, heatCapacity = 1000.0, evaporation = 0.0;
+         prandtl = 0.71, schmidt = 0.6, heatCapacity = 1000.0, evaporation = 0.0, critical = 0.0;
   double gasDensity = 1.2, viscosity = 1.5e-5, velocity = 1.1, solidDensity = 1440.0, gasHeatCapacity = 1005.0,
          capacityFlow = 0.0;
   std::vector<double> diameter;

@@ -54,7 +54,7 @@ bool CarryOperator::needed(const RunContext &) const { return kind && kind->need
 
 PetscErrorCode CarryOperator::apply(const StepInfo &step, FractionState &state) {
   PetscFunctionBeginUser;
-  const CarryContext ctx{database(), exchange(), rho, nf};
+  const CarryContext ctx{database(), exchange(), rho, nf, amountExchange()};
   PetscCall(kind->apply(ctx, step, state));
   PetscFunctionReturn(PETSC_SUCCESS);
 }

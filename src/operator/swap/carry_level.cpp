@@ -17,6 +17,7 @@ public:
   bool needed() const override { return sweeps > 0 || sweepsPerStep > 0; }
   PetscErrorCode apply(const CarryContext &ctx, const StepInfo &step, FractionState &state) override;
   PetscErrorCode view(PetscViewer viewer) const override;
+  bool carriesScalars() const override { return true; }
 
 private:
   PetscErrorCode sweep(const CarryContext &ctx, const std::vector<double> &targetAlpha,
@@ -56,7 +57,9 @@ PetscErrorCode LevelCarry::apply(const CarryContext &ctx, const StepInfo &step, 
 // with theta = 1 / (faces per cell), so no cell gives more than it has: each
 // fraction stays non-negative and each fraction's total is unchanged.  The
 // mismatch's L1 norm never grows, and it shrinks wherever excess and deficit
-// are neighbours.
+// are neighbours.  With scalars the moved mixture takes its sender's amounts
+// in the same share X / M as its masses (a moved mass keeps its value), so
+// every amount's total is kept too and values stay within their range.
 PetscErrorCode LevelCarry::sweep(const CarryContext &ctx, const std::vector<double> &targetAlpha,
                                  FractionState &state) {
   PetscFunctionBeginUser;
@@ -64,6 +67,14 @@ PetscErrorCode LevelCarry::sweep(const CarryContext &ctx, const std::vector<doub
   const int nf = ctx.numFractions;
   const double rho = ctx.solidDensity;
   const double theta = 1.0 / std::max(1, x.maxFacesPerCell());
+  FaceExchange *ax = state.numScalars() > 0 ? ctx.amountExchange : nullptr;
+  const int na = nf * state.numScalars();
+  PetscCheck(!ax == !(na > 0), ctx.db.layout().comm(), PETSC_ERR_ARG_WRONGSTATE,
+             "The level carry was set up without the state's scalars");
+  if (ax) {
+    PetscCall(ax->gatherBegin(state.amounts()));
+    PetscCall(ax->gatherEnd());
+  }
   PetscCall(x.sweep(state.masses(), [&] {
     for (const SwapFace &f : x.faces()) {
       const PetscScalar *mA = x.massAt(f.lower), *mB = x.massAt(f.upper);
@@ -84,8 +95,20 @@ PetscErrorCode LevelCarry::sweep(const CarryContext &ctx, const std::vector<doub
         dS[i] -= moved;
         dR[i] += moved;
       }
+      if (!ax) continue;
+      const PetscScalar *as = ax->massAt(fromA ? f.lower : f.upper);
+      PetscScalar *eS = ax->changeAt(fromA ? f.lower : f.upper), *eR = ax->changeAt(fromA ? f.upper : f.lower);
+      for (int k = 0; k < na; ++k) {
+        const double moved = X * as[k] / Msend;
+        eS[k] -= moved;
+        eR[k] += moved;
+      }
     }
   }));
+  if (ax) {
+    PetscCall(ax->endKernel());
+    PetscCall(ax->addChanges(state.amounts()));
+  }
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
