@@ -5,7 +5,8 @@
 # rule: a switch to b; to 1.2 m/s with the blend rule: the two blended at 0.5).  A live run that
 # follows the same u_sup over the same frames (the member's stitched path, recorded) ends with the
 # member's delta z to 1e-12 (relative), its bottom d32 and u_mf/u_sup to bottom.csv's 10 digits; the forecasting run's own
-# files are those of the run without forecasts; a forecast that holds 1.1 m/s stays on a (another delta z);
+# files are those of the run without forecasts; with scalars (spray, plug-flow gas) the member's bottom
+# moisture is the followed run's too; a forecast that holds 1.1 m/s stays on a (another delta z);
 # 2 ranks write 1 rank's forecast.csv.
 # usage: test_forecast_switching.sh RCFD CSV_COMPARE DATA_DIR SOURCE_DIR
 set -eu
@@ -49,6 +50,20 @@ for case in schedule:1.3 blend:1.2; do
     cmp -s "$work/plain-$rule/$f" "$work/fc-$rule/$f" && ok || fail "$rule: the forecasts changed the live run's $f"
   done
 done
+# With scalars (a spray into the bottom layers, Gunn's exchange with the plug-flow gas): the member's
+# switch carries them as the run's does, its bottom layer's moisture that of the followed run.
+scalars=(-zones spray -zone_spray_box 0,0.2,0,0.05,0,0.05 -scalars temperature,moisture -scalar_temperature_initial 300
+  -scalar_exchange_model gunn -scalar_gas_model plug -scalar_gas_humidity 0.005 -scalar_spray_rate 0.05
+  -scalar_gas_temperature 330)
+"$rcfd" run "${two[@]}" "${scalars[@]}" -db_switch_type schedule -live "$work/held.csv" -live_end 0.2 "${forecast[@]}" \
+  -forecast_schedule "$work/whatif-schedule.csv" -output_dir "$work/fc-scalars"
+"$rcfd" run "${two[@]}" "${scalars[@]}" -db_switch_type schedule -live "$work/follow-schedule.csv" -live_end 0.1 \
+  -path_type recorded -path_file "$work/member-path.txt" -output_dir "$work/follow-scalars"
+same "scalars: the member's delta z [mm] and bottom moisture against the followed run's" \
+  "$(awk -F, 'NR == 1 { for (i = 1; i <= NF; ++i) c[$i] = i } NR == 2 { printf "%.17g %.10g", $4 * 1e3, $c["moisture_bottom_mean"] }' \
+    "$work/fc-scalars/forecast.csv")" \
+  "$(awk -F, '!/^[#t]/ && $1 > 0.0999 && $1 < 0.1001 { printf "%.17g", $5 * 1e3 }' "$work/follow-scalars/cog.csv") \
+$(awk -F, '!/^[#t]/ && $1 > 0.0999 && $1 < 0.1001 { print $NF }' "$work/follow-scalars/bottom.csv")" 1e-12
 # Held, the member stays on a (the live file's 1.1 m/s): not the switched member's delta z.
 "$rcfd" run "${two[@]}" -db_switch_type schedule -live "$work/held.csv" -live_end 0.2 "${forecast[@]}" \
   -output_dir "$work/fc-held"

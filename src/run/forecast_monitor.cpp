@@ -206,14 +206,9 @@ PetscErrorCode ForecastMonitor::switchMember(const SwitchDecision &choice, int p
     PetscCall(ops.operators()[k]->setUp(on));
     PetscCall(ops.operators()[k]->restoreState(kept[k]));
   }
-  if (memberScalars) { // the sources on the new database, at the member's conditions
-    const ScalarSources &was = memberScalars->sources();
-    const double spray = was.sprayRateNow(), inlet = was.gasInletTemperature(), u = was.superficialVelocity();
-    PetscCall(setUpScalars(on));
-    memberScalars->sources().setSprayRate(spray);
-    memberScalars->sources().setGasTemperature(inlet);
-    memberScalars->sources().setSuperficialVelocity(u);
-  }
+  // The scalars' sources hold the database (spray zone, layers, gas): set up on the new one as the
+  // run's are (their rates kept; their u_sup follows the member's gas from its next step).
+  if (memberScalars) PetscCall(memberScalars->setUp(**db, run.fractions, run.solidDensity));
   if (!remap) {
     remap = std::make_unique<CarryOperator>();
     PetscCall(remap->setKind(comm, "remap"));
