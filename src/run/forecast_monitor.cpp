@@ -239,7 +239,8 @@ PetscErrorCode ForecastMonitor::member(const MonitorContext &ctx, int m, Outcome
     }
     PetscCall(memberOps->setFromOptions(comm));
     PetscCall(memberOps->setUp(run));
-    if (memberScalars && !fixedDatabase) PetscCall(setUpScalars(run)); // their sources on the database in use
+    if (memberScalars && !fixedDatabase) // their sources on the database in use
+      PetscCall(memberScalars->setUp(run.db, run.fractions, run.solidDensity));
   }
   Pipeline &ops = *memberOps;
   // The same options leave out the same operators at set-up: the run's and the member's lists match.
@@ -373,6 +374,7 @@ PetscErrorCode ForecastMonitor::sample(const MonitorContext &ctx) {
     product.resize(out.product.size());
     for (std::size_t k = 0; k < out.product.size(); ++k) product[k].push_back(out.product[k]);
   }
+  if (!fixedDatabase) memberOps.reset(); // made afresh by the next forecast's members, before the databases go
   loaded.clear(); // the databases members switched to: not held between forecasts
   ++issued;
   std::vector<double> row{ctx.time, horizon, static_cast<double>(members)};
