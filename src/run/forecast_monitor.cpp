@@ -376,6 +376,7 @@ PetscErrorCode ForecastMonitor::sample(const MonitorContext &ctx) {
   }
   if (!fixedDatabase) memberOps.reset(); // made afresh by the next forecast's members, before the databases go
   loaded.clear(); // the databases members switched to: not held between forecasts
+  if (switcher) switcher->set().dropUnused(); // the run holds only its own (docs/databases.md, "Memory")
   ++issued;
   std::vector<double> row{ctx.time, horizon, static_cast<double>(members)};
   int n;
@@ -438,6 +439,11 @@ PetscErrorCode ForecastMonitor::view(PetscViewer viewer) const {
                                    every, static_cast<int>(members), horizon, static_cast<int>(seed),
                                    scheduleFile.empty() ? "holding the latest conditions"
                                                         : ("what-if conditions of " + scheduleFile).c_str()));
+  if (memberScalars)
+    PetscCall(PetscViewerASCIIPrintf(viewer, "  the members carry %d scalars and their sources\n", memberScalars->size()));
+  if (switcher && switcher->choosesByVelocity())
+    PetscCall(PetscViewerASCIIPrintf(viewer, "  each member switches databases by its own u_sup (the %s rule)\n",
+                                     switcher->rule().type().c_str()));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
