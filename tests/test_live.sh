@@ -251,7 +251,7 @@ printf 'time_s,u_sup\n0,1.25\n' >"$work/whatif-held.csv"
 same_files "what-if u_sup equal to the held one" "$work/one-fc" "$work/one-whatif" forecast.csv cog.csv bottom.csv
 # Refusals of the what-if schedule, one sentence each.
 printf 'time_s,u_sup,spray_rate\n0,1.1,0.1\n' >"$work/whatif-bad.csv"
-expect_error "-forecast_schedule $work/whatif-bad.csv: the column spray_rate drives the scalars, which a forecast's members do not carry; leave it out" \
+expect_error "-forecast_schedule $work/whatif-bad.csv: the column spray_rate needs a scalar named moisture in -scalars (the liquid it adds, kg per kg solid)" \
   run -db "$a" "${common[@]}" -t_end 0.1 "${fc[@]}" -forecast_schedule "$work/whatif-bad.csv" -output_dir "$work/refused"
 expect_error "-forecast_schedule $work/whatif-held.csv: the column u_sup and -superficial_velocity 1.2 both give the forecast's u_sup; give it once" \
   run -db "$a" "${common[@]}" -t_end 0.1 -superficial_velocity 1.2 "${fc[@]}" -forecast_schedule "$work/whatif-held.csv" \

@@ -11,7 +11,8 @@
 # The database in use: named in status.json and on the page, b.h5 after a switch, a.h5 after the switch
 # back (a restart), a blend's two with their weights.  The granulator's forecast product: in status.json
 # as in forecast.csv, on the page as a row and a bar per class.  A forecast under a what-if schedule
-# names it (status.json's warning, the page), one without says it holds the latest conditions.
+# names it (status.json's warning, the page), one without says it holds the latest conditions.  A live
+# spray-dry bed's forecast wet-bottom warning: in status.json and on the page, with its moisture.
 # Skipped (77) without chromium (tools/run-tests.sh installs it).
 # usage: test_status_page.sh RCFD CSV_COMPARE DATA_DIR SOURCE_DIR
 set -eu
@@ -95,6 +96,16 @@ printf 'time_s,growth_rate,feed_rate,discharge_rate\n0,1,0.2,0.2\n0.5,1,0.2,0.2\
 same "status.json of the granulator: the forecast's product mass and first share" \
   "$(value "$work/gran/status.json" product_mass_mean_kg) $(sed -n 's/.*"product_shares": \[{"label": "d1.500mm", "mean": \([^,]*\).*/\1/p' "$work/gran/status.json")" \
   "$(tail -n 1 "$work/gran/forecast.csv" | awk -F, '{ print $13, $15 }')" 1e-12
+# A live spray-dry bed (docs/live.md, "Forecasts with scalars"): the forecast's wet-bottom warning in words.
+printf 'time_s,spray_rate,gas_temperature\n0,0.05,330\n0.3,0.05,330\n' >"$work/spray.csv"
+"$rcfd" run -db "$work/a.h5" -fields 0 -plot 0 -quiet -live_poll 0.02 -live_end 0.3 -live "$work/spray.csv" \
+  -fractions_diameters 1.459e-3,4.075e-3 -fractions_mass_shares 0.564,0.436 -zones spray \
+  -zone_spray_box 0,0.2,0,0.05,0,0.05 -scalars temperature,moisture -scalar_temperature_initial 300 \
+  -scalar_exchange_model gunn -scalar_gas_model plug -scalar_gas_humidity 0.005 -bottom_layer -moisture_warning 0.03 \
+  -moisture_warning_umf_share 0.5 -forecast_every 0.1 -forecast_horizon 0.1 -forecast_members 2 \
+  -output_dir "$work/spray" 2>/dev/null
+grep -q "Forecast: 2 of 2 members' bottom layers get wet near de-fluidization within 0.1 s" "$work/spray/status.json" &&
+  ok || fail "status.json of the spray-dry bed has no forecast wet warning: $(grep -A 3 warnings "$work/spray/status.json")"
 
 # Off without -live, on with -status.
 plain=(-db "$work/a.h5" -fields 0 -plot 0 -quiet -t_end 0.05)
@@ -149,6 +160,11 @@ grep -q "<th>forecast product</th><td>0.06000 ± [^<]* kg over 0.3000 s; shares 
   fail "the granulator's page shows no forecast product: $(grep -o '<th>forecast product[^/]*' "$work/gran.dom")"
 [ "$(grep -o 'class="forecast-share"' "$work/gran.dom" | wc -l)" -eq 3 ] && ok ||
   fail "the granulator's page draws $(grep -o 'class="forecast-share"' "$work/gran.dom" | wc -l) forecast product bars, expected 3"
+page "$work/spray" >"$work/spray.dom"
+grep -q "members' bottom layers get wet near de-fluidization" "$work/spray.dom" && ok ||
+  fail "the spray-dry page shows no forecast wet warning"
+grep -q "<th>forecast bottom moisture</th><td>0\.0[0-9]* ± [^<]* kg/kg</td>" "$work/spray.dom" && ok ||
+  fail "the spray-dry page shows no forecast moisture: $(grep -o '<th>forecast bottom[^/]*' "$work/spray.dom")"
 # A page whose script does not run shows no time: the checks above can fail.
 sed -i 's/^refresh();$/refresh(;/' "$work/drop/status.html"
 page "$work/drop" >"$work/broken.dom"

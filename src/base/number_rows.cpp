@@ -4,11 +4,11 @@
 
 namespace rcfd {
 
-std::string numberRow(const std::vector<double> &values) {
+std::string numberRow(const std::vector<double> &values, int digits) {
   std::string text;
   char number[32];
   for (std::size_t c = 0; c < values.size(); ++c) {
-    std::snprintf(number, sizeof number, "%.10g", values[c]);
+    std::snprintf(number, sizeof number, "%.*g", digits, values[c]);
     text += (c ? "," : "") + std::string(number);
   }
   return text;

@@ -9,7 +9,7 @@
 
 namespace rcfd {
 
-/// "%.10g" of each number, separated by commas, without a newline.
-std::string numberRow(const std::vector<double> &values);
+/// "%.10g" (or `digits` significant digits) of each number, separated by commas, without a newline.
+std::string numberRow(const std::vector<double> &values, int digits = 10);
 
 } // namespace rcfd

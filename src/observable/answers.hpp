@@ -156,6 +156,9 @@ public:
   void setMoistureUmf(double kappa) { wetUmf = kappa; }
   /// Time of the moisture warning [s] (NaN: not given).
   double wetSince() const { return wetTime; }
+  /// Its threshold [kg/kg] and u_mf's share of u_sup (0: no warning).
+  double wetThresholdValue() const { return wetThreshold; }
+  double wetUmfShare() const { return nearShare; }
 
 private:
   int moisture = -1, ns = 0; // the moisture's column among the scalars, their number
@@ -254,6 +257,9 @@ public:
   /// The case's conditions and u_mf correlation (after setFromOptions), which
   /// the switcher's umf_usup uses as the bottom layer does.
   const FluidizationModel &fluidization() const { return fluidization_; }
+  /// -moisture_warning [kg/kg] (0: off) and -moisture_warning_umf_share: the wet-bottom warning's.
+  double moistureWarningThreshold() const { return moistureWarning; }
+  double moistureWarningUmfShare() const { return moistureUmfShare; }
 
 private:
   MPI_Comm comm = MPI_COMM_NULL;

@@ -213,7 +213,7 @@ PetscErrorCode Run::setFromOptions() {
   PetscCall(r.scalars.setFromOptions(r.comm));
   PetscCall(r.live.setFromOptions(r.comm));
   r.forecast = std::make_unique<ForecastMonitor>(r.registry, r.paths, r.ops, names, r.answers.fluidization(),
-                                                 r.switching == nullptr);
+                                                 r.switching.get(), r.scalars);
   PetscCall(r.forecast->setFromOptions(r.comm));
   r.status = std::make_unique<StatusMonitor>(r.live.enabled()); // on by default beside a process
   PetscCall(r.status->setFromOptions(r.comm));
@@ -333,6 +333,7 @@ PetscErrorCode Run::setUp() {
   for (auto &a : asked) r.monitors.push_back({std::move(a.monitor), a.every, a.name});
   if (r.forecast && r.forecast->enabled()) { // forecasts from the state, after the answers of the same step
     const long every = r.forecast->everySteps(dt);
+    r.forecast->setMoistureWarning(r.answers.moistureWarningThreshold(), r.answers.moistureWarningUmfShare());
     r.monitors.push_back({std::move(r.forecast), every, "forecast.csv"});
   }
   for (auto &m : r.registered) r.monitors.push_back(std::move(m)); // -monitors

@@ -122,6 +122,10 @@ std::string StatusMonitor::json(double t, long k, bool end) const {
                                     "below u_sup = %.4g m/s again (bottom d32 = %.4g mm).", w.firstTime(), r[2], r[3],
                                     1e3 * r[1]));
       }
+      if (std::isfinite(bottom->wetSince())) // the wet-bottom warning (docs/scalars.md), once fired
+        warnings.push_back(format("Wet bottom layer: its moisture passed %.4g kg/kg at t = %.6g s while u_mf was at "
+                                  "least %.0f %% of u_sup (near de-fluidization by size).", bottom->wetThresholdValue(),
+                                  bottom->wetSince(), 100.0 * bottom->wetUmfShare()));
     } else if (const auto *fc = dynamic_cast<const ForecastMonitor *>(m)) {
       const std::vector<double> &r = fc->latestRow(); // forecast.csv's columns (docs/live.md)
       if (r.size() < 12) continue;
@@ -142,11 +146,40 @@ std::string StatusMonitor::json(double t, long k, bool end) const {
             << ", \"spread\": " << number(r[15 + 2 * i]) << "}";
         j << "]";
       }
+      // With scalars: the product's values, the bottom layer's moisture and the wet-bottom warning.
+      const auto at = [&](const std::string &name) {
+        const int k = fc->column(name);
+        return k >= 0 && k < static_cast<int>(r.size()) ? r[k] : std::nan("");
+      };
+      if (!fc->productScalars().empty()) {
+        j << ", \"product_scalars\": [";
+        for (std::size_t k = 0; k < fc->productScalars().size(); ++k) {
+          const std::string &name = fc->productScalars()[k];
+          j << (k ? ", " : "") << "{\"name\": " << jsonString(name) << ", \"mean\": "
+            << number(at("product_" + name + "_mean")) << ", \"spread\": " << number(at("product_" + name + "_spread"))
+            << "}";
+        }
+        j << "]";
+      }
+      const bool wet = fc->column("moisture_bottom_mean") >= 0, wetWarning = fc->column("wet_warning_members") >= 0;
+      if (wet)
+        j << ", \"moisture_bottom_mean\": " << number(at("moisture_bottom_mean"))
+          << ", \"moisture_bottom_spread\": " << number(at("moisture_bottom_spread"));
+      if (wetWarning)
+        j << ", \"wet_warning_members\": " << number(at("wet_warning_members")) << ", \"wet_warning_in_mean_s\": "
+          << number(at("wet_warning_in_mean_s")) << ", \"wet_warning_in_first_s\": " << number(at("wet_warning_in_first_s"));
       j << "}";
+      const std::string issued = format("forecast issued at t = %.6g s", r[0]) +
+                                 (fc->whatIf().empty() ? std::string(").") : ", under the what-if " + fc->whatIf() + ").");
+      if (wetWarning && at("wet_warning_members") > 0)
+        warnings.push_back(format("Forecast: %.0f of %.0f members' bottom layers get wet near de-fluidization within "
+                                  "%.4g s", at("wet_warning_members"), r[2], r[1]) +
+                           format(" (moisture above %.4g kg/kg while u_mf is at least %.0f %% of u_sup), in about "
+                                  "%.4g s (", fc->moistureWarning(), 100.0 * fc->moistureWarningUmfShare(),
+                                  at("wet_warning_in_mean_s")) + issued);
       if (r[9] > 0)
         warnings.push_back(format("Forecast: %.0f of %.0f members de-fluidize within %.4g s", r[9], r[2], r[1]) +
-                           format(", in about %.4g s (forecast issued at t = %.6g s", r[10], r[0]) +
-                           (fc->whatIf().empty() ? std::string(").") : ", under the what-if " + fc->whatIf() + ")."));
+                           format(", in about %.4g s (", r[10]) + issued);
     }
   }
   j << ",\n  \"warnings\": [";
@@ -173,8 +206,10 @@ PetscErrorCode StatusMonitor::sample(const MonitorContext &ctx) {
 std::vector<double> StatusMonitor::news() const {
   std::vector<double> now;
   for (const Monitor *m : watched) {
-    if (const auto *bottom = dynamic_cast<const BottomLayerMonitor *>(m))
+    if (const auto *bottom = dynamic_cast<const BottomLayerMonitor *>(m)) {
       now.push_back(bottom->warning().fired() ? bottom->warning().firstTime() : -1.0);
+      now.push_back(std::isfinite(bottom->wetSince()) ? bottom->wetSince() : -1.0);
+    }
     else if (const auto *fc = dynamic_cast<const ForecastMonitor *>(m))
       now.push_back(fc->latestRow().empty() ? -1.0 : fc->latestRow()[0]);
   }

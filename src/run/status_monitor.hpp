@@ -43,7 +43,7 @@ public:
 private:
   PetscErrorCode write();
   /// What makes status.json worth writing at once when it changes: when the de-fluidization
-  /// warning fired and when the latest forecast was issued (-1: not yet).
+  /// warning and the wet-bottom warning fired and when the latest forecast was issued (-1: not yet).
   std::vector<double> news() const;
   bool on;
   double every = 1.0;        // -status_every: wall seconds between writes

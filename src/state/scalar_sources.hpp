@@ -79,6 +79,10 @@ public:
   void setSprayRate(double kgPerSecond) { sprayRate = kgPerSecond; }
   void setGasTemperature(double kelvin) { gasTemperature = kelvin; }
   void setSuperficialVelocity(double metresPerSecond);
+  /// The conditions in force (a forecast's members start from the run's).
+  bool followsSpray() const { return sprayFollowed; }
+  double sprayRateNow() const { return sprayRate; }
+  double superficialVelocity() const { return velocity; }
   /// Whether a spray has a scalar to add to (moisture) and the gas an exchange to drive.
   bool canSpray() const { return moisture >= 0; }
   bool exchanges() const { return model != Model::None; }

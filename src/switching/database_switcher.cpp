@@ -222,6 +222,27 @@ PetscErrorCode DatabaseSwitcher::decide(long step, double time, const FractionSt
 
 PetscErrorCode DatabaseSwitcher::activate(const SwitchDecision &choice, double time, std::shared_ptr<Database> *db) {
   PetscFunctionBeginUser;
+  PetscCall(load(choice, db));
+  active_ = choice;
+  operating_ = conditionsAt(time);
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+bool DatabaseSwitcher::choosesByVelocity() const { return dynamic_cast<const MeasuredSchedule *>(rule_.get()) != nullptr; }
+
+SwitchDecision DatabaseSwitcher::choiceFor(double u) const {
+  const auto *schedule = dynamic_cast<const MeasuredSchedule *>(rule_.get());
+  return schedule ? schedule->choiceFor(u) : active_;
+}
+
+OperatingConditions DatabaseSwitcher::conditionsFor(const SwitchDecision &choice, double u) const {
+  OperatingConditions c = conditionsOf(choice);
+  if (std::isfinite(u)) c.superficialVelocity = u;
+  return c;
+}
+
+PetscErrorCode DatabaseSwitcher::load(const SwitchDecision &choice, std::shared_ptr<Database> *db) {
+  PetscFunctionBeginUser;
   if (choice.partner < 0) PetscCall(set_->get(choice.database, db));
   else { // the two are dropped once the blend is made, unless somebody else holds them
     std::shared_ptr<Database> a, b;
@@ -237,8 +258,6 @@ PetscErrorCode DatabaseSwitcher::activate(const SwitchDecision &choice, double t
     PetscCall(blendDatabases(*a, *b, choice.weight, &blend, lag));
     *db = std::move(blend);
   }
-  active_ = choice;
-  operating_ = conditionsAt(time);
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 

@@ -42,6 +42,17 @@ public:
   /// Collective.  The database of the choice (the set's, loaded unless held;
   /// or two of them blended), recorded as the active choice from `time` on.
   PetscErrorCode activate(const SwitchDecision &choice, double time, std::shared_ptr<Database> *db);
+  /// Collective.  The database of the choice, as activate() makes it, without making it the
+  /// active one: a forecast's member on its own conditions (docs/live.md).
+  PetscErrorCode load(const SwitchDecision &choice, std::shared_ptr<Database> *db);
+  /// Whether the rule chooses by u_sup alone (schedule, blend): a forecast's member then switches
+  /// by its own u_sup (choiceFor); else it stays on the database in use.
+  bool choosesByVelocity() const;
+  /// Not collective.  The rule's choice at u_sup u [m/s] (choosesByVelocity()).
+  SwitchDecision choiceFor(double u) const;
+  /// The conditions of a choice at u_sup u (NaN: the choice's own), as operatingConditions() are
+  /// of the active one.
+  OperatingConditions conditionsFor(const SwitchDecision &choice, double u) const;
   /// Appends the switch to switches.csv and prints it (rank 0, unless quiet).
   PetscErrorCode record(double time, const SwitchDecision &from, double seconds);
 

@@ -5,6 +5,7 @@
 #pragma once
 
 #include "base/petsc_compat.hpp"
+#include "rcfd/switching.hpp"
 
 #include <petscsys.h>
 
@@ -16,6 +17,9 @@ public:
   /// Not collective.  u [m/s] from time t [s] on, appended as the
   /// measurements arrive, in increasing time from 0, before the run reaches t.
   virtual PetscErrorCode appendSchedule(double t, double u) = 0;
+  /// The database (or blend) the rule runs the bed on at u_sup u [m/s], whatever the time: what a
+  /// forecast's member switches to as its own u_sup goes (docs/live.md, "Forecasts").
+  virtual SwitchDecision choiceFor(double u) const = 0;
 };
 
 } // namespace rcfd

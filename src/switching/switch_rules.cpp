@@ -176,6 +176,7 @@ public:
     PetscFunctionReturn(PETSC_SUCCESS);
   }
   SwitchDecision initial() const override { return choose(velocities.front()); }
+  SwitchDecision choiceFor(double u) const override { return choose(u); }
   SwitchDecision decide(const SwitchDecision &, const SwitchSignals &s) override {
     return choose(superficialVelocity(s.time));
   }
