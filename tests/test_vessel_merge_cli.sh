@@ -11,7 +11,7 @@ bed=(-synth_cells 12,12,24 -synth_length 0.12,0.12,0.24 -synth_bed_height 0.08 -
 cone=(-vessel body,bottom -vessel_body_cylinder 0.06,0.06,0.06,0.04,0.24 -vessel_bottom_cone 0.06,0.06,0,0.02,0.04,0.06)
 hash() { "$h5print" "$1" / content_hash string; }
 # The smallest cell's share of a box cell (0.12 / 12 = 1 cm cells of 1 cm height: 1e-6 m^3).
-smallest() { "$h5print" "$1" /mesh/cell_volumes | sort -g | head -1 | awk '{ printf "%.4f", $1 / 1e-6 }'; }
+smallest() { "$h5print" "$1" /mesh/cell_volumes | awk 'NR == 1 || $1 < s { s = $1 } END { printf "%.4f", s / 1e-6 }'; }
 volume() { "$rcfd" info -db "$1" | grep -o 'inside ([0-9.]* % of the box.s), [0-9.e+-]* m^3' | awk '{ print $(NF - 1) }'; }
 
 # A threshold of 0: the same database as without the option.
@@ -51,6 +51,14 @@ done
 restart=(-db "$work/cyl-0.25.h5" -quiet -fields 0 -plot 0 -monitor_digits 17 -path_type random -path_seed 3
   -fractions_diameters 1.5e-3,3e-3 -fractions_mass_shares 0.5,0.5 -bottom_layer)
 restart_repeats "the merged cylinder" "${restart[@]}"
+# The stitched run jumps, so the column carry runs over the merged cells: each stands in one column once.
+awk -F, 'NR == 1 { for (i = 1; i <= NF; ++i) { if ($i ~ /^mass_/) m[i] = 1; if ($i == "min_cell_mass_kg") low = i }; next }
+  NR == 2 { for (i in m) first[i] = $i }
+  { for (i in m) if (($i - first[i]) > 1e-12 * first[i] || (first[i] - $i) > 1e-12 * first[i]) { print "mass " $i " vs " first[i]; bad = 1 }
+    if ($low < 0) { print "negative cell mass " $low; bad = 1 } }
+  END { exit bad }' "$work/full/cog.csv" || fail "the stitched run on the merged cylinder lost mass or made a negative cell"
+awk 'NR > 2 && $1 != prev + 1 { j++ } { prev = $1 } END { exit !(j >= 3) }' "$work/full/path.txt" ||
+  fail "the stitched path on the merged cylinder did not jump"
 
 # Databases of two thresholds in one run: refused as of two vessels.
 if "$rcfd" run -db "$work/cyl.h5,$work/cyl-0.1.h5" -db_switch_schedule 0:1.1 -t_end 0.1 -quiet -output_dir "$work/two" \

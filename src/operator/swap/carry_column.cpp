@@ -62,8 +62,9 @@ struct Columns {
         for (int l = 0; l < n[axis]; ++l) {
           int ijk[3];
           ijk[p] = ip, ijk[q] = iq, ijk[axis] = upIsPlus ? l : n[axis] - 1 - l;
-          const int cell = mesh.cellOfBoxCell(b.cellIndex(ijk[0], ijk[1], ijk[2]));
-          if (cell >= 0) c.cells.push_back(cell);
+          const int box = b.cellIndex(ijk[0], ijk[1], ijk[2]), cell = mesh.cellOfBoxCell(box);
+          // A merged cell (-vessel_merge_below) stands once, in the column of its own box cell.
+          if (cell >= 0 && mesh.boxCell(cell) == box) c.cells.push_back(cell);
         }
         if (c.cells.size() == c.start.back()) continue; // wholly outside the vessel
         c.levels = std::max(c.levels, static_cast<int>(c.cells.size() - c.start.back()));
