@@ -204,6 +204,10 @@ PetscErrorCode ColumnCarry::carry(const CarryContext &ctx, Vec targetAlpha, Frac
                "-carry_type column needs %s; database '%s' does not have it (choose -carry_type remap)",
                missing.c_str(), db.path().c_str());
     columns = wholeBed ? Columns::bed(db.mesh(), db.metadata().gravity) : Columns::of(db.mesh(), db.metadata().gravity);
+    // Every cell in one column once (a cell listed twice would have its mass carried twice).
+    PetscCheck(columns.cells.size() == n, PETSC_COMM_SELF, PETSC_ERR_PLIB,
+               "column carry: the columns list %zu cells of database '%s''s %zu", columns.cells.size(),
+               db.path().c_str(), n);
     lowestAbove.resize(columns.cells.size());
     for (int col = 0; col < columns.count; ++col) {
       const int L = columns.levelsOf(col);
