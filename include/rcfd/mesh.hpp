@@ -8,6 +8,7 @@
 #include <array>
 #include <cstdint>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace rcfd {
@@ -65,6 +66,13 @@ public:
   /// A mesh of the given box cells (ascending) of `spec`, cut by the vessel
   /// named by `vessel`; its geometry (cells, faces) is left to the caller to fill.
   static Mesh masked(const BoxSpec &spec, std::vector<int> boxCells, std::string vessel);
+  /// Tiny cut cells merged into a neighbour (-vessel_merge_below, docs/vessels.md):
+  /// box cell b is a member of cell c too (boxCell(c) stays the cell's own box
+  /// cell, the one holding its centroid); cellOfBoxCell(b) becomes c.
+  void addMergedBoxCell(int b, int c);
+  /// The merged members (box cell, cell), in ascending box cell order; empty
+  /// unless tiny cut cells were merged.
+  const std::vector<std::pair<int, int>> &mergedBoxCells() const { return merged; }
 
   // Cells.
   std::vector<Vec3> cellCentre;
@@ -82,6 +90,7 @@ private:
   std::vector<int> boxCells;       // per cell, its box cell; empty on a box mesh
   std::vector<int> cellOfBox;      // per box cell, its cell or -1; empty on a box mesh
   std::string vesselText = "box";
+  std::vector<std::pair<int, int>> merged; // (box cell, cell) of members beyond boxCells
 };
 
 } // namespace rcfd

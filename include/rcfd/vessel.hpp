@@ -18,6 +18,8 @@
 //       -vessel_NAME_tube_y x,z,radius    the same along y [m]
 //   -vessel_minus NAME,...             shapes taken out of the union (a tube bank)
 //   -vessel_samples n                  sub-samples per cell edge for cut cells (default 8)
+//   -vessel_merge_below S              a cut cell with less than S of its box cell inside
+//                                      joins a neighbour (default 0: none; vesselMesh)
 // rcfd build from particle dumps also takes -vessel from-particles [-vessel_margin M]: the
 // box cells the particles reached (src/builders/particles/particle_vessel.hpp), not a Vessel.
 // Positions are absolute, in the mesh's coordinates; z is the vertical axis.
@@ -66,6 +68,11 @@ public:
   int samples() const { return samples_; }
   /// Not collective; refuses n outside 1..64.
   PetscErrorCode setSamples(int n);
+  /// The inside share below which a cut cell is merged into its open neighbour
+  /// of the largest open area (0: no merging, today's mesh bit for bit).
+  double mergeBelow() const { return mergeBelow_; }
+  /// Not collective; refuses S outside [0, 1].
+  PetscErrorCode setMergeBelow(double S);
 
   /// A lower bound of the distance from p to the wall, positive inside and
   /// negative outside (1-Lipschitz), so that a cell whose centre is further
@@ -86,6 +93,7 @@ public:
 private:
   std::vector<Shape> shapes_;
   int samples_ = 8;
+  double mergeBelow_ = 0.0;
   bool fitted_ = false;        // -vessel cylinder, its defaults still to take from a box (in())
   double fitAxis_[2] = {kUnset, kUnset}, fitRadius_ = kUnset; // kUnset: not given
   static constexpr double kUnset = std::numeric_limits<double>::quiet_NaN();
@@ -115,6 +123,12 @@ PetscErrorCode cutVessel(const Vessel &vessel, const BoxSpec &box, VesselCut *cu
 /// inside volume; internal faces only where open, with their open area;
 /// boundary faces of the box where open.  A vessel that holds every box cell
 /// whole (the whole box) gives Mesh::createBox's mesh itself, bit for bit.
+/// With mergeBelow() = S > 0, a cell whose inside volume is below S of its box
+/// cell's joins the neighbour it shares the largest open area with, again until
+/// every cell is at least S or has no open neighbour (docs/vessels.md): the
+/// merged cell's volume is the sum, its centroid the volume-weighted one, its
+/// faces the open faces to other cells (areas to the same neighbour along the
+/// same axis added); Mesh::boxCell is the member that holds the centroid.
 /// Not collective; refuses (PETSC_ERR_USER_INPUT) a vessel that holds no cell.
 PetscErrorCode vesselMesh(const Vessel &vessel, const BoxSpec &box, Mesh *mesh);
 

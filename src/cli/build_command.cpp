@@ -242,6 +242,8 @@ PetscErrorCode buildCommand(MPI_Comm comm) {
         std::vector<double> inside(static_cast<std::size_t>(mesh.numCells()) * nc);
         for (int c = 0; c < mesh.numCells(); ++c)
           std::copy_n(&masses[static_cast<std::size_t>(mesh.boxCell(c)) * nc], nc, &inside[c * nc]);
+        for (const auto &[b, c] : mesh.mergedBoxCells()) // tiny cut cells merged: their masses too
+          for (std::size_t k = 0; k < nc; ++k) inside[c * nc + k] += masses[static_cast<std::size_t>(b) * nc + k];
         masses.swap(inside);
       }
       std::vector<double> total(nc, 0.0);

@@ -157,6 +157,10 @@ PetscErrorCode buildEulerianCommand(MPI_Comm comm) {
   PetscCall(OperatingConditions::fromOptions(comm, &conditions));
   Vessel vessel; // -vessel (docs/vessels.md): the frames are on the box, the database on the vessel's cells
   PetscCall(vessel.setFromOptions(comm));
+  // Traced shifts of merged cells would need a mass-weighted product of their members' rows (as coarsening's).
+  PetscCheck(!(vessel.mergeBelow() > 0), comm, PETSC_ERR_SUP,
+             "-vessel_merge_below is not supported by rcfd build -eulerian yet; build without it (rcfd synth and "
+             "rcfd build from particle dumps take it)");
   if (helpRequested()) PetscFunctionReturn(PETSC_SUCCESS);
   PetscCall(rejectUnusedOptions(comm, "build"));
 

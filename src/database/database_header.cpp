@@ -55,6 +55,16 @@ Mesh readMaskedMesh(const h5::File &f, const BoxSpec &spec) {
   if (boxCell.empty()) throw h5::Error(where + "box_cell lists no cell");
   Mesh m = Mesh::masked(spec, std::vector<int>(boxCell.begin(), boxCell.end()), f.readAttrString("/mesh", "vessel"));
   const int n = static_cast<int>(boxCell.size());
+  if (f.exists("/mesh/merged_box_cell")) { // tiny cut cells merged into their neighbours (docs/vessels.md)
+    const auto member = f.read<int32_t>("/mesh/merged_box_cell");
+    const auto cell = cellIndices(f, "/mesh/merged_cell", n);
+    if (cell.size() != member.size()) throw h5::Error(where + "merged_cell must have one row per merged_box_cell");
+    for (std::size_t k = 0; k < member.size(); ++k) {
+      if (member[k] < 0 || member[k] >= spec.numCells() || m.cellOfBoxCell(member[k]) >= 0)
+        throw h5::Error(where + "merged_box_cell must list box cells of the box that no other cell holds, each once");
+      m.addMergedBoxCell(member[k], cell[k]);
+    }
+  }
   m.cellCentre = triples(f, "/mesh/cell_centres");
   m.cellVolume = f.read<double>("/mesh/cell_volumes");
   m.faceOwner = cellIndices(f, "/mesh/face_owner", n);
@@ -96,6 +106,12 @@ void writeMesh(const h5::File &f, const Mesh &mesh) {
     std::vector<int32_t> boxCell(mesh.numCells());
     for (int c = 0; c < mesh.numCells(); ++c) boxCell[c] = mesh.boxCell(c);
     f.write("/mesh/box_cell", boxCell);
+    if (!mesh.mergedBoxCells().empty()) { // only with -vessel_merge_below: other databases keep their bits
+      std::vector<int32_t> member, cell;
+      for (const auto &[b, c] : mesh.mergedBoxCells()) member.push_back(b), cell.push_back(c);
+      f.write("/mesh/merged_box_cell", member);
+      f.write("/mesh/merged_cell", cell);
+    }
   } else {
     f.writeAttr("/mesh", "kind", std::string("unstructured"));
   }

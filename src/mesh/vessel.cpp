@@ -107,6 +107,8 @@ std::string numbers(const std::vector<double> &p) {
   return out;
 }
 
+constexpr ValueRange kMergeShare{0.0, 1.0, true, true, "a share of a cell's volume in [0, 1]"};
+
 } // namespace
 
 PetscErrorCode Vessel::add(Kind kind, std::vector<double> p, bool subtract) {
@@ -128,6 +130,14 @@ PetscErrorCode Vessel::setSamples(int n) {
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
+PetscErrorCode Vessel::setMergeBelow(double S) {
+  PetscFunctionBeginUser;
+  PetscCheck(S >= 0 && S <= 1, PETSC_COMM_SELF, PETSC_ERR_USER_INPUT,
+             "vessel merge threshold must be a share of a cell's volume between 0 and 1, not %g", S);
+  mergeBelow_ = S;
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
 double Vessel::level(const Vec3 &x) const {
   if (shapes_.empty()) return HUGE_VAL;
   double v = shapeLevel(shapes_[0], x);
@@ -145,7 +155,10 @@ std::string Vessel::describe() const {
   for (const auto &s : shapes_)
     out += std::string(out.empty() ? "" : " ") + (s.subtract ? "-" : "+") + infoOf(s.kind).name + "(" +
            numbers(s.p) + ")";
-  return out + " samples " + std::to_string(samples_);
+  out += " samples " + std::to_string(samples_);
+  // Only when merging: a vessel without it keeps its line, and so its databases' content hash.
+  if (mergeBelow_ > 0) out += " merge " + numbers({mergeBelow_});
+  return out;
 }
 
 PetscErrorCode Vessel::parse(const std::string &text, Vessel *out) {
@@ -164,6 +177,12 @@ PetscErrorCode Vessel::parse(const std::string &text, Vessel *out) {
       if (!(in >> n)) break;
       PetscCall(v.setSamples(n));
       sampled = true;
+      continue;
+    }
+    if (token == "merge") {
+      double S = -1;
+      if (!(in >> S)) break;
+      PetscCall(v.setMergeBelow(S));
       continue;
     }
     const std::size_t open = token.find('(');
@@ -221,6 +240,7 @@ PetscErrorCode Vessel::setFromOptions(MPI_Comm comm) {
   PetscReal axis[2] = {NAN, NAN};
   PetscReal radius = NAN;
   PetscInt nAxis = 2, samples = samples_;
+  PetscReal merge = mergeBelow_;
   PetscFunctionBeginUser;
   PetscOptionsBegin(comm, nullptr, "Vessel (docs/vessels.md)", nullptr);
   PetscCall(checkedStringArray(PetscOptionsObject, "-vessel",
@@ -230,6 +250,10 @@ PetscErrorCode Vessel::setFromOptions(MPI_Comm comm) {
                                &minusGiven));
   PetscCall(checkedInt(PetscOptionsObject, "-vessel_samples", "sub-samples per cell edge of a cut cell", &samples,
                        1, 64));
+  PetscCall(checkedReal(PetscOptionsObject, "-vessel_merge_below",
+                        "a cut cell with less than this share of its box cell inside joins its open neighbour of "
+                        "the largest open area (0: none)",
+                        &merge, kMergeShare));
   PetscCall(checkedRealArray(PetscOptionsObject, "-vessel_axis",
                              "x,y of -vessel cylinder's axis [m] (nan: the box's centre)", axis, &nAxis,
                              &axisGiven));
@@ -250,6 +274,7 @@ PetscErrorCode Vessel::setFromOptions(MPI_Comm comm) {
   shapes_.clear();
   fitted_ = false;
   samples_ = static_cast<int>(samples);
+  mergeBelow_ = merge;
   if (!given || (shortcut && names[0] == "box")) PetscFunctionReturn(PETSC_SUCCESS);
   if (shortcut) { // the box is not known yet: in(box) completes it
     fitted_ = true;

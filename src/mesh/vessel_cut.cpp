@@ -6,7 +6,10 @@
 
 #include "base/collective.hpp"
 
+#include <algorithm>
 #include <cmath>
+#include <map>
+#include <tuple>
 #include <stdexcept>
 #include <utility>
 #include <vector>
@@ -220,6 +223,144 @@ Mesh maskedOf(const std::string &line, const BoxSpec &box, const Mesh &full, con
   return m;
 }
 
+// The masked mesh of `cut` with its tiny cut cells merged (-vessel_merge_below S,
+// docs/vessels.md): a group of box cells whose inside volume is below S of a box
+// cell's joins the neighbouring group it shares the largest open area with (ties:
+// the group of the lowest box cell), in passes over the groups in the box's
+// order until none below S has an open neighbour.  A group that is one cell
+// keeps that cell's numbers exactly (volume, centroid, faces' areas, in their
+// order), so a mesh with nothing to merge is the unmerged one.
+Mesh mergedOf(const std::string &line, double S, const BoxSpec &box, const Mesh &full, const VesselCut &cut,
+              const std::vector<int> &kept) {
+  const int N = box.numCells();
+  auto volumeOf = [&](int b) { return cut.cellShare[b] * full.cellVolume[b]; };
+  auto areaOf = [](const Vec3 &a) { return std::fabs(a[0]) + std::fabs(a[1]) + std::fabs(a[2]); };
+  // Open faces of each kept box cell (the box's internal face numbers).
+  std::vector<std::vector<int>> facesOf(N);
+  for (int f = 0; f < full.numFaces(); ++f)
+    if (cut.faceShare[f] > 0) {
+      facesOf[full.faceOwner[f]].push_back(f);
+      facesOf[full.faceNeighbour[f]].push_back(f);
+    }
+  std::vector<int> root(N, -1);
+  std::vector<double> groupVolume(N, 0.0);
+  std::vector<std::vector<int>> members(N);
+  for (int b : kept) root[b] = b, groupVolume[b] = volumeOf(b), members[b] = {b};
+  const double floor = S * full.cellVolume[kept.front()]; // every box cell has the same volume
+  std::vector<std::pair<int, double>> shared;             // (neighbouring group, open area to it)
+  for (bool changed = true; changed;) {
+    changed = false;
+    for (int g : kept) {
+      if (root[g] != g || !(groupVolume[g] < floor)) continue;
+      shared.clear();
+      for (int b : members[g])
+        for (int f : facesOf[b]) {
+          const int other = root[full.faceOwner[f] == b ? full.faceNeighbour[f] : full.faceOwner[f]];
+          if (other == g) continue;
+          const double a = cut.faceShare[f] * areaOf(full.faceArea[f]);
+          auto it = std::find_if(shared.begin(), shared.end(), [&](const auto &p) { return p.first == other; });
+          if (it == shared.end()) shared.emplace_back(other, a);
+          else it->second += a;
+        }
+      if (shared.empty()) continue; // no open neighbour: it stays alone
+      auto best = shared.begin();
+      for (auto it = shared.begin(); it != shared.end(); ++it)
+        if (it->second > best->second || (it->second == best->second && it->first < best->first)) best = it;
+      const int into = best->first;
+      for (int b : members[g]) root[b] = into;
+      members[into].insert(members[into].end(), members[g].begin(), members[g].end());
+      members[g].clear();
+      groupVolume[into] += groupVolume[g];
+      groupVolume[g] = 0.0;
+      changed = true;
+    }
+  }
+  // Each group's centroid, and the member that stands for it: the one holding the centroid
+  // (layers, columns and field files place the cell there), else the largest.
+  struct Group {
+    int own;
+    double volume;
+    Vec3 centre;
+    std::vector<int> others;
+  };
+  std::vector<Group> groups;
+  for (int g : kept) {
+    if (root[g] != g) continue;
+    std::vector<int> &m = members[g];
+    std::sort(m.begin(), m.end());
+    if (m.size() == 1) {
+      groups.push_back({g, volumeOf(g), cut.centroid[g], {}});
+      continue;
+    }
+    double volume = 0.0;
+    Vec3 sum{0.0, 0.0, 0.0};
+    for (int b : m) {
+      volume += volumeOf(b);
+      for (int d = 0; d < 3; ++d) sum[d] += volumeOf(b) * cut.centroid[b][d];
+    }
+    const Vec3 centre{sum[0] / volume, sum[1] / volume, sum[2] / volume};
+    int own = box.locate(centre);
+    if (!std::binary_search(m.begin(), m.end(), own)) {
+      own = m.front();
+      for (int b : m)
+        if (volumeOf(b) > volumeOf(own)) own = b;
+    }
+    std::vector<int> others;
+    for (int b : m)
+      if (b != own) others.push_back(b);
+    groups.push_back({own, volume, centre, std::move(others)});
+  }
+  std::sort(groups.begin(), groups.end(), [](const Group &a, const Group &b) { return a.own < b.own; });
+  std::vector<int> cells;
+  for (const Group &g : groups) cells.push_back(g.own);
+  Mesh m = Mesh::masked(box, cells, line);
+  std::vector<std::pair<int, int>> merged;
+  for (std::size_t c = 0; c < groups.size(); ++c) {
+    m.cellCentre.push_back(groups[c].centre);
+    m.cellVolume.push_back(groups[c].volume);
+    for (int b : groups[c].others) merged.emplace_back(b, static_cast<int>(c));
+  }
+  std::sort(merged.begin(), merged.end());
+  for (const auto &[b, c] : merged) m.addMergedBoxCell(b, c);
+  auto scaled = [](Vec3 s, double share) {
+    for (double &x : s) x *= share;
+    return s;
+  };
+  // Faces between two cells: one per (owner, neighbour, axis) in the order the box's first
+  // gives it, with the open areas of the box's faces it gathers added.
+  std::map<std::tuple<int, int, int>, int> faceOf;
+  for (int f = 0; f < full.numFaces(); ++f) {
+    if (!(cut.faceShare[f] > 0)) continue;
+    const int o = m.cellOfBoxCell(full.faceOwner[f]), n = m.cellOfBoxCell(full.faceNeighbour[f]);
+    if (o == n) continue; // inside a merged cell
+    const Vec3 a = scaled(full.faceArea[f], cut.faceShare[f]);
+    const int axis = a[0] != 0.0 ? 0 : a[1] != 0.0 ? 1 : 2;
+    const auto [it, added] = faceOf.try_emplace({o, n, axis}, m.numFaces());
+    if (added) {
+      m.faceOwner.push_back(o);
+      m.faceNeighbour.push_back(n);
+      m.faceArea.push_back(a);
+    } else {
+      for (int d = 0; d < 3; ++d) m.faceArea[it->second][d] += a[d];
+    }
+  }
+  std::map<std::pair<int, int>, int> boundaryOf;
+  for (int f = 0; f < full.numBoundaryFaces(); ++f) {
+    if (!(cut.boundaryShare[f] > 0)) continue;
+    const int o = m.cellOfBoxCell(full.boundaryOwner[f]), patch = full.boundaryPatch[f];
+    const Vec3 a = scaled(full.boundaryArea[f], cut.boundaryShare[f]);
+    const auto [it, added] = boundaryOf.try_emplace({o, patch}, m.numBoundaryFaces());
+    if (added) {
+      m.boundaryOwner.push_back(o);
+      m.boundaryPatch.push_back(patch);
+      m.boundaryArea.push_back(a);
+    } else {
+      for (int d = 0; d < 3; ++d) m.boundaryArea[it->second][d] += a[d];
+    }
+  }
+  return m;
+}
+
 bool whole(const std::vector<double> &shares) {
   for (double x : shares)
     if (x != 1.0) return false;
@@ -243,7 +384,10 @@ PetscErrorCode vesselMesh(const Vessel &vessel, const BoxSpec &box, Mesh *mesh) 
     if (cut.cellShare[c] > 0) PetscCallCXX(kept.push_back(c));
   PetscCheck(!kept.empty(), PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "the vessel '%s' holds no cell of the box mesh",
              vessel.describe().c_str());
-  PetscCallCXX(*mesh = maskedOf(vessel.describe(), box, full, cut, kept));
+  if (vessel.mergeBelow() > 0)
+    PetscCallCXX(*mesh = mergedOf(vessel.describe(), vessel.mergeBelow(), box, full, cut, kept));
+  else
+    PetscCallCXX(*mesh = maskedOf(vessel.describe(), box, full, cut, kept));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
@@ -299,6 +443,11 @@ Mesh Mesh::masked(const BoxSpec &spec, std::vector<int> cells, std::string vesse
   m.boxCells = std::move(cells);
   m.vesselText = std::move(vessel);
   return m;
+}
+
+void Mesh::addMergedBoxCell(int b, int c) {
+  cellOfBox.at(b) = c;
+  merged.emplace_back(b, c);
 }
 
 } // namespace rcfd

@@ -62,8 +62,9 @@ struct Columns {
         for (int l = 0; l < n[axis]; ++l) {
           int ijk[3];
           ijk[p] = ip, ijk[q] = iq, ijk[axis] = upIsPlus ? l : n[axis] - 1 - l;
-          const int cell = mesh.cellOfBoxCell(b.cellIndex(ijk[0], ijk[1], ijk[2]));
-          if (cell >= 0) c.cells.push_back(cell);
+          const int box = b.cellIndex(ijk[0], ijk[1], ijk[2]), cell = mesh.cellOfBoxCell(box);
+          // A merged cell (-vessel_merge_below) stands once, in the column of its own box cell.
+          if (cell >= 0 && mesh.boxCell(cell) == box) c.cells.push_back(cell);
         }
         if (c.cells.size() == c.start.back()) continue; // wholly outside the vessel
         c.levels = std::max(c.levels, static_cast<int>(c.cells.size() - c.start.back()));
@@ -203,6 +204,10 @@ PetscErrorCode ColumnCarry::carry(const CarryContext &ctx, Vec targetAlpha, Frac
                "-carry_type column needs %s; database '%s' does not have it (choose -carry_type remap)",
                missing.c_str(), db.path().c_str());
     columns = wholeBed ? Columns::bed(db.mesh(), db.metadata().gravity) : Columns::of(db.mesh(), db.metadata().gravity);
+    // Every cell in one column once (a cell listed twice would have its mass carried twice).
+    PetscCheck(columns.cells.size() == n, PETSC_COMM_SELF, PETSC_ERR_PLIB,
+               "column carry: the columns list %zu cells of database '%s''s %zu", columns.cells.size(),
+               db.path().c_str(), n);
     lowestAbove.resize(columns.cells.size());
     for (int col = 0; col < columns.count; ++col) {
       const int L = columns.levelsOf(col);
