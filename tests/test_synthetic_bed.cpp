@@ -359,6 +359,10 @@ void testBadOptions() {
   RCFD_CHECK(rejects([](SyntheticBedOptions &o) { o.maxDiameter = 0.005; }));  // below initial
   RCFD_CHECK(rejects([](SyntheticBedOptions &o) { o.wakeFraction = 0.6; }));
   RCFD_CHECK(rejects([](SyntheticBedOptions &o) { o.nucleationStrips = 0; }));
+  // More than 10 m/s of gas in new bubbles (the option fuzz's 1e9 per s and m^2 never ended).
+  RCFD_CHECK(rejects([](SyntheticBedOptions &o) {
+    o.nucleationRate = 1.001 * 10.0 / (std::acos(-1.0) / 6.0 * std::pow(o.initialDiameter, 3));
+  }));
   bool emptySink = false;
   try {
     rcfd::generateSyntheticBed(smallBed(), rcfd::FrameSink());

@@ -19,6 +19,8 @@
 namespace rcfd {
 namespace {
 
+constexpr double kMaxBubbleFlux = 10.0; // [m/s] gas through the distributor in new bubbles, at most
+
 /// Column-stochastic shift from parcel identities: each parcel is one
 /// transfer (cell at t_k) -> (cell at t_k+1).  Equal transfers are summed here
 /// and handed over already ordered by (destination, source), which keeps the
@@ -213,6 +215,13 @@ void validateSyntheticBedOptions(const SyntheticBedOptions &o, const Mesh *vesse
   require(o.nucleationStrips >= 1 && o.nucleationStrips <= 1000,
           "nucleationStrips must be between 1 and 1000.");
   require(o.initialDiameter > 0.0, "initialDiameter must be positive.");
+  // The gas the new bubbles carry through the distributor, R pi/6 D0^3, is the
+  // visible bubble flow of two-phase theory, below u_sup - u_mf: a few m/s in
+  // any bubbling bed.  Far beyond it the bed is all bubbles (each substep
+  // would open thousands per square decimetre) and the build never ends.
+  require(o.nucleationRate * std::acos(-1.0) / 6.0 * std::pow(o.initialDiameter, 3) <= kMaxBubbleFlux,
+          "nucleationRate times the new bubble's volume (pi/6 initialDiameter^3) must not exceed " +
+              std::to_string(static_cast<int>(kMaxBubbleFlux)) + " m/s of gas in bubbles.");
   require(o.maxDiameter >= o.initialDiameter, "maxDiameter must not be below initialDiameter.");
   require(o.initialDiameter < std::min(box.length[0], box.length[2]),
           "initialDiameter must be smaller than the box width and height.");
