@@ -683,6 +683,29 @@ void periodTwoCells() {
   }
 }
 
+// The consistent two frames with a dead corner: a third cell holding solid
+// that never moves.  It is an absorbing state (an eigenvector of P of
+// eigenvalue 1 of its own) and is left out: the chain's states are the two
+// cells, their stationary distribution frame 0's share over them.
+void periodDeadCorner() {
+  const double a = 0.3, b = 0.1, c = 0.6, d = 0.2;
+  const std::string path = dir + "/two_frames_dead.h5";
+  writeChain(path, 3, {0.2, 0.6, 0.1},
+             {shiftFromTransfers(3, {0, 1, 0, 1, 2}, {0, 0, 1, 1, 2}, {1 - a, a, b, 1 - b, 1}),
+              shiftFromTransfers(3, {0, 1, 0, 1, 2}, {0, 0, 1, 1, 2}, {1 - c, c, d, 1 - d, 1})});
+  PeriodRun r;
+  RCFD_CHECK(succeeded(periodOf(path, &r)));
+  RCFD_CHECK(r.numbers.states == 2);
+  RCFD_CHECK_CLOSE(r.numbers.leftOut, 1.0 / 9.0, 1e-15);
+  RCFD_CHECK(r.share.size() == 3);
+  if (r.share.size() == 3) {
+    RCFD_CHECK_CLOSE(r.share[0], 0.25, 1e-12);
+    RCFD_CHECK(r.share[2] == 0.0);
+  }
+  RCFD_CHECK(r.numbers.l1 < 1e-12);
+  RCFD_CHECK_CLOSE(r.numbers.lambda2, std::abs((1 - a - b) * (1 - c - d)), 1e-12);
+}
+
 // A lazy ring (a quarter of every cell moves on) followed by a rotation (all
 // of it moves on): both circulant, P = R L has the eigenvalues
 // w^k (1 - p + p w^k), w = exp(2 pi i / N); the largest after 1 is k = +-1.
@@ -783,6 +806,7 @@ int main(int argc, char **argv) {
   wrapCarried();
   zoneStart();
   periodTwoCells();
+  periodDeadCorner();
   periodRing();
   periodClasses();
   PetscPopErrorHandler();
