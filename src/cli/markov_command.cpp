@@ -462,6 +462,10 @@ PetscErrorCode markovCommand(MPI_Comm comm, const char *positional) {
                          {dir + "relaxation.csv", "-o", dir + "relaxation.png", "--relaxation_time",
                           number(spectrum.relaxationTime), "--tolerance", number(o.mixing.tolerance), "--title",
                           "tracer mixing, " + o.file}));
+  if (o.period && o.plot)
+    PetscCall(drawFigure(comm, "markov_stationary.py",
+                         {dir + "stationary.csv", "-o", dir + "stationary.png", "--title",
+                          "period chain at frame 0, " + o.file}));
   for (const ZonePassages &p : passages)
     if (o.plot && (!p.residence.probability.empty() || !p.away.probability.empty()))
       PetscCall(drawFigure(comm, "markov_zone.py",
