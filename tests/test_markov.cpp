@@ -335,13 +335,19 @@ Mesh column() {
   return rcfd::test::boxMesh(s);
 }
 
-CsrMatrix columnWalk() {
+// With `deadBottom` the bottom cell's solid never moves and none reaches it
+// (a dead corner): the walk is over the cells above.
+CsrMatrix columnWalk(bool deadBottom = false) {
   std::vector<int32_t> dest, src;
   std::vector<double> w;
   for (int c = 0; c < kColumn; ++c) {
     double stay = 0.5;
+    if (deadBottom && c == 0) {
+      dest.push_back(c), src.push_back(c), w.push_back(1.0);
+      continue;
+    }
     for (int to : {c - 1, c + 1}) {
-      if (to < 0 || to >= kColumn) {
+      if (to < 0 || to >= kColumn || (deadBottom && to == 0)) {
         stay += 0.25;
         continue;
       }
@@ -779,6 +785,25 @@ void periodClasses() {
   }
   RCFD_CHECK(classes[0].height > bulk.height + 0.005);
   RCFD_CHECK(classes[1].height < bulk.height - 0.005);
+  // A dead bottom cell: the bulk's chain keeps it for ever (no state), but
+  // the drift swaps the classes with it, so it is a state of each class's
+  // chain, which keeps its distributions (lambda1 = 1); with k_d = 0 it is
+  // kept for ever by every class's chain too.
+  const std::string dead = dir + "/column_dead.h5";
+  std::vector<double> alpha(kColumn + 1, 0.3);
+  alpha[kColumn] = 0.0;
+  writeChain(dead, column(), alpha, {columnWalk(true)});
+  PeriodRun deadBulk;
+  std::vector<PeriodRun> deadClasses;
+  RCFD_CHECK(succeeded(classPeriods(dead, "1e5", &deadBulk, &deadClasses)));
+  RCFD_CHECK(deadBulk.numbers.states == kColumn - 1 && deadBulk.numbers.absorbing == 1);
+  RCFD_CHECK(deadClasses.size() == 2);
+  for (const PeriodRun &c : deadClasses) {
+    RCFD_CHECK(c.numbers.states == kColumn && c.numbers.absorbing == 0);
+    RCFD_CHECK_CLOSE(c.numbers.lambda1, 1.0, 1e-12);
+  }
+  RCFD_CHECK(succeeded(classPeriods(dead, "0", &deadBulk, &deadClasses)));
+  for (const PeriodRun &c : deadClasses) RCFD_CHECK(c.numbers.states == kColumn - 1 && c.numbers.absorbing == 1);
   if (rank == 0)
     std::printf("column, period chain's stationary centre: bulk %.4f m, small %.4f m, large %.4f m; |lambda2| %.6f, "
                 "%.6f, %.6f\n",

@@ -421,7 +421,8 @@ PetscErrorCode markovCommand(MPI_Comm comm, const char *positional) {
         << "\nabsorbing_share," << number(spectrum.absorbingShare) << '\n';
     if (o.carryWrap) sum << "wrap,carry " << wrapCarry.kind() << '\n'; // (periodic when absent)
     if (o.period) {
-      sum << "period_states," << period.states << "\nperiod_left_out_share," << number(period.leftOut)
+      sum << "period_states," << period.states << "\nperiod_absorbing_cells," << period.absorbing
+          << "\nperiod_left_out_share," << number(period.leftOut)
           << "\nperiod_residual," << number(period.residual) << "\nperiod_lambda1," << number(period.lambda1)
           << "\nperiod_lambda2_modulus," << number(period.lambda2) << "\nperiod_lambda2_re,"
           << number(period.lambda2Re) << "\nperiod_lambda2_im," << number(period.lambda2Im)
@@ -433,7 +434,7 @@ PetscErrorCode markovCommand(MPI_Comm comm, const char *positional) {
       for (int i = 0; i < static_cast<int>(classes.size()); ++i) {
         const PeriodNumbers &p = classes[static_cast<size_t>(i)].period;
         const std::string q = "class_" + fractions.label(i) + "_period_";
-        sum << q << "lambda1," << number(p.lambda1) << '\n' << q << "lambda2_modulus," << number(p.lambda2) << '\n'
+        sum << q << "states," << p.states << '\n' << q << "lambda1," << number(p.lambda1) << '\n' << q << "lambda2_modulus," << number(p.lambda2) << '\n'
             << q << "relaxation_time," << number(p.relaxationTime) << '\n' << q << "height,"
             << number(classHeight[static_cast<size_t>(i)]) << '\n' << q << "restarts," << p.iterations << '\n'
             << q << "products," << p.products << '\n' << q << "seconds," << number(p.seconds) << '\n';
@@ -499,12 +500,12 @@ PetscErrorCode markovCommand(MPI_Comm comm, const char *positional) {
                           spectrum.iterations, spectrum.l1, spectrum.max));
     if (o.period)
       PetscCall(PetscPrintf(comm,
-                            "  period chain (the %d frames' product%s; %d states: the cells holding solid at frame 0, "
-                            "absorbing ones left out): |P m0 - m0|_1 = %.3e for frame 0's share m0; lambda1 = %.10f, "
+                            "  period chain (the %d frames' product%s; %d states: the cells holding solid at frame 0 but %d it "
+                            "keeps for ever, %.2e of frame 0's mass): |P m0 - m0|_1 = %.3e for frame 0's share m0; lambda1 = %.10f, "
                             "|lambda2| = %.8f, relaxation time %.4g s; stationary against m0: L1 %.3e, max %.3e "
                             "(SLEPc, %d restarts, %lld products, %.3g s)\n",
                             chain.numFrames(), o.carryWrap ? ", the wrap carried" : "", period.states,
-                            period.residual, period.lambda1, period.lambda2, period.relaxationTime, period.l1,
+                            period.absorbing, period.leftOut, period.residual, period.lambda1, period.lambda2, period.relaxationTime, period.l1,
                             period.max, period.iterations, period.products, period.seconds));
     if (o.mix) {
       if (allMixed)
@@ -537,8 +538,8 @@ PetscErrorCode markovCommand(MPI_Comm comm, const char *positional) {
       const MixingSummary m = summarise(a.mixing);
       PetscCall(PetscPrintf(comm, "  size class %s (drift linearised on the mean composition):", fractions.label(i).c_str()));
       if (o.period)
-        PetscCall(PetscPrintf(comm, " period chain lambda1 %.8f, |lambda2| %.8f, relaxation %.4g s (%lld products, %.3g s);",
-                              a.period.lambda1, a.period.lambda2, a.period.relaxationTime, a.period.products,
+        PetscCall(PetscPrintf(comm, " period chain (%d states) lambda1 %.8f, |lambda2| %.8f, relaxation %.4g s (%lld products, %.3g s);",
+                              a.period.states, a.period.lambda1, a.period.lambda2, a.period.relaxationTime, a.period.products,
                               a.period.seconds));
       if (o.mix && m.all)
         PetscCall(PetscPrintf(comm, " tracer mixing mean %.4g s, worst %.4g s;", m.mean, m.worst));

@@ -1,11 +1,20 @@
 #include "markov/period_chain.hpp"
 #include "base/petsc_compat.hpp"
 
+#include "markov/chain_block.hpp"
+
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <utility>
 
 namespace rcfd {
+
+namespace {
+// A cell is kept for ever by the period chain when one period returns all of
+// its solid to it (P(i, i) = 1) to round-off.
+constexpr double kAbsorbing = 1e-12;
+} // namespace
 
 double centreHeight(const Mesh &mesh, const Vec3 &gravity, const std::vector<double> &share) {
   const double g = std::sqrt(gravity[0] * gravity[0] + gravity[1] * gravity[1] + gravity[2] * gravity[2]);
@@ -24,31 +33,84 @@ PetscErrorCode PeriodChain::setUp(const FrameChain &chain, const std::vector<cha
   const std::vector<PetscInt> &cells = chain.chainCells();
   PetscFunctionBeginUser;
   chain_ = &chain;
-  states_.clear();
-  const PetscScalar *pa, *pm;
+  held_.clear();
+  candidates_.clear();
+  const PetscScalar *pa;
   PetscCall(VecGetArrayRead(db.alphaS(0), &pa));
-  PetscCall(VecGetArrayRead(chain.massShare(0), &pm));
-  double counts[2] = {0.0, 0.0}; // states, frame 0's share of the absorbing cells
   for (size_t c = 0; c < cells.size(); ++c) {
     const PetscInt i = cells[c];
     if (pa[i] <= 0) continue;
-    if (static_cast<size_t>(i) < absorbing.size() && absorbing[static_cast<size_t>(i)]) {
-      counts[1] += pm[i];
-      continue;
-    }
-    states_.push_back(static_cast<PetscInt>(c));
+    const bool candidate = static_cast<size_t>(i) < absorbing.size() && absorbing[static_cast<size_t>(i)];
+    (candidate ? candidates_ : held_).push_back(static_cast<PetscInt>(c));
   }
-  PetscCall(VecRestoreArrayRead(chain.massShare(0), &pm));
   PetscCall(VecRestoreArrayRead(db.alphaS(0), &pa));
-  counts[0] = static_cast<double>(states_.size());
-  PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, counts, 2, MPI_DOUBLE, MPI_SUM, comm));
-  numStates_ = static_cast<int>(counts[0]);
-  leftOut_ = counts[1];
-  PetscCheck(numStates_ > 0, comm, PETSC_ERR_USER_INPUT,
-             "Database '%s': no cell holds moving solid at frame 0, so the period chain has no state",
-             db.path().c_str());
+  PetscInt counts[2] = {static_cast<PetscInt>(held_.size()), static_cast<PetscInt>(candidates_.size())};
+  PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, counts, 2, MPIU_INT, MPI_SUM, comm));
+  PetscCheck(counts[0] + counts[1] > 0, comm, PETSC_ERR_USER_INPUT,
+             "Database '%s': no cell holds solid at frame 0, so the period chain has no state", db.path().c_str());
+  // This rank's candidates are the block's columns from firstCandidate_ on
+  // (MPI_Exscan leaves rank 0's undefined).
+  {
+    PetscMPIInt rank;
+    PetscCallMPI(MPI_Comm_rank(comm, &rank));
+    const PetscInt mine = static_cast<PetscInt>(candidates_.size());
+    PetscInt before = 0;
+    PetscCallMPI(MPI_Exscan(&mine, &before, 1, MPIU_INT, MPI_SUM, comm));
+    firstCandidate_ = rank == 0 ? 0 : before;
+  }
+  numCandidates_ = counts[1];
   PetscCall(chain.blockVector(1, x_.put()));
   PetscCall(VecDuplicate(x_, y_.put()));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+// The candidates this chain keeps for ever: each started alone (a column of
+// a block) and followed through one period; kept whole (to 1e-12), the cell
+// is an eigenvector of P of eigenvalue 1 of its own and no state.  The bulk's
+// dead corner stays dead with the frames alone, but a class's drift may swap
+// with it (then it is a state of the class's chain like any other).
+PetscErrorCode PeriodChain::chooseStates(const std::vector<ChainStep *> &steps) {
+  const MPI_Comm comm = chain_->database().layout().comm();
+  const std::vector<PetscInt> &cells = chain_->chainCells();
+  PetscFunctionBeginUser;
+  std::vector<char> kept(candidates_.size(), 0);
+  if (numCandidates_ > 0) {
+    ChainBlock block;
+    PetscCall(block.setUp(*chain_, numCandidates_, steps));
+    PetscCall(block.getArrays());
+    for (size_t j = 0; j < candidates_.size(); ++j)
+      block.at(candidates_[j], firstCandidate_ + static_cast<PetscInt>(j)) = 1.0;
+    PetscCall(block.restoreArrays());
+    for (int k = 0; k < chain_->numFrames(); ++k) PetscCall(block.step(k));
+    PetscCall(block.getArrays());
+    for (size_t j = 0; j < candidates_.size(); ++j)
+      kept[j] = block.at(candidates_[j], firstCandidate_ + static_cast<PetscInt>(j)) >= 1.0 - kAbsorbing;
+    PetscCall(block.restoreArrays());
+  }
+  states_ = held_;
+  double left[2] = {0.0, 0.0}; // states, frame 0's share of the cells kept for ever
+  const PetscScalar *pm;
+  PetscCall(VecGetArrayRead(chain_->massShare(0), &pm));
+  for (size_t j = 0; j < candidates_.size(); ++j)
+    if (kept[j])
+      left[1] += pm[cells[static_cast<size_t>(candidates_[j])]];
+    else
+      states_.push_back(candidates_[j]);
+  PetscCall(VecRestoreArrayRead(chain_->massShare(0), &pm));
+  std::sort(states_.begin(), states_.end());
+  left[0] = static_cast<double>(states_.size());
+  PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, left, 2, MPI_DOUBLE, MPI_SUM, comm));
+  numStates_ = static_cast<int>(left[0]);
+  leftOut_ = left[1];
+  {
+    PetscInt n = 0;
+    for (char k : kept) n += k;
+    PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, &n, 1, MPIU_INT, MPI_SUM, comm));
+    absorbing_ = static_cast<int>(n);
+  }
+  PetscCheck(numStates_ > 0, comm, PETSC_ERR_USER_INPUT,
+             "Database '%s': every cell holding solid at frame 0 keeps it for ever, so the period chain has no state",
+             chain_->database().path().c_str());
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
@@ -96,9 +158,11 @@ PetscErrorCode PeriodChain::solve(ChainEigensolver &solver, const std::vector<Ch
   const std::vector<PetscInt> &cells = chain_->chainCells();
   const double t0 = MPI_Wtime();
   PetscFunctionBeginUser;
+  PetscCall(chooseStates(steps));
   steps_ = steps;
   products_ = 0;
   out->states = numStates_;
+  out->absorbing = absorbing_;
   out->leftOut = leftOut_;
   // The database's check at frame 0: one period of frame 0's share over all
   // the chain's cells (what the states would lose is counted too).

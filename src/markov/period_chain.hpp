@@ -22,8 +22,9 @@ namespace rcfd {
 /// The period chain's numbers (PeriodSpectrum without its distribution, so
 /// that they copy).
 struct PeriodNumbers {
-  int states = 0;               ///< cells holding solid at frame 0, not absorbing
-  double leftOut = 0.0;         ///< frame 0's mass share of the other cells (the absorbing ones)
+  int states = 0;               ///< cells holding solid at frame 0 that the chain does not keep for ever
+  int absorbing = 0;            ///< cells holding solid at frame 0 that it keeps for ever (P(i, i) = 1)
+  double leftOut = 0.0;         ///< frame 0's mass share of those
   double lambda1 = 0.0;         ///< 1 for a chain that keeps its distributions on the states
   double lambda2Re = 0.0, lambda2Im = 0.0, lambda2 = 0.0; ///< the next-largest eigenvalue, its modulus
   double relaxationTime = 0.0;  ///< -K dt_rec / ln |lambda2| [s] (infinite when |lambda2| >= 1)
@@ -48,12 +49,16 @@ public:
   PeriodChain() = default;
   PeriodChain(const PeriodChain &) = delete;
   PeriodChain &operator=(const PeriodChain &) = delete;
-  /// Collective.  The states: the chain's cells holding solid at frame 0 that
-  /// are not `absorbing` (per own cell, local index; ChainSpectrum's
-  /// absorbingLocal: a cell whose solid never moves is an eigenvector of P of
-  /// its own, and with several the eigenvalue 1 is not simple).  Cells empty
-  /// at frame 0 are passed through within the period but are no states: a
-  /// distribution at frame 0 holds nothing there.  chain must outlive this.
+  /// Collective.  The states are the chain's cells holding solid at frame 0
+  /// but those a chain keeps for ever: a cell whose solid a period returns to
+  /// it whole (P(i, i) = 1) is an eigenvector of P of its own, and with several
+  /// the eigenvalue 1 is not simple.  The candidates are `absorbing` (per own
+  /// cell, local index; ChainSpectrum's absorbingLocal: solid that never moves
+  /// in the frames), each followed through one period by solve() with the
+  /// chain's steps (a class's drift may move what the frames leave).  Cells
+  /// empty at frame 0 are passed through within the period but are no
+  /// states: a distribution at frame 0 holds nothing there.  chain must
+  /// outlive this.
   PetscErrorCode setUp(const FrameChain &chain, const std::vector<char> &absorbing);
   /// Collective.  P's two largest eigenvalues and its stationary distribution
   /// with `steps` after each frame's transfer (none: the frames alone), by
@@ -68,10 +73,14 @@ public:
 private:
   static PetscErrorCode mult(Mat P, Vec in, Vec out);
   PetscErrorCode applyPeriod(); // x_ <- P x_ over all chain cells
+  PetscErrorCode chooseStates(const std::vector<ChainStep *> &steps);
 
   const FrameChain *chain_ = nullptr;
-  std::vector<PetscInt> states_; // this rank's states: positions among its chain cells
-  int numStates_ = 0;
+  // Positions among this rank's chain cells: the cells holding solid at frame
+  // 0, candidates to be kept for ever apart, and the chain's states.
+  std::vector<PetscInt> held_, candidates_, states_;
+  PetscInt numCandidates_ = 0, firstCandidate_ = 0; // all ranks'; this rank's first as a block column
+  int numStates_ = 0, absorbing_ = 0;
   double leftOut_ = 0.0;
   std::vector<ChainStep *> steps_;
   OwnedVec x_, y_; // over the chain's cells (one column)
