@@ -2,8 +2,9 @@
 // hand-made databases with analytic answers: a two-cell chain and a lazy ring
 // of N cells give their eigenvalues, stationary distributions, mixing times and
 // the distributions of the time per visit and away from a zone; absorbed plus
-// left is 1; frames that do not conserve mass are refused.  Runs at 1 and 2
-// ranks with the same numbers.
+// left is 1; frames that do not conserve mass are refused; the chain over one
+// period of the frames (their product) against hand products.  Runs at 1 and
+// 2 ranks with the same numbers.
 #include "check.hpp"
 #include "box_meshes.hpp"
 #include "database/database_file_writer.hpp"
@@ -11,6 +12,7 @@
 #include "markov/class_drift.hpp"
 #include "markov/frame_chain.hpp"
 #include "markov/pass_counts.hpp"
+#include "markov/period_chain.hpp"
 #include "markov/spectrum.hpp"
 #include "markov/tracer_mixing.hpp"
 #include "markov/wrap_carry.hpp"
@@ -333,13 +335,19 @@ Mesh column() {
   return rcfd::test::boxMesh(s);
 }
 
-CsrMatrix columnWalk() {
+// With `deadBottom` the bottom cell's solid never moves and none reaches it
+// (a dead corner): the walk is over the cells above.
+CsrMatrix columnWalk(bool deadBottom = false) {
   std::vector<int32_t> dest, src;
   std::vector<double> w;
   for (int c = 0; c < kColumn; ++c) {
     double stay = 0.5;
+    if (deadBottom && c == 0) {
+      dest.push_back(c), src.push_back(c), w.push_back(1.0);
+      continue;
+    }
     for (int to : {c - 1, c + 1}) {
-      if (to < 0 || to >= kColumn) {
+      if (to < 0 || to >= kColumn || (deadBottom && to == 0)) {
         stay += 0.25;
         continue;
       }
@@ -348,6 +356,18 @@ CsrMatrix columnWalk() {
     dest.push_back(c), src.push_back(c), w.push_back(stay);
   }
   return shiftFromTransfers(kColumn + 1, dest, src, w);
+}
+
+// Two classes (1 and 3 mm, half each) drifting by law B with -drift_kd kd.
+PetscErrorCode columnDrift(const char *kd, FractionSet *fractions, ClassDrift *drift) {
+  PetscFunctionBeginUser;
+  PetscCall(FractionSet::create({1e-3, 3e-3}, {0.5, 0.5}, fractions));
+  PetscCall(PetscOptionsSetValue(nullptr, "-drift_model", "B"));
+  PetscCall(PetscOptionsSetValue(nullptr, "-drift_kd", kd));
+  PetscCall(drift->setFromOptions(PETSC_COMM_WORLD));
+  PetscCall(PetscOptionsClearValue(nullptr, "-drift_model"));
+  PetscCall(PetscOptionsClearValue(nullptr, "-drift_kd"));
+  PetscFunctionReturn(PETSC_SUCCESS);
 }
 
 struct ClassRun {
@@ -366,12 +386,7 @@ PetscErrorCode classChains(const std::string &path, const char *kd, ClassRun *ou
   PetscFunctionBeginUser;
   PetscCall(load(path, Zone("top", Zone::Shape::Box, {0.0, 0.01, 0.0, 0.01, 0.01 * (kColumn - 1), 0.01 * kColumn}), &l));
   const FrameChain &chain = l.chain;
-  PetscCall(FractionSet::create({1e-3, 3e-3}, {0.5, 0.5}, &fractions));
-  PetscCall(PetscOptionsSetValue(nullptr, "-drift_model", "B"));
-  PetscCall(PetscOptionsSetValue(nullptr, "-drift_kd", kd));
-  PetscCall(drift.setFromOptions(PETSC_COMM_WORLD));
-  PetscCall(PetscOptionsClearValue(nullptr, "-drift_model"));
-  PetscCall(PetscOptionsClearValue(nullptr, "-drift_kd"));
+  PetscCall(columnDrift(kd, &fractions, &drift));
   PetscCall(drift.setUp(chain, fractions, 1440.0));
   PassageSettings passages;
   passages.horizon = 20.0;
@@ -602,6 +617,200 @@ void passes() {
   RCFD_CHECK(conservation <= 1e-13);
 }
 
+// The period chain of a loaded database with `steps` after each frame: its
+// numbers and its stationary distribution per cell (natural order).
+struct PeriodRun {
+  PeriodNumbers numbers;
+  std::vector<double> share, frame0;
+  double height = 0.0;
+};
+
+PetscErrorCode periodOf(Loaded &l, const std::vector<ChainStep *> &steps, PeriodRun *out) {
+  ChainEigensolver solver;
+  ChainSpectrum average;
+  PeriodChain period;
+  PeriodSpectrum p;
+  PetscFunctionBeginUser;
+  PetscCall(solver.setFromOptions(PETSC_COMM_WORLD, "markov_"));
+  PetscCall(solver.solve(l.chain, FrameChain::Average::Mass, 0.0, &average)); // its absorbing cells
+  PetscCall(period.setUp(l.chain, average.absorbingLocal));
+  PetscCall(period.solve(solver, steps, "the test's period chain", &p));
+  out->numbers = p;
+  PetscCall(l.db->layout().gatherToAll(1, p.stationary, &out->share));
+  PetscCall(l.db->layout().gatherToAll(1, l.chain.massShare(0), &out->frame0));
+  out->height = centreHeight(l.db->mesh(), l.db->metadata().gravity, out->share);
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode periodOf(const std::string &path, PeriodRun *out) {
+  Loaded l;
+  PetscFunctionBeginUser;
+  PetscCall(load(path, firstCell(), &l));
+  PetscCall(periodOf(l, {}, out));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+// Two cells, two different frames T0 = [[1 - a, b], [a, 1 - b]] and T1 the
+// same with (c, d): the period chain is P = T1 T0 (by hand), its eigenvalues 1
+// and tr P - 1, its stationary distribution (P01, P10) / (P01 + P10), the
+// relaxation time -2 dt / ln |lambda2|.  With c / d = a / b both frames keep
+// the database's alpha: the database is consistent and the stationary
+// distribution is frame 0's share, exactly.
+void periodTwoCells() {
+  const double a = 0.3, b = 0.1;
+  for (const auto &[c, d] : {std::pair<double, double>{0.5, 0.4}, {0.6, 0.2}}) {
+    const std::string path = dir + "/two_frames_" + std::to_string(static_cast<int>(10 * c)) + ".h5";
+    writeChain(path, 2, {0.2, 0.6},
+               {shiftFromTransfers(2, {0, 1, 0, 1}, {0, 0, 1, 1}, {1 - a, a, b, 1 - b}),
+                shiftFromTransfers(2, {0, 1, 0, 1}, {0, 0, 1, 1}, {1 - c, c, d, 1 - d})});
+    const double T0[2][2] = {{1 - a, b}, {a, 1 - b}}, T1[2][2] = {{1 - c, d}, {c, 1 - d}};
+    double P[2][2];
+    for (int i = 0; i < 2; ++i)
+      for (int j = 0; j < 2; ++j) P[i][j] = T1[i][0] * T0[0][j] + T1[i][1] * T0[1][j];
+    const double lambda2 = P[0][0] + P[1][1] - 1, pi0 = P[0][1] / (P[0][1] + P[1][0]);
+    PeriodRun r;
+    RCFD_CHECK(succeeded(periodOf(path, &r)));
+    RCFD_CHECK(r.numbers.states == 2);
+    RCFD_CHECK_CLOSE(r.numbers.lambda1, 1.0, 1e-12);
+    RCFD_CHECK_CLOSE(r.numbers.lambda2, std::abs(lambda2), 1e-12);
+    RCFD_CHECK_CLOSE(r.numbers.relaxationTime, -2 * dt / std::log(std::abs(lambda2)), 1e-12);
+    RCFD_CHECK(r.share.size() == 2);
+    if (r.share.size() != 2) continue;
+    RCFD_CHECK_CLOSE(r.share[0], pi0, 1e-12);
+    RCFD_CHECK_CLOSE(r.share[1], 1 - pi0, 1e-12);
+    RCFD_CHECK_CLOSE(r.numbers.l1, 2 * std::abs(pi0 - 0.25), 1e-12); // frame 0's share is (1/4, 3/4)
+    // |P m0 - m0|_1 = 2 |(P m0)_0 - 1/4|
+    RCFD_CHECK_CLOSE(r.numbers.residual, 2 * std::abs(P[0][0] * 0.25 + P[0][1] * 0.75 - 0.25), 1e-15);
+    if (c / d == a / b) { // consistent: m0 is stationary
+      RCFD_CHECK(r.numbers.residual < 1e-15);
+      RCFD_CHECK(r.numbers.l1 < 1e-12);
+      RCFD_CHECK_CLOSE(r.share[0], 0.25, 1e-12);
+    }
+  }
+}
+
+// The consistent two frames with a dead corner: a third cell holding solid
+// that never moves.  It is an absorbing state (an eigenvector of P of
+// eigenvalue 1 of its own) and is left out: the chain's states are the two
+// cells, their stationary distribution frame 0's share over them.
+void periodDeadCorner() {
+  const double a = 0.3, b = 0.1, c = 0.6, d = 0.2;
+  const std::string path = dir + "/two_frames_dead.h5";
+  writeChain(path, 3, {0.2, 0.6, 0.1},
+             {shiftFromTransfers(3, {0, 1, 0, 1, 2}, {0, 0, 1, 1, 2}, {1 - a, a, b, 1 - b, 1}),
+              shiftFromTransfers(3, {0, 1, 0, 1, 2}, {0, 0, 1, 1, 2}, {1 - c, c, d, 1 - d, 1})});
+  PeriodRun r;
+  RCFD_CHECK(succeeded(periodOf(path, &r)));
+  RCFD_CHECK(r.numbers.states == 2);
+  RCFD_CHECK_CLOSE(r.numbers.leftOut, 1.0 / 9.0, 1e-15);
+  RCFD_CHECK(r.share.size() == 3);
+  if (r.share.size() == 3) {
+    RCFD_CHECK_CLOSE(r.share[0], 0.25, 1e-12);
+    RCFD_CHECK(r.share[2] == 0.0);
+  }
+  RCFD_CHECK(r.numbers.l1 < 1e-12);
+  RCFD_CHECK_CLOSE(r.numbers.lambda2, std::abs((1 - a - b) * (1 - c - d)), 1e-12);
+}
+
+// A lazy ring (a quarter of every cell moves on) followed by a rotation (all
+// of it moves on): both circulant, P = R L has the eigenvalues
+// w^k (1 - p + p w^k), w = exp(2 pi i / N); the largest after 1 is k = +-1.
+// The uniform alpha is stationary: the stationary distribution is 1/N.
+void periodRing() {
+  const int N = 8;
+  const double p = 0.25;
+  const std::string path = dir + "/ring_rotation.h5";
+  writeChain(path, N, std::vector<double>(N, 0.5), {lazyRing(N, p), lazyRing(N, 1.0)});
+  PeriodRun r;
+  RCFD_CHECK(succeeded(periodOf(path, &r)));
+  const std::complex<double> w = std::polar(1.0, 2 * M_PI / N), lambda2 = w * (1 - p + p * w);
+  RCFD_CHECK(r.numbers.states == N);
+  RCFD_CHECK_CLOSE(r.numbers.lambda1, 1.0, 1e-12);
+  RCFD_CHECK_CLOSE(r.numbers.lambda2, std::abs(lambda2), 1e-12);
+  RCFD_CHECK_CLOSE(r.numbers.lambda2Re, lambda2.real(), 1e-12);
+  RCFD_CHECK_CLOSE(std::abs(r.numbers.lambda2Im), std::abs(lambda2.imag()), 1e-12);
+  for (double x : r.share) RCFD_CHECK_CLOSE(x, 1.0 / N, 1e-12);
+  RCFD_CHECK(r.numbers.l1 < 1e-12 && r.numbers.residual < 1e-15);
+  if (rank == 0)
+    std::printf("period chain, ring then rotation: |lambda2| %.12f (hand %.12f), %d restarts, %lld products\n",
+                r.numbers.lambda2, std::abs(lambda2), r.numbers.iterations, r.numbers.products);
+}
+
+// The size classes' period chains on the drifting column (sizeClasses):
+// with k_d = 0 every class's numbers and distribution are the bulk's; with
+// k_d > 0 the small class's stationary distribution lies higher than the
+// bulk's and the large class's lower.
+PetscErrorCode classPeriods(const std::string &path, const char *kd, PeriodRun *bulk, std::vector<PeriodRun> *classes) {
+  Loaded l;
+  FractionSet fractions;
+  ClassDrift drift;
+  PetscFunctionBeginUser;
+  PetscCall(load(path, firstCell(), &l));
+  PetscCall(columnDrift(kd, &fractions, &drift));
+  PetscCall(drift.setUp(l.chain, fractions, 1440.0));
+  PetscCall(periodOf(l, {}, bulk));
+  classes->clear();
+  for (int i = 0; i < fractions.size(); ++i) {
+    drift.setClass(i);
+    classes->emplace_back();
+    PetscCall(periodOf(l, {&drift}, &classes->back()));
+  }
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+void periodClasses() {
+  const std::string path = dir + "/column.h5"; // written by sizeClasses
+  PeriodRun bulk;
+  std::vector<PeriodRun> classes;
+  RCFD_CHECK(succeeded(classPeriods(path, "0", &bulk, &classes)));
+  RCFD_CHECK(classes.size() == 2);
+  // The walk keeps the uniform column: the bulk's stationary distribution is frame 0's.
+  RCFD_CHECK(bulk.numbers.l1 < 1e-12);
+  for (const PeriodRun &c : classes) {
+    RCFD_CHECK_CLOSE(c.numbers.lambda1, bulk.numbers.lambda1, 1e-12);
+    RCFD_CHECK_CLOSE(c.numbers.lambda2, bulk.numbers.lambda2, 1e-12);
+    RCFD_CHECK(c.share.size() == bulk.share.size());
+    for (size_t i = 0; i < std::min(c.share.size(), bulk.share.size()); ++i)
+      RCFD_CHECK_CLOSE(c.share[i], bulk.share[i], 1e-12);
+  }
+  RCFD_CHECK(succeeded(classPeriods(path, "1e5", &bulk, &classes)));
+  RCFD_CHECK(classes.size() == 2);
+  if (classes.size() != 2) return;
+  // Every class's chain keeps its distributions on the column: lambda1 = 1.
+  for (const PeriodRun &c : classes) {
+    RCFD_CHECK_CLOSE(c.numbers.lambda1, 1.0, 1e-12);
+    double sum = 0.0;
+    for (double x : c.share) sum += x;
+    RCFD_CHECK_CLOSE(sum, 1.0, 1e-12);
+  }
+  RCFD_CHECK(classes[0].height > bulk.height + 0.005);
+  RCFD_CHECK(classes[1].height < bulk.height - 0.005);
+  // A dead bottom cell: the bulk's chain keeps it for ever (no state), but
+  // the drift swaps the classes with it, so it is a state of each class's
+  // chain, which keeps its distributions (lambda1 = 1); with k_d = 0 it is
+  // kept for ever by every class's chain too.
+  const std::string dead = dir + "/column_dead.h5";
+  std::vector<double> alpha(kColumn + 1, 0.3);
+  alpha[kColumn] = 0.0;
+  writeChain(dead, column(), alpha, {columnWalk(true)});
+  PeriodRun deadBulk;
+  std::vector<PeriodRun> deadClasses;
+  RCFD_CHECK(succeeded(classPeriods(dead, "1e5", &deadBulk, &deadClasses)));
+  RCFD_CHECK(deadBulk.numbers.states == kColumn - 1 && deadBulk.numbers.absorbing == 1);
+  RCFD_CHECK(deadClasses.size() == 2);
+  for (const PeriodRun &c : deadClasses) {
+    RCFD_CHECK(c.numbers.states == kColumn && c.numbers.absorbing == 0);
+    RCFD_CHECK_CLOSE(c.numbers.lambda1, 1.0, 1e-12);
+  }
+  RCFD_CHECK(succeeded(classPeriods(dead, "0", &deadBulk, &deadClasses)));
+  for (const PeriodRun &c : deadClasses) RCFD_CHECK(c.numbers.states == kColumn - 1 && c.numbers.absorbing == 1);
+  if (rank == 0)
+    std::printf("column, period chain's stationary centre: bulk %.4f m, small %.4f m, large %.4f m; |lambda2| %.6f, "
+                "%.6f, %.6f\n",
+                bulk.height, classes[0].height, classes[1].height, bulk.numbers.lambda2, classes[0].numbers.lambda2,
+                classes[1].numbers.lambda2);
+}
+
 } // namespace
 
 int main(int argc, char **argv) {
@@ -621,6 +830,10 @@ int main(int argc, char **argv) {
   sizeClasses();
   wrapCarried();
   zoneStart();
+  periodTwoCells();
+  periodDeadCorner();
+  periodRing();
+  periodClasses();
   PetscPopErrorHandler();
   PetscCall(PetscFinalize());
   return RCFD_TEST_RESULT();

@@ -25,6 +25,7 @@ mpiexec -n 2 "$rcfd" markov "$db" "${common[@]}" -o "$work/np2" && ok || fail "r
   fail "relaxation.csv differs between 1 and 2 ranks"
 "$compare" "$work/np1/zone_low.csv" "$work/np2/zone_low.csv" 1e-12 1e-15 && ok || fail "zone_low.csv differs"
 "$compare" "$work/np1/passes_low.csv" "$work/np2/passes_low.csv" 1e-12 1e-15 && ok || fail "passes_low.csv differs"
+value() { grep "^$2," "$1/summary.csv" | cut -d, -f2; }
 # Size classes (the drift linearised on the mean composition): the same on 2 ranks; the small class
 # spends less of its time in the low zone than the large one (Kac's share: 0.46 against 0.76) and
 # more in the top zone, the bed's surface (0.073 against 0.056).
@@ -42,7 +43,25 @@ awk -F, 'NR > 2 && !($9 < 1e-12) { bad = 1 } END { exit bad }' "$work/classes1/c
   fail "a class's absorbed + left is not 1 within 1e-12"
 "$compare" "$work/np1/stationary.csv" "$work/np2/stationary.csv" 1e-12 1e-15 stationary_share=1e-8 && ok ||
   fail "stationary.csv differs"
-value() { grep "^$2," "$1/summary.csv" | cut -d, -f2; }
+# The period chain (-markov_spectrum period), the wrap carried: the synthetic frames move alpha_k
+# onto alpha_{k+1} and the carry closes the wrap, so frame 0's share is its stationary distribution
+# (to SLEPc's tolerance) and lambda1 = 1; each class's too, the small class's centre above the large's.
+period=(-markov_spectrum period -markov_wrap carry -markov_mix 0 -quiet -fractions_diameters 1e-3,3e-3
+  -fractions_mass_shares 0.5,0.5 -drift_model B -drift_kd 5e4)
+mpiexec -n 1 "$rcfd" markov "$db" "${period[@]}" -o "$work/period1" && ok || fail "rcfd markov -markov_spectrum period, 1 rank"
+mpiexec -n 2 "$rcfd" markov "$db" "${period[@]}" -o "$work/period2" && ok || fail "rcfd markov -markov_spectrum period, 2 ranks"
+awk -v r="$(value "$work/period1" period_residual)" -v l="$(value "$work/period1" period_stationary_l1)" \
+  -v m="$(value "$work/period1" period_lambda1)" 'BEGIN { exit !(r != "" && r < 1e-14 && l < 1e-10 && m - 1 < 1e-10 && 1 - m < 1e-10) }' &&
+  ok || fail "period chain: |P m0 - m0| $(value "$work/period1" period_residual), L1 $(value "$work/period1" period_stationary_l1), lambda1 $(value "$work/period1" period_lambda1)"
+awk -v s="$(value "$work/period1" class_d1.000mm_period_height)" -v l="$(value "$work/period1" class_d3.000mm_period_height)" \
+  -v b="$(value "$work/period1" period_height)" 'BEGIN { exit !(s != "" && s > b + 0.02 && l < b - 0.02) }' &&
+  ok || fail "period chain's centres: small $(value "$work/period1" class_d1.000mm_period_height), large $(value "$work/period1" class_d3.000mm_period_height), bulk $(value "$work/period1" period_height)"
+"$compare" "$work/period1/stationary.csv" "$work/period2/stationary.csv" 1e-12 1e-15 stationary_share=1e-8 \
+  period_stationary_share=1e-8 period_stationary_d1.000mm=1e-8 period_stationary_d3.000mm=1e-8 && ok ||
+  fail "stationary.csv with the period chain differs between 1 and 2 ranks"
+awk -v a="$(value "$work/period1" class_d3.000mm_period_relaxation_time)" -v b="$(value "$work/period2" class_d3.000mm_period_relaxation_time)" \
+  'BEGIN { exit !(a > 0 && (a - b < 1e-6 * a && b - a < 1e-6 * a)) }' && ok ||
+  fail "the large class's period relaxation time: $(value "$work/period1" class_d3.000mm_period_relaxation_time) vs $(value "$work/period2" class_d3.000mm_period_relaxation_time)"
 # Most tracers mixed within 60 s (the bed relaxes in about 16 s; starts in nearly dead cells do not: 123 of 138).
 awk -v m="$(value "$work/np1" mixing_mixed)" -v n="$(value "$work/np1" mixing_starts)" 'BEGIN { exit !(n > 100 && m > n / 2) }' &&
   ok || fail "$(value "$work/np1" mixing_mixed) of $(value "$work/np1" mixing_starts) tracers mixed within 60 s"
@@ -78,6 +97,7 @@ fi
 expect_error "Unknown option -markov_mix_tolerence" markov "$db" -markov_mix_tolerence 0.1 -o "$work/bad"
 expect_error "-markov_mix_tolerance 2: expected a number between 0 and 1" markov "$db" -markov_mix_tolerance 2 -o "$work/bad"
 expect_error "No database given" markov -o "$work/bad"
+expect_error "Unknown option nope for -markov_spectrum. Available options: average period" markov "$db" -markov_spectrum nope -o "$work/bad"
 expect_error "-markov_mix_zone nope is none of -zones" markov "$db" -zones low -zone_low_layers 0,4 -markov_mix_zone nope -o "$work/bad"
 [ ! -e "$work/bad" ] && ok || fail "a refused rcfd markov wrote $work/bad"
 echo "$passed passed, $failures failed"

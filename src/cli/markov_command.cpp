@@ -1,6 +1,8 @@
 // rcfd markov DB.h5: what the frames say as the solid's Markov chain, without
 // a run (docs/markov.md): the averaged chain's stationary distribution against
-// the database's mean mass share, its second eigenvalue and relaxation time,
+// the database's mean mass share, its second eigenvalue and relaxation time
+// (with -markov_spectrum period also the chain over one period of the frames,
+// its stationary distribution at frame 0 against frame 0's, per size class too),
 // the tracer mixing time from the frames, and for named zones the time per
 // visit and the time away between visits; with size classes and a drift law,
 // the mixing and the zones of each class's chain.
@@ -12,6 +14,7 @@
 #include "markov/class_drift.hpp"
 #include "markov/frame_chain.hpp"
 #include "markov/pass_counts.hpp"
+#include "markov/period_chain.hpp"
 #include "markov/spectrum.hpp"
 #include "markov/tracer_mixing.hpp"
 #include "markov/wrap_carry.hpp"
@@ -43,6 +46,7 @@ struct MarkovOptions {
   bool quiet = false, plot = true;
   bool classes = false; // -fractions_diameters given: every class's chain too
   bool carryWrap = false; // -markov_wrap carry
+  bool period = false;    // -markov_spectrum period: the period chain too
   std::string mixZone;    // -markov_mix_zone: a tracer started in that zone too
   double solidDensity = 0.0; // 0: the database's
 };
@@ -52,7 +56,8 @@ PetscErrorCode readOptions(MPI_Comm comm, const char *positional, MarkovOptions 
   const char *averages[] = {"mass", "plain"};
   const char *startKinds[] = {"layers", "all"};
   const char *wraps[] = {"periodic", "carry"};
-  PetscInt average = 0, starts = 0, wrap = 0;
+  const char *spectra[] = {"average", "period"};
+  PetscInt average = 0, starts = 0, wrap = 0, spectrum = 0;
   PetscBool mix = PETSC_TRUE, quiet = PETSC_FALSE, plot = figuresByDefault() ? PETSC_TRUE : PETSC_FALSE;
   PetscFunctionBeginUser;
   PetscOptionsBegin(comm, nullptr, "rcfd markov: the database's frames as the solid's Markov chain", "rcfd");
@@ -63,6 +68,10 @@ PetscErrorCode readOptions(MPI_Comm comm, const char *positional, MarkovOptions 
   PetscCall(PetscOptionsEList("-markov_average",
                               "Average chain: mass (mean mass flux over mean mass) or plain (mean of the matrices)",
                               "", averages, 2, averages[average], &average, nullptr));
+  PetscCall(PetscOptionsEList("-markov_spectrum",
+                              "Spectrum: average (the time-averaged chain) or period (also the product of the frames "
+                              "over one period, and with size classes each class's)",
+                              "", spectra, 2, spectra[spectrum], &spectrum, nullptr));
   PetscCall(checkedReal(PetscOptionsObject, "-markov_alpha_mean_min",
                         "States of the averaged chain: cells whose mean alpha_s is at least this", &o->alphaMeanMin,
                         kNonNegative));
@@ -121,6 +130,7 @@ PetscErrorCode readOptions(MPI_Comm comm, const char *positional, MarkovOptions 
   PetscCall(PetscOptionsHasName(nullptr, nullptr, "-fractions_diameters", &classes));
   o->classes = classes;
   o->carryWrap = wrap == 1;
+  o->period = spectrum == 1;
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
@@ -137,6 +147,8 @@ struct ClassAnswers {
   MixingResult mixing;
   double zoneMixTime = std::nan(""); // of the tracer started in -markov_mix_zone
   std::vector<ZonePassages> zones;
+  PeriodNumbers period;                 // with -markov_spectrum period
+  std::vector<double> periodStationary; // its distribution at frame 0, all cells (rank 0)
 };
 
 } // namespace
@@ -188,9 +200,21 @@ PetscErrorCode markovCommand(MPI_Comm comm, const char *positional) {
   const double tChain = MPI_Wtime();
   ChainSpectrum spectrum;
   PetscCall(solver.solve(chain, o.average, o.alphaMeanMin, &spectrum));
+  // The chain over one period (the frames' product with the steps after
+  // them, the carry at the wrap included): its stationary distribution at
+  // frame 0 against frame 0's share, the exact check of the database.
+  const Layout &layout = db->layout();
+  PeriodChain periodChain;
+  PeriodSpectrum period;
+  std::vector<double> periodStationary, share0;
+  if (o.period) {
+    PetscCall(periodChain.setUp(chain, spectrum.absorbingLocal));
+    PetscCall(periodChain.solve(solver, bulkSteps, "the period chain", &period));
+    PetscCall(layout.gatherToAll(1, period.stationary, &periodStationary));
+    PetscCall(layout.gatherToAll(1, chain.massShare(0), &share0));
+  }
   const double tSpectrum = MPI_Wtime();
 
-  const Layout &layout = db->layout();
   std::vector<double> stationary, mean, alpha0;
   PetscCall(layout.gatherToAll(1, spectrum.stationary, &stationary));
   PetscCall(layout.gatherToAll(1, chain.meanShare(), &mean));
@@ -240,10 +264,19 @@ PetscErrorCode markovCommand(MPI_Comm comm, const char *positional) {
         a.mixing = mixing;
         a.zoneMixTime = zoneMixTime;
         a.zones = passages;
+        a.period = period;
+        a.periodStationary = periodStationary;
         classes.push_back(std::move(a));
         continue;
       }
       classDrift.setClass(i);
+      if (o.period) { // the class's chain over one period: where the class lives at frame 0
+        PeriodSpectrum p;
+        const std::string what = "the period chain of size class " + fractions.label(i);
+        PetscCall(periodChain.solve(solver, classSteps, what.c_str(), &p));
+        a.period = p;
+        PetscCall(layout.gatherToAll(1, p.stationary, &a.periodStationary));
+      }
       if (o.mix) PetscCall(tracerMixing(chain, o.mixing, &a.mixing, classSteps));
       if (o.mix && o.mixing.zoneStart) {
         a.zoneMixTime = a.mixing.time.back();
@@ -282,11 +315,25 @@ PetscErrorCode markovCommand(MPI_Comm comm, const char *positional) {
     const Mesh &mesh = db->mesh();
     std::ostringstream s;
     s << "# rcfd markov " << o.file << ": the averaged chain (" << averageName(o.average)
-      << ") stationary share against the database's mean mass share, per cell\n"
-      << "cell,x,y,z,stationary_share,mean_share\n";
-    for (int c = 0; c < mesh.numCells(); ++c)
+      << ") stationary share against the database's mean mass share, per cell"
+      << (o.period ? "; the period chain's stationary share at frame 0 (bulk, and each size class's) against "
+                     "frame 0's mass share"
+                   : "")
+      << "\ncell,x,y,z,stationary_share,mean_share";
+    if (o.period) {
+      s << ",period_stationary_share,frame0_share";
+      for (int i = 0; i < static_cast<int>(classes.size()); ++i) s << ",period_stationary_" << fractions.label(i);
+    }
+    s << '\n';
+    for (int c = 0; c < mesh.numCells(); ++c) {
       s << c << ',' << number(mesh.cellCentre[c][0]) << ',' << number(mesh.cellCentre[c][1]) << ','
-        << number(mesh.cellCentre[c][2]) << ',' << number(stationary[c]) << ',' << number(mean[c]) << '\n';
+        << number(mesh.cellCentre[c][2]) << ',' << number(stationary[c]) << ',' << number(mean[c]);
+      if (o.period) {
+        s << ',' << number(periodStationary[c]) << ',' << number(share0[c]);
+        for (const ClassAnswers &a : classes) s << ',' << number(a.periodStationary[static_cast<size_t>(c)]);
+      }
+      s << '\n';
+    }
     writeTextAtomically(dir + "stationary.csv", s.str());
     if (o.mix) {
       std::ostringstream r;
@@ -313,13 +360,20 @@ PetscErrorCode markovCommand(MPI_Comm comm, const char *positional) {
       writeTextAtomically(dir + "mixing.csv", m.str());
     }
     for (const ZonePassages &p : passages) writeZone(dir, p, "", "", o.passages.departures.size(), dt);
+    // Centres of the period chain's stationary distributions at frame 0: the
+    // bulk's, frame 0's own and each class's (a segregation straight from the chain).
+    const double bulkHeight = o.period ? centreHeight(mesh, db->metadata().gravity, periodStationary) : 0.0;
+    std::vector<double> classHeight;
+    for (const ClassAnswers &a : classes)
+      classHeight.push_back(o.period ? centreHeight(mesh, db->metadata().gravity, a.periodStationary) : 0.0);
     if (!classes.empty()) {
       // Per class: its distributions, and one table of every class's numbers.
       std::ostringstream c;
       c << "# rcfd markov " << o.file << ": each size class's chain (the shift, then its drift linearised on the "
         << "bed's mean composition; docs/markov.md, \"Size classes\"); kac_share = E[visit] / (E[visit] + E[away])\n"
         << "class,diameter,zone,mean_residence,mean_away,kac_share,residence_tail,away_tail,conservation,"
-        << "mixing_mean,mixing_worst,mixing_mixed,mixing_starts" << (o.mixing.zoneStart ? ",mixing_zone" : "") << '\n';
+        << "mixing_mean,mixing_worst,mixing_mixed,mixing_starts" << (o.mixing.zoneStart ? ",mixing_zone" : "")
+        << ",period_lambda1,period_lambda2_modulus,period_relaxation_time,period_height,period_height_minus_bulk\n";
       for (int i = 0; i < fractions.size(); ++i) {
         const ClassAnswers &a = classes[static_cast<size_t>(i)];
         const MixingSummary m = summarise(a.mixing);
@@ -331,6 +385,12 @@ PetscErrorCode markovCommand(MPI_Comm comm, const char *positional) {
             << (o.mix ? number(m.mean) : "") << ',' << (o.mix && m.all ? number(m.worst) : "") << ','
             << (o.mix ? std::to_string(m.mixed) : "") << ',' << (o.mix ? std::to_string(a.mixing.time.size()) : "");
           if (o.mixing.zoneStart) c << ',' << (std::isnan(a.zoneMixTime) ? "" : number(a.zoneMixTime));
+          if (o.period)
+            c << ',' << number(a.period.lambda1) << ',' << number(a.period.lambda2) << ','
+              << number(a.period.relaxationTime) << ',' << number(classHeight[static_cast<size_t>(i)]) << ','
+              << number(classHeight[static_cast<size_t>(i)] - bulkHeight);
+          else
+            c << ",,,,,";
           c << '\n';
         };
         if (a.zones.empty()) row("", ",,,,,");
@@ -360,6 +420,26 @@ PetscErrorCode markovCommand(MPI_Comm comm, const char *positional) {
         << "\nstates_left_out_share," << number(spectrum.leftOut) << "\nabsorbing_cells," << spectrum.absorbing
         << "\nabsorbing_share," << number(spectrum.absorbingShare) << '\n';
     if (o.carryWrap) sum << "wrap,carry " << wrapCarry.kind() << '\n'; // (periodic when absent)
+    if (o.period) {
+      sum << "period_states," << period.states << "\nperiod_absorbing_cells," << period.absorbing
+          << "\nperiod_left_out_share," << number(period.leftOut)
+          << "\nperiod_residual," << number(period.residual) << "\nperiod_lambda1," << number(period.lambda1)
+          << "\nperiod_lambda2_modulus," << number(period.lambda2) << "\nperiod_lambda2_re,"
+          << number(period.lambda2Re) << "\nperiod_lambda2_im," << number(period.lambda2Im)
+          << "\nperiod_relaxation_time," << number(period.relaxationTime) << "\nperiod_stationary_l1,"
+          << number(period.l1) << "\nperiod_stationary_max," << number(period.max) << "\nperiod_restarts,"
+          << period.iterations << "\nperiod_products," << period.products << "\nperiod_seconds,"
+          << number(period.seconds) << "\nperiod_height," << number(bulkHeight) << "\nframe0_height,"
+          << number(centreHeight(mesh, db->metadata().gravity, share0)) << '\n';
+      for (int i = 0; i < static_cast<int>(classes.size()); ++i) {
+        const PeriodNumbers &p = classes[static_cast<size_t>(i)].period;
+        const std::string q = "class_" + fractions.label(i) + "_period_";
+        sum << q << "states," << p.states << '\n' << q << "lambda1," << number(p.lambda1) << '\n' << q << "lambda2_modulus," << number(p.lambda2) << '\n'
+            << q << "relaxation_time," << number(p.relaxationTime) << '\n' << q << "height,"
+            << number(classHeight[static_cast<size_t>(i)]) << '\n' << q << "restarts," << p.iterations << '\n'
+            << q << "products," << p.products << '\n' << q << "seconds," << number(p.seconds) << '\n';
+      }
+    }
     if (o.mix)
       sum << "mixing_starts," << mixing.time.size() << "\nmixing_mixed," << mixed << "\nmixing_mean,"
           << number(mixMean) << "\nmixing_worst," << (allMixed ? number(mixWorst) : "") << '\n';
@@ -383,6 +463,10 @@ PetscErrorCode markovCommand(MPI_Comm comm, const char *positional) {
                          {dir + "relaxation.csv", "-o", dir + "relaxation.png", "--relaxation_time",
                           number(spectrum.relaxationTime), "--tolerance", number(o.mixing.tolerance), "--title",
                           "tracer mixing, " + o.file}));
+  if (o.period && o.plot)
+    PetscCall(drawFigure(comm, "markov_stationary.py",
+                         {dir + "stationary.csv", "-o", dir + "stationary.png", "--title",
+                          "period chain at frame 0, " + o.file}));
   for (const ZonePassages &p : passages)
     if (o.plot && (!p.residence.probability.empty() || !p.away.probability.empty()))
       PetscCall(drawFigure(comm, "markov_zone.py",
@@ -414,6 +498,15 @@ PetscErrorCode markovCommand(MPI_Comm comm, const char *positional) {
                           spectrum.residual, spectrum.absorbing, spectrum.absorbingShare, spectrum.cells, o.alphaMeanMin, spectrum.leftOut, spectrum.lambda1,
                           spectrum.lambda2Re, spectrum.lambda2Im, spectrum.lambda2, spectrum.relaxationTime,
                           spectrum.iterations, spectrum.l1, spectrum.max));
+    if (o.period)
+      PetscCall(PetscPrintf(comm,
+                            "  period chain (the %d frames' product%s; %d states: the cells holding solid at frame 0 but %d it "
+                            "keeps for ever, %.2e of frame 0's mass): |P m0 - m0|_1 = %.3e for frame 0's share m0; lambda1 = %.10f, "
+                            "|lambda2| = %.8f, relaxation time %.4g s; stationary against m0: L1 %.3e, max %.3e "
+                            "(SLEPc, %d restarts, %lld products, %.3g s)\n",
+                            chain.numFrames(), o.carryWrap ? ", the wrap carried" : "", period.states,
+                            period.absorbing, period.leftOut, period.residual, period.lambda1, period.lambda2, period.relaxationTime, period.l1,
+                            period.max, period.iterations, period.products, period.seconds));
     if (o.mix) {
       if (allMixed)
         PetscCall(PetscPrintf(comm, "  tracer mixing (within %g in cells with alpha_s >= %g), %zu start cells: mean %.4g s, worst %.4g s\n",
@@ -444,6 +537,10 @@ PetscErrorCode markovCommand(MPI_Comm comm, const char *positional) {
       const ClassAnswers &a = classes[static_cast<size_t>(i)];
       const MixingSummary m = summarise(a.mixing);
       PetscCall(PetscPrintf(comm, "  size class %s (drift linearised on the mean composition):", fractions.label(i).c_str()));
+      if (o.period)
+        PetscCall(PetscPrintf(comm, " period chain (%d states) lambda1 %.8f, |lambda2| %.8f, relaxation %.4g s (%lld products, %.3g s);",
+                              a.period.states, a.period.lambda1, a.period.lambda2, a.period.relaxationTime, a.period.products,
+                              a.period.seconds));
       if (o.mix && m.all)
         PetscCall(PetscPrintf(comm, " tracer mixing mean %.4g s, worst %.4g s;", m.mean, m.worst));
       else if (o.mix)

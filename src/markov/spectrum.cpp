@@ -47,13 +47,14 @@ PetscErrorCode ChainEigensolver::setFromOptions(MPI_Comm comm, const char *prefi
   PetscCall(EPSSetTolerances(eps, 1e-10, PETSC_DEFAULT));
   PetscCall(EPSSetOptionsPrefix(eps, prefix));
   PetscCall(EPSSetFromOptions(eps));
+  PetscInt nev;
+  PetscCall(EPSGetDimensions(eps, &nev, &ncv_, &mpd_));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
 PetscErrorCode ChainEigensolver::solve(const FrameChain &chain, FrameChain::Average average, double alphaMeanMin,
                                        ChainSpectrum *out) {
   const MPI_Comm comm = chain.database().layout().comm();
-  const char *prefix = prefix_.c_str();
   OwnedMat full, Q;
   OwnedIS cells;
   PetscFunctionBeginUser;
@@ -110,49 +111,17 @@ PetscErrorCode ChainEigensolver::solve(const FrameChain &chain, FrameChain::Aver
              "Database '%s': no cell has a mean alpha_s of at least %g and moving solid, so the averaged chain has no "
              "state (lower -markov_alpha_mean_min)",
              chain.database().path().c_str(), alphaMeanMin);
+  LargestEigenpairs pairs;
+  PetscCall(largest(Q, "the averaged chain", &pairs));
+  out->lambda1 = pairs.lambda1;
+  out->lambda2 = pairs.lambda2;
+  out->lambda2Re = pairs.lambda2Re;
+  out->lambda2Im = pairs.lambda2Im;
+  out->iterations = pairs.iterations;
+  out->relaxationTime = out->lambda2 > 0 && out->lambda2 < 1 ? -chain.dt() / std::log(out->lambda2)
+                                                            : std::numeric_limits<double>::infinity();
+  const Vec xr = pairs.first;
   {
-    PetscCall(EPSSetOperators(eps, Q, nullptr));
-    if (n <= 2) PetscCall(EPSSetDimensions(eps, n > 1 ? 2 : 1, n, n));
-    PetscCall(EPSSolve(eps));
-    PetscInt converged, its;
-    PetscCall(EPSGetConverged(eps, &converged));
-    PetscCall(EPSGetIterationNumber(eps, &its));
-    out->iterations = static_cast<int>(its);
-    PetscCheck(converged >= std::min<PetscInt>(n, 2), comm, PETSC_ERR_NOT_CONVERGED,
-               "SLEPc found %d of the 2 largest eigenvalues of the averaged chain (%d cells) in %d restarts; "
-               "give it more with -%seps_max_it or -%seps_ncv",
-               static_cast<int>(converged), static_cast<int>(n), static_cast<int>(its), prefix, prefix);
-    // The eigenvalue closest to 1 is the stationary one; the largest other modulus is lambda2.
-    PetscInt first = 0;
-    double best = std::numeric_limits<double>::infinity();
-    std::vector<double> re(converged), im(converged);
-    for (PetscInt i = 0; i < converged; ++i) {
-      PetscScalar kr, ki;
-      PetscCall(EPSGetEigenvalue(eps, i, &kr, &ki));
-      re[i] = PetscRealPart(kr);
-      im[i] = PetscRealPart(ki);
-      const double d = std::hypot(re[i] - 1.0, im[i]);
-      if (d < best) best = d, first = i;
-    }
-    out->lambda1 = re[first];
-    out->lambda2 = 0.0;
-    out->lambda2Re = out->lambda2Im = 0.0;
-    for (PetscInt i = 0; i < converged; ++i)
-      if (i != first && std::hypot(re[i], im[i]) > out->lambda2) {
-        out->lambda2 = std::hypot(re[i], im[i]);
-        out->lambda2Re = re[i];
-        out->lambda2Im = im[i];
-      }
-    out->relaxationTime = out->lambda2 > 0 && out->lambda2 < 1 ? -chain.dt() / std::log(out->lambda2)
-                                                              : std::numeric_limits<double>::infinity();
-    OwnedVec xr;
-    PetscCall(MatCreateVecs(Q, xr.put(), nullptr));
-    PetscCall(EPSGetEigenvector(eps, first, xr, nullptr));
-    PetscScalar sum;
-    PetscCall(VecSum(xr, &sum));
-    PetscCheck(std::abs(PetscRealPart(sum)) > 0, comm, PETSC_ERR_NOT_CONVERGED,
-               "The averaged chain's eigenvector of eigenvalue %g sums to 0; it is no distribution", out->lambda1);
-    PetscCall(VecScale(xr, 1.0 / sum));
     // Back onto all cells: the sub-matrix keeps each rank's rows of `cells`, in order.
     PetscCall(VecDuplicate(chain.meanShare(), out->stationary.put()));
     PetscCall(VecSet(out->stationary, 0.0));
@@ -169,15 +138,75 @@ PetscErrorCode ChainEigensolver::solve(const FrameChain &chain, FrameChain::Aver
     PetscCall(VecRestoreArray(out->stationary, &ps));
     PetscCall(VecRestoreArrayRead(xr, &px));
     PetscCall(ISRestoreIndices(cells, &rows));
-    OwnedVec diff;
-    PetscCall(VecDuplicate(out->stationary, diff.put()));
-    PetscCall(VecWAXPY(diff, -1.0, chain.meanShare(), out->stationary));
-    PetscReal l1, mx;
-    PetscCall(VecNorm(diff, NORM_1, &l1));
-    PetscCall(VecNorm(diff, NORM_INFINITY, &mx));
-    out->l1 = l1;
-    out->max = mx;
+    PetscCall(distributionDistance(out->stationary, chain.meanShare(), &out->l1, &out->max));
   }
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode distributionDistance(Vec a, Vec b, double *l1, double *max) {
+  OwnedVec diff;
+  PetscReal n1, ninf;
+  PetscFunctionBeginUser;
+  PetscCall(VecDuplicate(a, diff.put()));
+  PetscCall(VecWAXPY(diff, -1.0, b, a));
+  PetscCall(VecNorm(diff, NORM_1, &n1));
+  PetscCall(VecNorm(diff, NORM_INFINITY, &ninf));
+  *l1 = n1;
+  *max = ninf;
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode ChainEigensolver::largest(Mat A, const char *what, LargestEigenpairs *out) {
+  const MPI_Comm comm = PetscObjectComm(reinterpret_cast<PetscObject>(A));
+  const char *prefix = prefix_.c_str();
+  PetscInt n;
+  PetscFunctionBeginUser;
+  PetscCheck(eps, comm, PETSC_ERR_ARG_WRONGSTATE, "ChainEigensolver::largest before setFromOptions");
+  PetscCall(MatGetSize(A, &n, nullptr));
+  PetscCall(EPSSetOperators(eps, A, nullptr));
+  // A chain of one or two states holds no larger Krylov space; the options'
+  // dimensions are put back for the next chain (the solver serves several).
+  if (n <= 2)
+    PetscCall(EPSSetDimensions(eps, n > 1 ? 2 : 1, n, n));
+  else
+    PetscCall(EPSSetDimensions(eps, 2, ncv_, mpd_));
+  PetscCall(EPSSolve(eps));
+  PetscInt converged, its;
+  PetscCall(EPSGetConverged(eps, &converged));
+  PetscCall(EPSGetIterationNumber(eps, &its));
+  out->iterations = static_cast<int>(its);
+  PetscCheck(converged >= std::min<PetscInt>(n, 2), comm, PETSC_ERR_NOT_CONVERGED,
+             "SLEPc found %d of the 2 largest eigenvalues of %s (%d cells) in %d restarts; "
+             "give it more with -%seps_max_it or -%seps_ncv",
+             static_cast<int>(converged), what, static_cast<int>(n), static_cast<int>(its), prefix, prefix);
+  // The eigenvalue closest to 1 is the stationary one; the largest other modulus is lambda2.
+  PetscInt first = 0;
+  double best = std::numeric_limits<double>::infinity();
+  std::vector<double> re(converged), im(converged);
+  for (PetscInt i = 0; i < converged; ++i) {
+    PetscScalar kr, ki;
+    PetscCall(EPSGetEigenvalue(eps, i, &kr, &ki));
+    re[i] = PetscRealPart(kr);
+    im[i] = PetscRealPart(ki);
+    const double d = std::hypot(re[i] - 1.0, im[i]);
+    if (d < best) best = d, first = i;
+  }
+  out->lambda1 = re[first];
+  out->lambda2 = 0.0;
+  out->lambda2Re = out->lambda2Im = 0.0;
+  for (PetscInt i = 0; i < converged; ++i)
+    if (i != first && std::hypot(re[i], im[i]) > out->lambda2) {
+      out->lambda2 = std::hypot(re[i], im[i]);
+      out->lambda2Re = re[i];
+      out->lambda2Im = im[i];
+    }
+  PetscCall(MatCreateVecs(A, out->first.put(), nullptr));
+  PetscCall(EPSGetEigenvector(eps, first, out->first, nullptr));
+  PetscScalar sum;
+  PetscCall(VecSum(out->first, &sum));
+  PetscCheck(std::abs(PetscRealPart(sum)) > 0, comm, PETSC_ERR_NOT_CONVERGED,
+             "The eigenvector of %s's eigenvalue %g sums to 0; it is no distribution", what, out->lambda1);
+  PetscCall(VecScale(out->first, 1.0 / sum));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 

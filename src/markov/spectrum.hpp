@@ -26,9 +26,23 @@ struct ChainSpectrum {
   double residual = 0.0;          ///< |Q m - m|_1 over all cells, m the mean mass share
 };
 
-/// SLEPc's EPS for the averaged chain: non-Hermitian, largest magnitude,
-/// nev 2, tolerance 1e-10; its options take a prefix (e.g. -markov_eps_tol,
-/// -markov_eps_view), read by setFromOptions before any database is loaded.
+/// The two largest eigenvalues in modulus of a chain and the eigenvector of
+/// the one closest to 1 (the stationary one).
+struct LargestEigenpairs {
+  double lambda1 = 0.0;                    ///< the eigenvalue closest to 1
+  double lambda2Re = 0.0, lambda2Im = 0.0; ///< the next-largest in modulus
+  double lambda2 = 0.0;                    ///< its modulus
+  int iterations = 0;                      ///< SLEPc's restarts
+  OwnedVec first;                          ///< lambda1's eigenvector, scaled to sum 1
+};
+
+/// Collective.  |a - b| of two distributions over the same cells: its sum and largest entry.
+PetscErrorCode distributionDistance(Vec a, Vec b, double *l1, double *max);
+
+/// SLEPc's EPS for a chain (the averaged chain's matrix, or the period chain's
+/// shell): non-Hermitian, largest magnitude, nev 2, tolerance 1e-10; its
+/// options take a prefix (e.g. -markov_eps_tol, -markov_eps_view), read by
+/// setFromOptions before any database is loaded.
 class ChainEigensolver {
 public:
   ChainEigensolver() = default;
@@ -48,10 +62,15 @@ public:
   /// eigenvalue is then a little below 1 and its eigenvector the
   /// quasi-stationary distribution.
   PetscErrorCode solve(const FrameChain &chain, FrameChain::Average average, double alphaMeanMin, ChainSpectrum *out);
+  /// Collective.  The two largest eigenvalues of the n x n chain A (an
+  /// assembled matrix or a shell), `what` naming it in a refusal; the solver's
+  /// dimensions from its options are kept for the next call.
+  PetscErrorCode largest(Mat A, const char *what, LargestEigenpairs *out);
 
 private:
   EPS eps = nullptr;
   std::string prefix_;
+  PetscInt ncv_ = PETSC_DEFAULT, mpd_ = PETSC_DEFAULT; // from the options
 };
 
 } // namespace rcfd
