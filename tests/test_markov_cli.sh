@@ -15,7 +15,7 @@ common=(-zones low -zone_low_layers 0,4 -markov_mix_starts all -markov_mix_alpha
 # Two size classes drifting by law B: each class's chain.
 classes=(-zones low,top -zone_low_layers 0,4 -zone_top_layers 8,11 -markov_mix_alpha_min 0.3 -markov_mix_horizon 20 -markov_mix_tolerance 0.3
   -markov_departures 6 -markov_passage_horizon 5 -quiet -fractions_diameters 1e-3,3e-3 -fractions_mass_shares 0.5,0.5
-  -drift_model B -drift_kd 5e4)
+  -drift_model B -drift_kd 5e4 -markov_passes_time 1 -markov_passes_max 8)
 mpiexec -n 1 "$rcfd" markov "$db" "${common[@]}" -plot 1 -o "$work/np1" && ok || fail "rcfd markov on 1 rank failed"
 mpiexec -n 2 "$rcfd" markov "$db" "${common[@]}" -o "$work/np2" && ok || fail "rcfd markov on 2 ranks failed"
 # Propagations: the sums over cells differ in order only (1e-12).  lambda2_decay
@@ -41,6 +41,26 @@ awk -v s="$(kac "$work/classes1" d1.000mm top)" -v l="$(kac "$work/classes1" d3.
   ok || fail "top zone's share of time: small class $(kac "$work/classes1" d1.000mm top), large $(kac "$work/classes1" d3.000mm top)"
 awk -F, 'NR > 2 && !($9 < 1e-12) { bad = 1 } END { exit bad }' "$work/classes1/classes.csv" && ok ||
   fail "a class's absorbed + left is not 1 within 1e-12"
+# Each class's drift read off as a matrix per frame (the default) against the drift operator at
+# every step: the same numbers (the conservation column is round-off, 1e-15, in both).
+mpiexec -n 1 "$rcfd" markov "$db" "${classes[@]}" -markov_class_drift operator -o "$work/classes_op" && ok ||
+  fail "rcfd markov -markov_class_drift operator"
+"$compare" "$work/classes1/classes.csv" "$work/classes_op/classes.csv" 1e-12 1e-15 conservation=1e-14 && ok ||
+  fail "classes.csv differs between -markov_class_drift matrix and operator"
+for f in zone_top_d1.000mm.csv passes_low_d3.000mm.csv passes_top_d1.000mm.csv; do
+  "$compare" "$work/classes1/$f" "$work/classes_op/$f" 1e-12 1e-15 && ok ||
+    fail "$f differs between -markov_class_drift matrix and operator"
+done
+"$compare" "$work/classes1/passes_top_d1.000mm.csv" "$work/classes2/passes_top_d1.000mm.csv" 1e-12 1e-15 && ok ||
+  fail "passes_top_d1.000mm.csv differs between 1 and 2 ranks"
+# Per class, the pass counts: each distribution sums to 1 (to the files' 10 digits), and the small class enters the top zone,
+# the bed's surface, more often within 1 s than the large one (0.46 against 0.27 entries).
+for f in "$work"/classes1/passes_*_d*.csv; do
+  awk -F, 'NR > 2 { s += $2 } END { exit !(s > 1 - 1e-9 && s < 1 + 1e-9) }' "$f" && ok || fail "$(basename "$f") does not sum to 1"
+done
+passes() { awk -F, -v c="$2" -v z="$3" '$1 == c && $3 == z { print $10 }' "$1/classes.csv"; }
+awk -v s="$(passes "$work/classes1" d1.000mm top)" -v l="$(passes "$work/classes1" d3.000mm top)" 'BEGIN { exit !(l > 0 && s > 1.3 * l) }' &&
+  ok || fail "entries into the top zone within 1 s: small class $(passes "$work/classes1" d1.000mm top), large $(passes "$work/classes1" d3.000mm top)"
 "$compare" "$work/np1/stationary.csv" "$work/np2/stationary.csv" 1e-12 1e-15 stationary_share=1e-8 && ok ||
   fail "stationary.csv differs"
 # The period chain (-markov_spectrum period), the wrap carried: the synthetic frames move alpha_k

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# A seeded fuzz pass over the options of `rcfd run`, `build` and `synth`, taken
+# A seeded fuzz pass over the options of `rcfd run`, `build`, `synth` and `markov`, taken
 # from their -help (so options added later are covered): each invocation sets
 # one to three options to hostile values (NaN, inf, empty, negative, huge,
 # text, lists) and must either succeed or exit non-zero with exactly one line
@@ -26,9 +26,10 @@ base[run]="-db $data/small.h5 -t_end 0.02 -output_dir $work/out -quiet -plot fal
 base[synth]="-synth_cells 4,2,8 -synth_frames 3 -synth_warm_up 0 -o $work/s.h5 -quiet"
 ls "$work"/dump/dump.*.txt >"$work/dumps.txt"
 base[build]="-dump_list $work/dumps.txt -dump_dt 0.1 -mesh_cells 2,1,2 -o $work/b.h5 -quiet"
+base[markov]="$data/small.h5 -o $work/out -quiet -plot 0 -zones low -zone_low_layers 0,4 -markov_mix_horizon 2 -markov_passage_horizon 1"
 
 cd "$work" || exit 1
-for cmd in run synth build; do
+for cmd in run synth build markov; do
   # shellcheck disable=SC2086
   mapfile -t opts < <(options_of $cmd ${base[$cmd]})
   [ ${#opts[@]} -gt 5 ] || { fail "$cmd: only ${#opts[@]} options found in -help"; continue; }

@@ -73,6 +73,9 @@ public:
   /// The field the drift is scaled by (null when unscaled), once set up.
   std::shared_ptr<const AgitationField> agitationField() const { return agitation; }
 
+  /// -drift_every N: the drift acts at the end of every N-th step (1: every step).
+  PetscInt applyEvery() const { return every; }
+
   /// Drift velocity [m/s, up positive] of fraction i for a given Sauter diameter.
   double velocity(int i, double d32) const;
   /// The denominator of the agitation factor (a/a_ref)^n, once set up: the

@@ -25,6 +25,10 @@ inline constexpr ValueRange kPositive{0.0, PETSC_MAX_REAL, false, true, "a posit
 inline constexpr ValueRange kNonNegative{0.0, PETSC_MAX_REAL, true, true, "a number >= 0"};
 inline constexpr ValueRange kOpenUnit{0.0, 1.0, false, false, "a number between 0 and 1 (exclusive)"};
 inline constexpr ValueRange kUnitInterval{0.0, 1.0, false, true, "a number in (0, 1]"};
+/// A time the Markov chain is followed for (docs/markov.md): an hour of bed
+/// time is 720,000 steps of 5 ms, far beyond any zone's return time or a
+/// bed's mixing; 1e9 s would be a computation that never ends.
+inline constexpr ValueRange kChainTime{0.0, 3600.0, false, true, "a positive time of at most 3600 s"};
 
 /// PetscOptionsReal plus the check: when the option is given, its value must be finite
 /// and in `range`.  `PetscOptionsObject` is the block's (pass it by that name).

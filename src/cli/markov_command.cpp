@@ -12,6 +12,7 @@
 #include "cli/figures.hpp"
 #include "markov/chain_files.hpp"
 #include "markov/class_drift.hpp"
+#include "markov/drift_matrices.hpp"
 #include "markov/frame_chain.hpp"
 #include "markov/pass_counts.hpp"
 #include "markov/period_chain.hpp"
@@ -47,6 +48,7 @@ struct MarkovOptions {
   bool classes = false; // -fractions_diameters given: every class's chain too
   bool carryWrap = false; // -markov_wrap carry
   bool period = false;    // -markov_spectrum period: the period chain too
+  bool driftMatrices = true; // -markov_class_drift matrix: each class's drift as a matrix per frame
   std::string mixZone;    // -markov_mix_zone: a tracer started in that zone too
   double solidDensity = 0.0; // 0: the database's
 };
@@ -57,7 +59,8 @@ PetscErrorCode readOptions(MPI_Comm comm, const char *positional, MarkovOptions 
   const char *startKinds[] = {"layers", "all"};
   const char *wraps[] = {"periodic", "carry"};
   const char *spectra[] = {"average", "period"};
-  PetscInt average = 0, starts = 0, wrap = 0, spectrum = 0;
+  const char *classDrifts[] = {"matrix", "operator"};
+  PetscInt average = 0, starts = 0, wrap = 0, spectrum = 0, classDrift = 0;
   PetscBool mix = PETSC_TRUE, quiet = PETSC_FALSE, plot = figuresByDefault() ? PETSC_TRUE : PETSC_FALSE;
   PetscFunctionBeginUser;
   PetscOptionsBegin(comm, nullptr, "rcfd markov: the database's frames as the solid's Markov chain", "rcfd");
@@ -83,7 +86,7 @@ PetscErrorCode readOptions(MPI_Comm comm, const char *positional, MarkovOptions 
                         "Cells counted for mixing (and tracer starts): alpha_s at least this", &o->mixing.alphaMin,
                         kOpenUnit));
   PetscCall(checkedReal(PetscOptionsObject, "-markov_mix_horizon", "Longest tracer propagation [s]",
-                        &o->mixing.horizon, kPositive));
+                        &o->mixing.horizon, kChainTime));
   PetscCall(PetscOptionsEList("-markov_mix_starts",
                               "Tracer start cells: layers (the centre of every -markov_mix_stride-th layer holding solid) or all", "",
                               startKinds, 2, startKinds[starts], &starts, nullptr));
@@ -97,22 +100,26 @@ PetscErrorCode readOptions(MPI_Comm comm, const char *positional, MarkovOptions 
   PetscCall(checkedInt(PetscOptionsObject, "-markov_departures",
                        "Frames whose zone crossings are followed (spread evenly)", &o->departures, 1, 1000000));
   PetscCall(checkedReal(PetscOptionsObject, "-markov_passage_horizon", "Longest time a crossing is followed [s]",
-                        &o->passages.horizon, kPositive));
+                        &o->passages.horizon, kChainTime));
   PetscCall(checkedReal(PetscOptionsObject, "-markov_passage_tail",
                         "Stop following a crossing when less than this is left", &o->passages.tail, kOpenUnit));
   PetscReal passTime = 0.0;
   PetscInt maxPasses = 20;
   PetscCall(checkedReal(PetscOptionsObject, "-markov_passes_time",
                         "Distribution of the number of entries into each zone within this time [s] (0: not computed)",
-                        &passTime, kNonNegative));
+                        &passTime, ValueRange{0.0, kChainTime.high, true, true, "a time from 0 to 3600 s"}));
   PetscCall(checkedInt(PetscOptionsObject, "-markov_passes_max",
-                       "With -markov_passes_time: the last count holds this many entries or more", &maxPasses, 1, 100000));
+                       "With -markov_passes_time: the last count holds this many entries or more", &maxPasses, 1, 1000));
   o->passCounts.time = passTime;
   o->passCounts.maxPasses = static_cast<int>(maxPasses);
   PetscCall(PetscOptionsEList("-markov_wrap",
                               "The step from the last frame to the first: periodic (as if the bed at the end were the "
                               "bed at the start) or carry (onto frame 0's bed as a run carries its state, -carry_type)",
                               "", wraps, 2, wraps[wrap], &wrap, nullptr));
+  PetscCall(PetscOptionsEList("-markov_class_drift",
+                              "With -fractions_diameters: each class's drift step as a matrix per frame, read off the "
+                              "drift once (matrix), or the drift operator at every step (operator; the same numbers, slower)",
+                              "", classDrifts, 2, classDrifts[classDrift], &classDrift, nullptr));
   PetscCall(checkedReal(PetscOptionsObject, "-solid_density",
                         "With -fractions_diameters: particle density for the drift [kg/m^3] (default: the database's)",
                         &o->solidDensity, {0.0, 1e6, false, true, "a positive density in kg/m^3"}));
@@ -131,6 +138,7 @@ PetscErrorCode readOptions(MPI_Comm comm, const char *positional, MarkovOptions 
   o->classes = classes;
   o->carryWrap = wrap == 1;
   o->period = spectrum == 1;
+  o->driftMatrices = classDrift == 0;
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
@@ -142,11 +150,25 @@ void writeZone(const std::string &dir, const ZonePassages &p, const std::string 
   writeTextAtomically(dir + "zone_" + p.zone + suffix + ".csv", zoneFileText(p, what, departures, dt));
 }
 
+// passes_ZONE[SUFFIX].csv: the distribution of the number of entries.
+void writePasses(const std::string &dir, const PassCounts &c, const std::string &suffix, const std::string &what,
+                 size_t departures, double dt) {
+  std::ostringstream z;
+  z << "# zone " << c.zone << what << ": probability of j entries into the zone within " << c.steps * dt
+    << " s (the last row: that many or more), from the pass-counter chain, " << departures
+    << " departure frames\npasses,probability\n";
+  for (size_t j = 0; j < c.probability.size(); ++j) z << j << ',' << number(c.probability[j]) << '\n';
+  writeTextAtomically(dir + "passes_" + c.zone + suffix + ".csv", z.str());
+}
+
 // One size class's answers (its chain: the shift and its linearised drift).
 struct ClassAnswers {
   MixingResult mixing;
   double zoneMixTime = std::nan(""); // of the tracer started in -markov_mix_zone
   std::vector<ZonePassages> zones;
+  std::vector<PassCounts> counts; // with -markov_passes_time
+  int reach = 0;                  // the drift as matrices: the most faces a step crosses (0: the operator steps)
+  double matrixSeconds = 0.0;     // and the time they took to read off
   PeriodNumbers period;                 // with -markov_spectrum period
   std::vector<double> periodStationary; // its distribution at frame 0, all cells (rank 0)
 };
@@ -189,13 +211,12 @@ PetscErrorCode markovCommand(MPI_Comm comm, const char *positional) {
   const double rho = o.solidDensity > 0 ? o.solidDensity : db->metadata().solidDensity;
   if (o.classes) // the drift refuses what it lacks (e.g. u_sup for -drift_excess_gas) before anything is computed
     PetscCall(classDrift.setUp(chain, fractions, rho));
-  // What follows each frame's shift: for the bulk the carry at the wrap (with
-  // -markov_wrap carry), for a class its drift first.
-  std::vector<ChainStep *> bulkSteps, classSteps{&classDrift};
+  // What follows each frame's shift for the bulk: the carry at the wrap (with
+  // -markov_wrap carry); a class's drift comes before it (below).
+  std::vector<ChainStep *> bulkSteps;
   if (o.carryWrap) {
     PetscCall(wrapCarry.setUp(chain, rho));
     bulkSteps.push_back(&wrapCarry);
-    classSteps.push_back(&wrapCarry);
   }
   const double tChain = MPI_Wtime();
   ChainSpectrum spectrum;
@@ -264,12 +285,26 @@ PetscErrorCode markovCommand(MPI_Comm comm, const char *positional) {
         a.mixing = mixing;
         a.zoneMixTime = zoneMixTime;
         a.zones = passages;
+        a.counts = counts;
         a.period = period;
         a.periodStationary = periodStationary;
         classes.push_back(std::move(a));
         continue;
       }
       classDrift.setClass(i);
+      // The class's step after the shift: its drift (read off once as a
+      // matrix per frame, unless -drift_every or -markov_class_drift operator
+      // says otherwise), then the carry at the wrap.
+      DriftMatrices matrices;
+      std::vector<ChainStep *> classSteps{&classDrift};
+      if (o.driftMatrices && classDrift.sameEveryPeriod()) {
+        const double start = MPI_Wtime();
+        PetscCall(matrices.setUp(chain, classDrift));
+        classSteps[0] = &matrices;
+        a.reach = matrices.reach();
+        a.matrixSeconds = MPI_Wtime() - start;
+      }
+      if (o.carryWrap) classSteps.push_back(&wrapCarry);
       if (o.period) { // the class's chain over one period: where the class lives at frame 0
         PeriodSpectrum p;
         const std::string what = "the period chain of size class " + fractions.label(i);
@@ -283,6 +318,7 @@ PetscErrorCode markovCommand(MPI_Comm comm, const char *positional) {
         a.mixing.time.pop_back();
       }
       PetscCall(zonePassages(chain, zoneList, o.passages, &a.zones, classSteps));
+      if (o.passCounts.time > 0) PetscCall(passCounts(chain, zoneList, o.passCounts, &a.counts, classSteps));
       classes.push_back(std::move(a));
     }
   }
@@ -371,7 +407,7 @@ PetscErrorCode markovCommand(MPI_Comm comm, const char *positional) {
       std::ostringstream c;
       c << "# rcfd markov " << o.file << ": each size class's chain (the shift, then its drift linearised on the "
         << "bed's mean composition; docs/markov.md, \"Size classes\"); kac_share = E[visit] / (E[visit] + E[away])\n"
-        << "class,diameter,zone,mean_residence,mean_away,kac_share,residence_tail,away_tail,conservation,"
+        << "class,diameter,zone,mean_residence,mean_away,kac_share,residence_tail,away_tail,conservation,passes_mean,"
         << "mixing_mean,mixing_worst,mixing_mixed,mixing_starts" << (o.mixing.zoneStart ? ",mixing_zone" : "")
         << ",period_lambda1,period_lambda2_modulus,period_relaxation_time,period_height,period_height_minus_bulk\n";
       for (int i = 0; i < fractions.size(); ++i) {
@@ -393,22 +429,21 @@ PetscErrorCode markovCommand(MPI_Comm comm, const char *positional) {
             c << ",,,,,";
           c << '\n';
         };
-        if (a.zones.empty()) row("", ",,,,,");
-        for (const ZonePassages &p : a.zones)
+        if (a.zones.empty()) row("", ",,,,,,");
+        for (size_t z = 0; z < a.zones.size(); ++z) {
+          const ZonePassages &p = a.zones[z];
           row(p.zone, number(p.residence.mean) + ',' + number(p.away.mean) + ',' + number(kacShare(p)) + ',' +
                           number(p.residence.tail) + ',' + number(p.away.tail) + ',' +
-                          number(std::max(p.residence.conservation, p.away.conservation)));
+                          number(std::max(p.residence.conservation, p.away.conservation)) + ',' +
+                          (z < a.counts.size() ? number(a.counts[z].mean) : ""));
+        }
+        for (const PassCounts &p : a.counts)
+          writePasses(dir, p, "_" + fractions.label(i), ", size class " + fractions.label(i),
+                      o.passages.departures.size(), dt);
       }
       writeTextAtomically(dir + "classes.csv", c.str());
     }
-    for (const PassCounts &c : counts) {
-      std::ostringstream z;
-      z << "# zone " << c.zone << ": probability of j entries into the zone within " << c.steps * dt
-        << " s (the last row: that many or more), from the pass-counter chain, " << o.passages.departures.size()
-        << " departure frames\npasses,probability\n";
-      for (size_t j = 0; j < c.probability.size(); ++j) z << j << ',' << number(c.probability[j]) << '\n';
-      writeTextAtomically(dir + "passes_" + c.zone + ".csv", z.str());
-    }
+    for (const PassCounts &c : counts) writePasses(dir, c, "", "", o.passages.departures.size(), dt);
     std::ostringstream sum;
     sum << "# rcfd markov " << o.file << " (docs/markov.md)\nquantity,value\n"
         << "frames," << chain.numFrames() << "\ndt_rec," << number(dt) << "\nchain_cells," << spectrum.cells
@@ -536,7 +571,11 @@ PetscErrorCode markovCommand(MPI_Comm comm, const char *positional) {
     for (int i = 0; i < static_cast<int>(classes.size()); ++i) {
       const ClassAnswers &a = classes[static_cast<size_t>(i)];
       const MixingSummary m = summarise(a.mixing);
-      PetscCall(PetscPrintf(comm, "  size class %s (drift linearised on the mean composition):", fractions.label(i).c_str()));
+      PetscCall(PetscPrintf(comm, "  size class %s (drift linearised on the mean composition", fractions.label(i).c_str()));
+      if (a.reach > 0)
+        PetscCall(PetscPrintf(comm, ", a matrix per frame reaching %d face%s, %.3g s", a.reach, a.reach > 1 ? "s" : "",
+                              a.matrixSeconds));
+      PetscCall(PetscPrintf(comm, "):"));
       if (o.period)
         PetscCall(PetscPrintf(comm, " period chain (%d states) lambda1 %.8f, |lambda2| %.8f, relaxation %.4g s (%lld products, %.3g s);",
                               a.period.states, a.period.lambda1, a.period.lambda2, a.period.relaxationTime, a.period.products,
@@ -550,6 +589,8 @@ PetscErrorCode markovCommand(MPI_Comm comm, const char *positional) {
         PetscCall(PetscPrintf(comm, " zone %s per visit %.4g s, away %.4g s, Kac %.4f (absorbed + left = 1 within %.1e);",
                               p.zone.c_str(), p.residence.mean, p.away.mean, kacShare(p),
                               std::max(p.residence.conservation, p.away.conservation)));
+      for (const PassCounts &c : a.counts)
+        PetscCall(PetscPrintf(comm, " zone %s entries within %g s: mean %.4g;", c.zone.c_str(), c.steps * dt, c.mean));
       PetscCall(PetscPrintf(comm, "\n"));
     }
     char classTime[64] = "";

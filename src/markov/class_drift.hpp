@@ -42,6 +42,13 @@ public:
   /// Whether the drift moves anything (a k_d of 0 or one class: it does not,
   /// and every class's chain is the bulk's to the bit).
   bool moves() const { return moves_; }
+  /// Whether the drift acts at every step with what the frame alone sets
+  /// (not -drift_every N > 1): its step is then one matrix per frame
+  /// (markov/drift_matrices.hpp).
+  bool sameEveryPeriod() const { return drift_.applyEvery() == 1; }
+  /// The most sub-steps one application of the drift has taken so far: how
+  /// many faces a particle can cross in a step.
+  int mostSubsteps() const { return drift_.maxSubsteps(); }
 
 private:
   DriftOperator drift_;

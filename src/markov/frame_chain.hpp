@@ -43,6 +43,9 @@ public:
   PetscInt numChainCells() const { return static_cast<PetscInt>(cells_.size()); }
   /// All ranks' chain cells.
   PetscInt numChainCellsGlobal() const { return static_cast<PetscInt>(rowsAll_.size()); }
+  /// Every rank's chain cells as PETSc rows (Layout), in chain order: chain
+  /// cell c of all ranks is PETSc row chainRowsAll()[c].
+  const std::vector<PetscInt> &chainRowsAll() const { return rowsAll_; }
   /// The transfer matrix of frame k (k taken modulo the number of frames)
   /// over the chain cells: row and column c are chain cell c of all ranks
   /// (this rank's in chainCells() order after the lower ranks').

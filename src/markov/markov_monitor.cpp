@@ -18,7 +18,7 @@ PetscErrorCode MarkovMonitor::setFromOptions(MPI_Comm comm) {
   PetscCall(checkedInt(PetscOptionsObject, "-departures", "Frames whose zone crossings are followed (spread evenly)",
                        &departures_, 1, 1000000));
   PetscCall(checkedReal(PetscOptionsObject, "-passage_horizon", "Longest time a crossing is followed [s]",
-                        &passages_.horizon, kPositive));
+                        &passages_.horizon, kChainTime));
   PetscCall(checkedReal(PetscOptionsObject, "-passage_tail", "Stop following a crossing when less than this is left",
                         &passages_.tail, kOpenUnit));
   PetscOptionsEnd();
