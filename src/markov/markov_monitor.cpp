@@ -5,6 +5,7 @@
 #include "base/petsc_compat.hpp"
 
 #include "markov/chain_files.hpp"
+#include "markov/drift_matrices.hpp"
 #include "markov/frame_chain.hpp"
 
 #include <algorithm>
@@ -52,7 +53,13 @@ PetscErrorCode MarkovMonitor::setUp(const RunContext &run, const FractionState &
   for (int i = 0; classes && i < run.fractions.size(); ++i) {
     drift_.setClass(i);
     chains.emplace_back(run.fractions.label(i), std::vector<ZonePassages>());
-    PetscCall(zonePassages(chain, list, passages_, &chains.back().second, {&drift_, &carry_}));
+    DriftMatrices matrices; // the drift read off once per frame, as rcfd markov does (unless -drift_every)
+    ChainStep *drift = &drift_;
+    if (drift_.sameEveryPeriod()) {
+      PetscCall(matrices.setUp(chain, drift_));
+      drift = &matrices;
+    }
+    PetscCall(zonePassages(chain, list, passages_, &chains.back().second, {drift, &carry_}));
   }
   const std::string dir = outputDirectory + "/";
   const double dt = chain.dt();
