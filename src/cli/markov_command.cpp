@@ -11,6 +11,7 @@
 
 #include "cli/figures.hpp"
 #include "markov/chain_files.hpp"
+#include "markov/class_background.hpp"
 #include "markov/class_drift.hpp"
 #include "markov/drift_matrices.hpp"
 #include "markov/frame_chain.hpp"
@@ -49,6 +50,9 @@ struct MarkovOptions {
   bool carryWrap = false; // -markov_wrap carry
   bool period = false;    // -markov_spectrum period: the period chain too
   bool driftMatrices = true; // -markov_class_drift matrix: each class's drift as a matrix per frame
+  bool segregatedBackground = false; // -markov_class_background stationary: the bed as the classes' chains say
+  PetscInt backgroundIterations = 8;
+  double backgroundTolerance = 1e-4; // [m], the largest change of a class's centre
   std::string mixZone;    // -markov_mix_zone: a tracer started in that zone too
   double solidDensity = 0.0; // 0: the database's
 };
@@ -60,7 +64,8 @@ PetscErrorCode readOptions(MPI_Comm comm, const char *positional, MarkovOptions 
   const char *wraps[] = {"periodic", "carry"};
   const char *spectra[] = {"average", "period"};
   const char *classDrifts[] = {"matrix", "operator"};
-  PetscInt average = 0, starts = 0, wrap = 0, spectrum = 0, classDrift = 0;
+  const char *backgrounds[] = {"mean", "stationary"};
+  PetscInt average = 0, starts = 0, wrap = 0, spectrum = 0, classDrift = 0, background = 0;
   PetscBool mix = PETSC_TRUE, quiet = PETSC_FALSE, plot = figuresByDefault() ? PETSC_TRUE : PETSC_FALSE;
   PetscFunctionBeginUser;
   PetscOptionsBegin(comm, nullptr, "rcfd markov: the database's frames as the solid's Markov chain", "rcfd");
@@ -120,6 +125,17 @@ PetscErrorCode readOptions(MPI_Comm comm, const char *positional, MarkovOptions 
                               "With -fractions_diameters: each class's drift step as a matrix per frame, read off the "
                               "drift once (matrix), or the drift operator at every step (operator; the same numbers, slower)",
                               "", classDrifts, 2, classDrifts[classDrift], &classDrift, nullptr));
+  PetscCall(PetscOptionsEList("-markov_class_background",
+                              "With -fractions_diameters: the bed each class's drift is linearised on: mean (the "
+                              "inventory's composition in every cell) or stationary (the composition the classes' own "
+                              "period chains give, iterated to a fixed point)",
+                              "", backgrounds, 2, backgrounds[background], &background, nullptr));
+  PetscCall(checkedInt(PetscOptionsObject, "-markov_class_background_iterations",
+                       "With -markov_class_background stationary: at most this many iterations", &o->backgroundIterations,
+                       1, 100));
+  PetscCall(checkedReal(PetscOptionsObject, "-markov_class_background_tolerance",
+                        "With -markov_class_background stationary: stop when no class's centre moves more than this [m]",
+                        &o->backgroundTolerance, kPositive));
   PetscCall(checkedReal(PetscOptionsObject, "-solid_density",
                         "With -fractions_diameters: particle density for the drift [kg/m^3] (default: the database's)",
                         &o->solidDensity, {0.0, 1e6, false, true, "a positive density in kg/m^3"}));
@@ -139,6 +155,7 @@ PetscErrorCode readOptions(MPI_Comm comm, const char *positional, MarkovOptions 
   o->carryWrap = wrap == 1;
   o->period = spectrum == 1;
   o->driftMatrices = classDrift == 0;
+  o->segregatedBackground = background == 1;
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
@@ -228,8 +245,8 @@ PetscErrorCode markovCommand(MPI_Comm comm, const char *positional) {
   PeriodChain periodChain;
   PeriodSpectrum period;
   std::vector<double> periodStationary, share0;
+  if (o.period || (o.classes && o.segregatedBackground)) PetscCall(periodChain.setUp(chain, spectrum.absorbingLocal));
   if (o.period) {
-    PetscCall(periodChain.setUp(chain, spectrum.absorbingLocal));
     PetscCall(periodChain.solve(solver, bulkSteps, "the period chain", &period));
     PetscCall(layout.gatherToAll(1, period.stationary, &periodStationary));
     PetscCall(layout.gatherToAll(1, chain.massShare(0), &share0));
@@ -275,8 +292,61 @@ PetscErrorCode markovCommand(MPI_Comm comm, const char *positional) {
   }
   const double tZones = MPI_Wtime();
 
+  // Class i's steps after the shift: its drift (read off once as a matrix per
+  // frame into `matrices`, unless -drift_every or -markov_class_drift
+  // operator says otherwise), then the carry at the wrap.
+  auto classStepsOf = [&](int i, DriftMatrices *matrices, std::vector<ChainStep *> *steps) -> PetscErrorCode {
+    PetscFunctionBeginUser;
+    classDrift.setClass(i);
+    *steps = {&classDrift};
+    if (o.driftMatrices && classDrift.sameEveryPeriod()) {
+      PetscCall(matrices->setUp(chain, classDrift));
+      (*steps)[0] = matrices;
+    }
+    if (o.carryWrap) steps->push_back(&wrapCarry);
+    PetscFunctionReturn(PETSC_SUCCESS);
+  };
+
+  // -markov_class_background stationary: the bed the classes' drift is
+  // linearised on, from the classes' own period chains, iterated
+  // (markov/class_background.hpp).  Each row: the classes' centres under the
+  // background of the row before (the first: the mean composition's).
+  std::vector<std::vector<double>> backgroundCentres;
+  double backgroundChange = std::nan("");
+  if (o.classes && o.segregatedBackground && classDrift.moves()) {
+    std::vector<double> inventory;
+    for (int i = 0; i < fractions.size(); ++i) inventory.push_back(fractions.massShare(i));
+    for (PetscInt it = 0; it < o.backgroundIterations; ++it) {
+      ClassBackground bed;
+      bed.reset(chain, fractions.size());
+      std::vector<double> centres;
+      for (int i = 0; i < fractions.size(); ++i) {
+        DriftMatrices matrices;
+        std::vector<ChainStep *> steps;
+        PetscCall(classStepsOf(i, &matrices, &steps));
+        PeriodSpectrum p;
+        const std::string what = "the period chain of size class " + fractions.label(i);
+        PetscCall(periodChain.solve(solver, steps, what.c_str(), &p));
+        std::vector<double> share;
+        PetscCall(layout.gatherToAll(1, p.stationary, &share));
+        centres.push_back(centreHeight(db->mesh(), db->metadata().gravity, share));
+        PetscCall(bed.add(i, inventory[static_cast<size_t>(i)], p.stationary, steps));
+      }
+      if (!backgroundCentres.empty()) {
+        backgroundChange = 0.0;
+        for (size_t i = 0; i < centres.size(); ++i)
+          backgroundChange = std::max(backgroundChange, std::abs(centres[i] - backgroundCentres.back()[i]));
+      }
+      backgroundCentres.push_back(centres);
+      if (backgroundChange < o.backgroundTolerance) break; // this background gives what the last did
+      classDrift.setComposition(bed.composition(inventory));
+    }
+  }
+  const double tBackground = MPI_Wtime();
+
   // Each size class's chain: the frame's shift, then the class's drift
-  // linearised on the bed's mean composition (markov/class_drift.hpp).
+  // linearised on the bed (markov/class_drift.hpp): the mean composition, or
+  // with -markov_class_background stationary the one just found.
   std::vector<ClassAnswers> classes;
   if (o.classes) {
     for (int i = 0; i < fractions.size(); ++i) {
@@ -291,20 +361,12 @@ PetscErrorCode markovCommand(MPI_Comm comm, const char *positional) {
         classes.push_back(std::move(a));
         continue;
       }
-      classDrift.setClass(i);
-      // The class's step after the shift: its drift (read off once as a
-      // matrix per frame, unless -drift_every or -markov_class_drift operator
-      // says otherwise), then the carry at the wrap.
       DriftMatrices matrices;
-      std::vector<ChainStep *> classSteps{&classDrift};
-      if (o.driftMatrices && classDrift.sameEveryPeriod()) {
-        const double start = MPI_Wtime();
-        PetscCall(matrices.setUp(chain, classDrift));
-        classSteps[0] = &matrices;
-        a.reach = matrices.reach();
-        a.matrixSeconds = MPI_Wtime() - start;
-      }
-      if (o.carryWrap) classSteps.push_back(&wrapCarry);
+      std::vector<ChainStep *> classSteps;
+      const double start = MPI_Wtime();
+      PetscCall(classStepsOf(i, &matrices, &classSteps));
+      a.reach = matrices.reach();
+      a.matrixSeconds = MPI_Wtime() - start;
       if (o.period) { // the class's chain over one period: where the class lives at frame 0
         PeriodSpectrum p;
         const std::string what = "the period chain of size class " + fractions.label(i);
@@ -491,6 +553,22 @@ PetscErrorCode markovCommand(MPI_Comm comm, const char *positional) {
       sum << "zone_" << c.zone << "_passes_time," << number(c.steps * dt) << "\nzone_" << c.zone << "_passes_mean,"
           << number(c.mean) << "\nzone_" << c.zone << "_passes_none," << number(c.probability[0]) << "\nzone_"
           << c.zone << "_passes_conservation," << number(c.conservation) << '\n';
+    if (!backgroundCentres.empty()) {
+      sum << "background_iterations," << backgroundCentres.size() << "\nbackground_last_change,"
+          << number(backgroundChange) << '\n';
+      std::ostringstream b;
+      b << "# rcfd markov " << o.file << ": -markov_class_background stationary; each row the centre height [m] of "
+        << "each class's period stationary distribution at frame 0 with the drift linearised on the background the "
+        << "row before gave (row 0: the mean composition)\niteration";
+      for (int i = 0; i < fractions.size(); ++i) b << ",centre_" << fractions.label(i);
+      b << '\n';
+      for (size_t it = 0; it < backgroundCentres.size(); ++it) {
+        b << it;
+        for (double h : backgroundCentres[it]) b << ',' << number(h);
+        b << '\n';
+      }
+      writeTextAtomically(dir + "background.csv", b.str());
+    }
     writeTextAtomically(dir + "summary.csv", sum.str());
   }));
   if (o.mix && o.plot)
@@ -568,10 +646,21 @@ PetscErrorCode markovCommand(MPI_Comm comm, const char *positional) {
       PetscCall(PetscPrintf(comm, "  zone %s: entries within %g s: mean %.4g, none %.4f, %d or more %.2e; sum 1 within %.1e\n",
                             c.zone.c_str(), c.steps * dt, c.mean, c.probability[0], o.passCounts.maxPasses,
                             c.probability.back(), c.conservation));
+    if (!backgroundCentres.empty()) {
+      PetscCall(PetscPrintf(comm, "  background of the size classes (-markov_class_background stationary): %zu iteration(s) of "
+                                  "the classes' period chains, their centres",
+                            backgroundCentres.size()));
+      for (size_t i = 0; i < backgroundCentres.back().size(); ++i)
+        PetscCall(PetscPrintf(comm, " %s %.4f m (mean composition's %.4f m)", fractions.label(static_cast<int>(i)).c_str(),
+                              backgroundCentres.back()[i], backgroundCentres.front()[i]));
+      PetscCall(PetscPrintf(comm, "; last change %.2e m%s\n", backgroundChange,
+                            backgroundChange < o.backgroundTolerance ? "" : ", NOT within -markov_class_background_tolerance"));
+    }
     for (int i = 0; i < static_cast<int>(classes.size()); ++i) {
       const ClassAnswers &a = classes[static_cast<size_t>(i)];
       const MixingSummary m = summarise(a.mixing);
-      PetscCall(PetscPrintf(comm, "  size class %s (drift linearised on the mean composition", fractions.label(i).c_str()));
+      PetscCall(PetscPrintf(comm, "  size class %s (drift linearised on the %s", fractions.label(i).c_str(),
+                            backgroundCentres.empty() ? "mean composition" : "stationary background"));
       if (a.reach > 0)
         PetscCall(PetscPrintf(comm, ", a matrix per frame reaching %d face%s, %.3g s", a.reach, a.reach > 1 ? "s" : "",
                               a.matrixSeconds));
@@ -594,7 +683,11 @@ PetscErrorCode markovCommand(MPI_Comm comm, const char *positional) {
       PetscCall(PetscPrintf(comm, "\n"));
     }
     char classTime[64] = "";
-    if (!classes.empty()) std::snprintf(classTime, sizeof classTime, ", size classes %.2f", tClasses - tZones);
+    if (!backgroundCentres.empty())
+      std::snprintf(classTime, sizeof classTime, ", background %.2f, size classes %.2f", tBackground - tZones,
+                    tClasses - tBackground);
+    else if (!classes.empty())
+      std::snprintf(classTime, sizeof classTime, ", size classes %.2f", tClasses - tZones);
     PetscCall(PetscPrintf(comm, "  seconds: load %.2f, chain %.2f, eigenvalues %.2f, mixing %.2f, zones %.2f%s; wrote %s\n",
                           tLoad - t0, tChain - tLoad, tSpectrum - tChain, tMixing - tSpectrum, tZones - tMixing,
                           classTime,

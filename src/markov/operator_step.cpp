@@ -66,8 +66,8 @@ PetscErrorCode OperatorStep::apply(long long n, Vec x, PetscInt width) {
              static_cast<int>(width));
   if (!acts(n)) PetscFunctionReturn(PETSC_SUCCESS);
   PetscCall(background(k));
-  // The bed at its mean composition, and the distributions as amounts of the
-  // current class; the other classes' amounts are zeroed and hold nothing.
+  // The bed at its mean composition (or the one set), and the distributions
+  // as amounts of the current class; the other classes' amounts are zeroed and hold nothing.
   const PetscScalar *pb;
   const PetscScalar *pd;
   PetscScalar *pm, *pq, *px;
@@ -77,7 +77,8 @@ PetscErrorCode OperatorStep::apply(long long n, Vec x, PetscInt width) {
   PetscCall(VecGetArrayRead(x, &pd));
   for (size_t c = 0; c < cells.size(); ++c) {
     const PetscInt i = cells[c];
-    for (int f = 0; f < nf; ++f) pm[i * nf + f] = pb[c] * fractions_->massShare(f);
+    const double *shares = composition_.empty() ? nullptr : &composition_[static_cast<size_t>(k)][c * static_cast<size_t>(nf)];
+    for (int f = 0; f < nf; ++f) pm[i * nf + f] = pb[c] * (shares ? shares[f] : fractions_->massShare(f));
     std::fill(pq + i * w, pq + (i + 1) * w, 0.0);
     for (PetscInt s = 0; s < width; ++s) pq[i * w + s * nf + class_] = pd[static_cast<PetscInt>(c) * width + s];
   }

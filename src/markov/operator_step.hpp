@@ -43,6 +43,14 @@ public:
   /// The class whose amounts hold the distributions (0 .. fractions - 1).
   void setClass(int i) { class_ = i; }
   int currentClass() const { return class_; }
+  /// The bed the operator sees after frame k's shift: per frame, per chain
+  /// cell of this rank, the classes' mass shares (nf each, summing to 1;
+  /// ClassBackground).  Empty (the default): the inventory's shares in every
+  /// cell, the bed at its mean composition.
+  void setComposition(std::vector<std::vector<double>> shares) {
+    composition_ = std::move(shares);
+  }
+  bool hasComposition() const { return !composition_.empty(); }
   /// Whether the operator acts at step n (all steps, unless a derived step says).
   virtual bool acts(long long n) const { return n >= 0; }
   PetscErrorCode apply(long long n, Vec x, PetscInt width) override;
@@ -59,6 +67,7 @@ private:
   double rho_ = 0.0;
   int frame_ = -1;        // the frame whose bulk bulk_ holds
   OwnedVec alpha_, bulk_; // over the chain cells: alpha_k rho V, and T_k of it
+  std::vector<std::vector<double>> composition_; // per frame, chain cell and class (empty: the inventory's)
 };
 
 } // namespace rcfd

@@ -1,0 +1,58 @@
+#include "markov/class_background.hpp"
+#include "base/petsc_compat.hpp"
+
+#include <algorithm>
+
+namespace rcfd {
+
+void ClassBackground::reset(const FrameChain &chain, int numClasses) {
+  chain_ = &chain;
+  classes_ = numClasses;
+  mass_.assign(static_cast<size_t>(chain.numFrames()),
+               std::vector<double>(static_cast<size_t>(chain.numChainCells()) * static_cast<size_t>(numClasses), 0.0));
+}
+
+PetscErrorCode ClassBackground::add(int i, double share, Vec atFrame0, const std::vector<ChainStep *> &steps) {
+  const std::vector<PetscInt> &cells = chain_->chainCells();
+  const size_t nf = static_cast<size_t>(classes_);
+  PetscFunctionBeginUser;
+  OwnedVec x, y;
+  PetscCall(chain_->chainVector(x.put()));
+  PetscCall(VecDuplicate(x, y.put()));
+  {
+    const PetscScalar *pa;
+    PetscScalar *px;
+    PetscCall(VecGetArrayRead(atFrame0, &pa));
+    PetscCall(VecGetArrayWrite(x, &px));
+    for (size_t c = 0; c < cells.size(); ++c) px[c] = pa[cells[c]];
+    PetscCall(VecRestoreArrayWrite(x, &px));
+    PetscCall(VecRestoreArrayRead(atFrame0, &pa));
+  }
+  const int K = chain_->numFrames();
+  for (int k = 0; k < K; ++k) {
+    PetscCall(MatMult(chain_->transfer(k), x, y));
+    const PetscScalar *py;
+    PetscCall(VecGetArrayRead(y, &py));
+    std::vector<double> &m = mass_[static_cast<size_t>(k)];
+    for (size_t c = 0; c < cells.size(); ++c) m[c * nf + static_cast<size_t>(i)] += share * py[c];
+    PetscCall(VecRestoreArrayRead(y, &py));
+    if (k + 1 == K) break; // frame 0's own is where the class started
+    for (ChainStep *s : steps) PetscCall(s->apply(k, y, 1));
+    std::swap(x, y);
+  }
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+std::vector<std::vector<double>> ClassBackground::composition(const std::vector<double> &shares) const {
+  const size_t nf = static_cast<size_t>(classes_);
+  std::vector<std::vector<double>> w = mass_;
+  for (std::vector<double> &frame : w)
+    for (size_t c = 0; c < frame.size(); c += nf) {
+      double total = 0.0;
+      for (size_t f = 0; f < nf; ++f) total += frame[c + f];
+      for (size_t f = 0; f < nf; ++f) frame[c + f] = total > 0.0 ? frame[c + f] / total : shares[f];
+    }
+  return w;
+}
+
+} // namespace rcfd
