@@ -77,14 +77,22 @@ PetscErrorCode DriftMatrices::colour(int r) {
   ballCell_.clear();
   ballColour_.clear();
   const std::vector<PetscInt> &local = chain_->chainCells();
+  const PetscInt n = static_cast<PetscInt>(local.size());
+  first_ = static_cast<PetscInt>(std::lower_bound(rows.begin(), rows.end(), layout.rowStart()) - rows.begin());
+  localColour_.assign(local.size(), 0);
+  diagCount_.assign(local.size(), 0);
+  offCount_.assign(local.size(), 0);
   for (size_t c = 0; c < local.size(); ++c) {
     const int m = static_cast<int>(layout.naturalCell(layout.rowStart() + local[c]));
+    localColour_[c] = colour_[static_cast<size_t>(m)];
     cellsWithin(vertical_, m, r, stamp, static_cast<int>(c), &near);
-    for (int q : near)
-      if (chainOf[static_cast<size_t>(q)] >= 0) {
-        ballCell_.push_back(chainOf[static_cast<size_t>(q)]);
-        ballColour_.push_back(colour_[static_cast<size_t>(q)]);
-      }
+    for (int q : near) {
+      const PetscInt col = chainOf[static_cast<size_t>(q)];
+      if (col < 0) continue;
+      ballCell_.push_back(col);
+      ballColour_.push_back(colour_[static_cast<size_t>(q)]);
+      ++(col >= first_ && col < first_ + n ? diagCount_ : offCount_)[c];
+    }
     ballStart_.push_back(static_cast<PetscInt>(ballCell_.size()));
   }
   PetscFunctionReturn(PETSC_SUCCESS);
@@ -94,26 +102,18 @@ PetscErrorCode DriftMatrices::colour(int r) {
 // then the drift; what a cell holds came from the one cell of that colour in
 // its ball.
 PetscErrorCode DriftMatrices::probe(int k, ClassDrift &drift, Mat D, bool *explained) {
-  const Database &db = chain_->database();
-  const Layout &layout = db.layout();
-  const MPI_Comm comm = layout.comm();
-  const std::vector<PetscInt> &local = chain_->chainCells();
-  const std::vector<PetscInt> &rows = chain_->chainRowsAll();
-  const PetscInt n = static_cast<PetscInt>(local.size());
-  const PetscInt first = static_cast<PetscInt>(std::lower_bound(rows.begin(), rows.end(), layout.rowStart()) - rows.begin());
+  const MPI_Comm comm = chain_->database().layout().comm();
+  const PetscInt n = chain_->numChainCells();
   constexpr PetscInt W = kWidth;
   PetscFunctionBeginUser;
   OwnedVec x;
   PetscCall(chain_->blockVector(W, x.put()));
-  std::vector<int> colourOf(local.size());
-  for (size_t c = 0; c < local.size(); ++c)
-    colourOf[c] = colour_[static_cast<size_t>(layout.naturalCell(layout.rowStart() + local[c]))];
   bool unexplained = false;
   for (int group = 0; group * W < colours_; ++group) {
     PetscScalar *px;
     PetscCall(VecGetArrayWrite(x, &px));
     for (PetscInt c = 0; c < n; ++c)
-      for (PetscInt s = 0; s < W; ++s) px[c * W + s] = colourOf[static_cast<size_t>(c)] == group * W + s ? 1.0 : 0.0;
+      for (PetscInt s = 0; s < W; ++s) px[c * W + s] = localColour_[static_cast<size_t>(c)] == group * W + s ? 1.0 : 0.0;
     PetscCall(VecRestoreArrayWrite(x, &px));
     PetscCall(drift.apply(k, x, W));
     const PetscScalar *py;
@@ -130,7 +130,7 @@ PetscErrorCode DriftMatrices::probe(int k, ClassDrift &drift, Mat D, bool *expla
           unexplained = true;
           continue;
         }
-        PetscCall(MatSetValue(D, first + c, from, v, INSERT_VALUES));
+        PetscCall(MatSetValue(D, first_ + c, from, v, INSERT_VALUES));
       }
     PetscCall(VecRestoreArrayRead(x, &py));
   }
@@ -153,18 +153,9 @@ PetscErrorCode DriftMatrices::setUp(const FrameChain &chain, ClassDrift &drift) 
   blocks_.clear();
   work_.clear();
   PetscCall(colour(std::max(1, drift.mostSubsteps())));
-  const std::vector<PetscInt> &rows = chain.chainRowsAll();
-  const PetscInt first = static_cast<PetscInt>(
-      std::lower_bound(rows.begin(), rows.end(), chain.database().layout().rowStart()) - rows.begin());
   for (int k = 0; k < chain.numFrames();) {
-    std::vector<PetscInt> diag(static_cast<size_t>(n)), off(static_cast<size_t>(n));
-    for (PetscInt c = 0; c < n; ++c)
-      for (PetscInt b = ballStart_[static_cast<size_t>(c)]; b < ballStart_[static_cast<size_t>(c) + 1]; ++b) {
-        const PetscInt col = ballCell_[static_cast<size_t>(b)];
-        ++(col >= first && col < first + n ? diag : off)[static_cast<size_t>(c)];
-      }
     OwnedMat D;
-    PetscCall(MatCreateAIJ(comm, n, n, N, N, 0, diag.data(), 0, off.data(), D.put()));
+    PetscCall(MatCreateAIJ(comm, n, n, N, N, 0, diagCount_.data(), 0, offCount_.data(), D.put()));
     bool explained = false;
     PetscCall(probe(k, drift, D, &explained));
     int most = drift.mostSubsteps();

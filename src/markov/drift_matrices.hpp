@@ -50,7 +50,9 @@ private:
   std::vector<std::vector<int>> vertical_; // per mesh cell, its neighbours across faces along gravity
   std::vector<int> colour_;
   std::vector<PetscInt> ballStart_, ballCell_; // ballCell_: chain indices (all ranks' numbering)
-  std::vector<int> ballColour_;
+  std::vector<int> ballColour_, localColour_;  // localColour_: each chain cell of this rank's
+  std::vector<PetscInt> diagCount_, offCount_; // each row's ball on and off this rank (preallocation)
+  PetscInt first_ = 0;                         // this rank's first chain index
   std::vector<OwnedMat> d_;
   std::map<PetscInt, std::vector<OwnedMat>> blocks_; // per width, each frame's MAIJ
   std::map<PetscInt, OwnedVec> work_;
