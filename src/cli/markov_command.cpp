@@ -51,8 +51,7 @@ struct MarkovOptions {
   bool period = false;    // -markov_spectrum period: the period chain too
   bool driftMatrices = true; // -markov_class_drift matrix: each class's drift as a matrix per frame
   bool segregatedBackground = false; // -markov_class_background stationary: the bed as the classes' chains say
-  PetscInt backgroundIterations = 8;
-  double backgroundTolerance = 1e-4; // [m], the largest change of a class's centre
+  BackgroundSettings background;
   std::string mixZone;    // -markov_mix_zone: a tracer started in that zone too
   double solidDensity = 0.0; // 0: the database's
 };
@@ -130,12 +129,13 @@ PetscErrorCode readOptions(MPI_Comm comm, const char *positional, MarkovOptions 
                               "inventory's composition in every cell) or stationary (the composition the classes' own "
                               "period chains give, iterated to a fixed point)",
                               "", backgrounds, 2, backgrounds[background], &background, nullptr));
+  PetscInt iterations = o->background.iterations;
   PetscCall(checkedInt(PetscOptionsObject, "-markov_class_background_iterations",
-                       "With -markov_class_background stationary: at most this many iterations", &o->backgroundIterations,
-                       1, 100));
+                       "With -markov_class_background stationary: at most this many iterations", &iterations, 1, 100));
+  o->background.iterations = static_cast<int>(iterations);
   PetscCall(checkedReal(PetscOptionsObject, "-markov_class_background_tolerance",
                         "With -markov_class_background stationary: stop when no class's centre moves more than this [m]",
-                        &o->backgroundTolerance, kPositive));
+                        &o->background.tolerance, kPositive));
   PetscCall(checkedReal(PetscOptionsObject, "-solid_density",
                         "With -fractions_diameters: particle density for the drift [kg/m^3] (default: the database's)",
                         &o->solidDensity, {0.0, 1e6, false, true, "a positive density in kg/m^3"}));
@@ -309,39 +309,10 @@ PetscErrorCode markovCommand(MPI_Comm comm, const char *positional) {
 
   // -markov_class_background stationary: the bed the classes' drift is
   // linearised on, from the classes' own period chains, iterated
-  // (markov/class_background.hpp).  Each row: the classes' centres under the
-  // background of the row before (the first: the mean composition's).
-  std::vector<std::vector<double>> backgroundCentres;
-  double backgroundChange = std::nan("");
-  if (o.classes && o.segregatedBackground && classDrift.moves()) {
-    std::vector<double> inventory;
-    for (int i = 0; i < fractions.size(); ++i) inventory.push_back(fractions.massShare(i));
-    for (PetscInt it = 0; it < o.backgroundIterations; ++it) {
-      ClassBackground bed;
-      bed.reset(chain, fractions.size());
-      std::vector<double> centres;
-      for (int i = 0; i < fractions.size(); ++i) {
-        DriftMatrices matrices;
-        std::vector<ChainStep *> steps;
-        PetscCall(classStepsOf(i, &matrices, &steps));
-        PeriodSpectrum p;
-        const std::string what = "the period chain of size class " + fractions.label(i);
-        PetscCall(periodChain.solve(solver, steps, what.c_str(), &p));
-        std::vector<double> share;
-        PetscCall(layout.gatherToAll(1, p.stationary, &share));
-        centres.push_back(centreHeight(db->mesh(), db->metadata().gravity, share));
-        PetscCall(bed.add(i, inventory[static_cast<size_t>(i)], p.stationary, steps));
-      }
-      if (!backgroundCentres.empty()) {
-        backgroundChange = 0.0;
-        for (size_t i = 0; i < centres.size(); ++i)
-          backgroundChange = std::max(backgroundChange, std::abs(centres[i] - backgroundCentres.back()[i]));
-      }
-      backgroundCentres.push_back(centres);
-      if (backgroundChange < o.backgroundTolerance) break; // this background gives what the last did
-      classDrift.setComposition(bed.composition(inventory));
-    }
-  }
+  // (markov/class_background.hpp).
+  BackgroundIterations background;
+  if (o.classes && o.segregatedBackground && classDrift.moves())
+    PetscCall(findBackground(chain, periodChain, solver, classDrift, fractions, classStepsOf, o.background, &background));
   const double tBackground = MPI_Wtime();
 
   // Each size class's chain: the frame's shift, then the class's drift
@@ -553,18 +524,18 @@ PetscErrorCode markovCommand(MPI_Comm comm, const char *positional) {
       sum << "zone_" << c.zone << "_passes_time," << number(c.steps * dt) << "\nzone_" << c.zone << "_passes_mean,"
           << number(c.mean) << "\nzone_" << c.zone << "_passes_none," << number(c.probability[0]) << "\nzone_"
           << c.zone << "_passes_conservation," << number(c.conservation) << '\n';
-    if (!backgroundCentres.empty()) {
-      sum << "background_iterations," << backgroundCentres.size() << "\nbackground_last_change,"
-          << number(backgroundChange) << '\n';
+    if (!background.centres.empty()) {
+      sum << "background_iterations," << background.centres.size() << "\nbackground_last_change,"
+          << number(background.lastChange) << '\n';
       std::ostringstream b;
       b << "# rcfd markov " << o.file << ": -markov_class_background stationary; each row the centre height [m] of "
         << "each class's period stationary distribution at frame 0 with the drift linearised on the background the "
         << "row before gave (row 0: the mean composition)\niteration";
       for (int i = 0; i < fractions.size(); ++i) b << ",centre_" << fractions.label(i);
       b << '\n';
-      for (size_t it = 0; it < backgroundCentres.size(); ++it) {
+      for (size_t it = 0; it < background.centres.size(); ++it) {
         b << it;
-        for (double h : backgroundCentres[it]) b << ',' << number(h);
+        for (double h : background.centres[it]) b << ',' << number(h);
         b << '\n';
       }
       writeTextAtomically(dir + "background.csv", b.str());
@@ -646,21 +617,21 @@ PetscErrorCode markovCommand(MPI_Comm comm, const char *positional) {
       PetscCall(PetscPrintf(comm, "  zone %s: entries within %g s: mean %.4g, none %.4f, %d or more %.2e; sum 1 within %.1e\n",
                             c.zone.c_str(), c.steps * dt, c.mean, c.probability[0], o.passCounts.maxPasses,
                             c.probability.back(), c.conservation));
-    if (!backgroundCentres.empty()) {
+    if (!background.centres.empty()) {
       PetscCall(PetscPrintf(comm, "  background of the size classes (-markov_class_background stationary): %zu iteration(s) of "
                                   "the classes' period chains, their centres",
-                            backgroundCentres.size()));
-      for (size_t i = 0; i < backgroundCentres.back().size(); ++i)
+                            background.centres.size()));
+      for (size_t i = 0; i < background.centres.back().size(); ++i)
         PetscCall(PetscPrintf(comm, " %s %.4f m (mean composition's %.4f m)", fractions.label(static_cast<int>(i)).c_str(),
-                              backgroundCentres.back()[i], backgroundCentres.front()[i]));
-      PetscCall(PetscPrintf(comm, "; last change %.2e m%s\n", backgroundChange,
-                            backgroundChange < o.backgroundTolerance ? "" : ", NOT within -markov_class_background_tolerance"));
+                              background.centres.back()[i], background.centres.front()[i]));
+      PetscCall(PetscPrintf(comm, "; last change %.2e m%s\n", background.lastChange,
+                            background.converged(o.background) ? "" : ", NOT within -markov_class_background_tolerance"));
     }
     for (int i = 0; i < static_cast<int>(classes.size()); ++i) {
       const ClassAnswers &a = classes[static_cast<size_t>(i)];
       const MixingSummary m = summarise(a.mixing);
       PetscCall(PetscPrintf(comm, "  size class %s (drift linearised on the %s", fractions.label(i).c_str(),
-                            backgroundCentres.empty() ? "mean composition" : "stationary background"));
+                            background.centres.empty() ? "mean composition" : "stationary background"));
       if (a.reach > 0)
         PetscCall(PetscPrintf(comm, ", a matrix per frame reaching %d face%s, %.3g s", a.reach, a.reach > 1 ? "s" : "",
                               a.matrixSeconds));
@@ -683,7 +654,7 @@ PetscErrorCode markovCommand(MPI_Comm comm, const char *positional) {
       PetscCall(PetscPrintf(comm, "\n"));
     }
     char classTime[64] = "";
-    if (!backgroundCentres.empty())
+    if (!background.centres.empty())
       std::snprintf(classTime, sizeof classTime, ", background %.2f, size classes %.2f", tBackground - tZones,
                     tClasses - tBackground);
     else if (!classes.empty())

@@ -2,6 +2,7 @@
 #include "base/petsc_compat.hpp"
 
 #include <algorithm>
+#include <string>
 
 namespace rcfd {
 
@@ -53,6 +54,42 @@ std::vector<std::vector<double>> ClassBackground::composition(const std::vector<
       for (size_t f = 0; f < nf; ++f) frame[c + f] = total > 0.0 ? frame[c + f] / total : shares[f];
     }
   return w;
+}
+
+PetscErrorCode findBackground(const FrameChain &chain, PeriodChain &period, ChainEigensolver &solver,
+                              ClassDrift &drift, const FractionSet &fractions, const ClassSteps &steps,
+                              const BackgroundSettings &settings, BackgroundIterations *out) {
+  const Database &db = chain.database();
+  PetscFunctionBeginUser;
+  *out = BackgroundIterations{};
+  std::vector<double> inventory;
+  for (int i = 0; i < fractions.size(); ++i) inventory.push_back(fractions.massShare(i));
+  for (int round = 0; round < settings.iterations; ++round) {
+    ClassBackground bed;
+    bed.reset(chain, fractions.size());
+    std::vector<double> centres;
+    for (int i = 0; i < fractions.size(); ++i) {
+      DriftMatrices matrices;
+      std::vector<ChainStep *> classSteps;
+      PetscCall(steps(i, &matrices, &classSteps));
+      PeriodSpectrum p;
+      const std::string what = "the period chain of size class " + fractions.label(i);
+      PetscCall(period.solve(solver, classSteps, what.c_str(), &p));
+      std::vector<double> share;
+      PetscCall(db.layout().gatherToAll(1, p.stationary, &share));
+      centres.push_back(centreHeight(db.mesh(), db.metadata().gravity, share));
+      PetscCall(bed.add(i, inventory[static_cast<size_t>(i)], p.stationary, classSteps));
+    }
+    if (!out->centres.empty()) {
+      out->lastChange = 0.0;
+      for (size_t i = 0; i < centres.size(); ++i)
+        out->lastChange = std::max(out->lastChange, std::abs(centres[i] - out->centres.back()[i]));
+    }
+    out->centres.push_back(centres);
+    if (out->converged(settings)) break; // this background gives what the last did
+    drift.setComposition(bed.composition(inventory));
+  }
+  PetscFunctionReturn(PETSC_SUCCESS);
 }
 
 } // namespace rcfd

@@ -16,9 +16,13 @@
 // the chains it produces.
 #pragma once
 
+#include "markov/class_drift.hpp"
+#include "markov/drift_matrices.hpp"
 #include "markov/frame_chain.hpp"
-#include "markov/operator_step.hpp"
+#include "markov/period_chain.hpp"
 
+#include <cmath>
+#include <functional>
 #include <vector>
 
 namespace rcfd {
@@ -41,5 +45,32 @@ private:
   int classes_ = 0;
   std::vector<std::vector<double>> mass_; // per frame: chain cell x class
 };
+
+/// Class i's steps after each frame's shift: its drift (set up in `matrices`
+/// when read off as matrices, else the drift operator) and whatever follows
+/// it (the carry at the wrap).
+using ClassSteps = std::function<PetscErrorCode(int i, DriftMatrices *matrices, std::vector<ChainStep *> *steps)>;
+
+struct BackgroundSettings {
+  int iterations = 8;      ///< at most this many rounds of the classes' period chains
+  double tolerance = 1e-4; ///< [m] stop when no class's stationary centre moves more than this
+};
+
+struct BackgroundIterations {
+  /// Per round, each class's period stationary centre [m] on the background
+  /// the round before left (round 0: the mean composition's).
+  std::vector<std::vector<double>> centres;
+  double lastChange = std::nan(""); ///< [m] the largest change of a centre in the last round
+  bool converged(const BackgroundSettings &s) const { return lastChange < s.tolerance; }
+};
+
+/// Collective.  Finds the background (docs/markov.md, "The background"): each
+/// round solves every class's period chain with `steps`, and unless the
+/// centres moved less than the tolerance sets the bed they give on `drift`
+/// (OperatorStep::setComposition) for the next.  `drift` keeps the last
+/// background set, the one the last round's chains were linearised on.
+PetscErrorCode findBackground(const FrameChain &chain, PeriodChain &period, ChainEigensolver &solver,
+                              ClassDrift &drift, const FractionSet &fractions, const ClassSteps &steps,
+                              const BackgroundSettings &settings, BackgroundIterations *out);
 
 } // namespace rcfd
