@@ -145,6 +145,10 @@ expect_error "-markov_mix_tolerance 2: expected a number between 0 and 1" markov
 expect_error "No database given" markov -o "$work/bad"
 expect_error "Unknown option nope for -markov_spectrum. Available options: average period" markov "$db" -markov_spectrum nope -o "$work/bad"
 expect_error "-markov_mix_zone nope is none of -zones" markov "$db" -zones low -zone_low_layers 0,4 -markov_mix_zone nope -o "$work/bad"
+# SLEPc's spectrum slicing crashed on the chain's non-symmetric matrix (found by the option fuzz):
+# refused before SLEPc reads it; other eigenpairs than the largest in modulus are not the answers.
+expect_error "-markov_eps_interval: the chain's matrix is not symmetric" markov "$db" -markov_eps_interval 0.5,1 -o "$work/bad"
+expect_error "rcfd markov needs the chain's eigenvalues largest in modulus" markov "$db" -markov_eps_smallest_real -o "$work/bad"
 [ ! -e "$work/bad" ] && ok || fail "a refused rcfd markov wrote $work/bad"
 echo "$passed passed, $failures failed"
 [ $failures -eq 0 ]

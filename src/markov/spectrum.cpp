@@ -46,7 +46,22 @@ PetscErrorCode ChainEigensolver::setFromOptions(MPI_Comm comm, const char *prefi
   PetscCall(EPSSetDimensions(eps, 2, PETSC_DEFAULT, PETSC_DEFAULT));
   PetscCall(EPSSetTolerances(eps, 1e-10, PETSC_DEFAULT));
   PetscCall(EPSSetOptionsPrefix(eps, prefix));
+  // The answers are the two eigenvalues largest in modulus of a matrix that
+  // is not symmetric: SLEPc's spectrum slicing (an interval) is for symmetric
+  // problems (SLEPc 3.18 crashed reading it for this one, so it is refused
+  // before SLEPc reads it), and other eigenpairs are not what is reported as
+  // lambda1 and lambda2.
+  PetscBool interval = PETSC_FALSE;
+  PetscCall(PetscOptionsHasName(nullptr, prefix, "-eps_interval", &interval));
+  PetscCheck(!interval, comm, PETSC_ERR_USER_INPUT,
+             "-%seps_interval: the chain's matrix is not symmetric, so SLEPc's spectrum slicing does not apply; "
+             "rcfd markov needs its two eigenvalues largest in modulus", prefix);
   PetscCall(EPSSetFromOptions(eps));
+  EPSWhich which;
+  PetscCall(EPSGetWhichEigenpairs(eps, &which));
+  PetscCheck(which == EPS_LARGEST_MAGNITUDE, comm, PETSC_ERR_USER_INPUT,
+             "-%seps_*: rcfd markov needs the chain's eigenvalues largest in modulus (-%seps_largest_magnitude), "
+             "not others", prefix, prefix);
   PetscInt nev;
   PetscCall(EPSGetDimensions(eps, &nev, &ncv_, &mpd_));
   PetscFunctionReturn(PETSC_SUCCESS);
