@@ -131,6 +131,19 @@ for f in low low_d1.950mm low_d2.820mm; do
     fail "the run's markov_zone_$f.csv differs from rcfd markov's zone_$f.csv"
 done
 grep -q "^wrap,carry column$" "$work/carried/summary.csv" && ok || fail "summary.csv does not say the wrap was carried"
+# The same with each class's drift on the stationary background (-markov_class_background
+# stationary, read by both under the same name): the same distributions again.
+"$rcfd" run -db "$db" -t_end 0.01 -quiet -monitors markov "${zone[@]}" -markov_class_background stationary \
+  -output_dir "$work/run-bg" && ok || fail "rcfd run -monitors markov -markov_class_background stationary failed"
+"$rcfd" markov "$db" "${zone[@]}" -markov_mix 0 -markov_wrap carry -quiet -fractions_diameters 1.95e-3,2.82e-3 \
+  -fractions_mass_shares 0.473,0.527 -drift_model B -markov_class_background stationary -o "$work/carried-bg" && ok ||
+  fail "rcfd markov -markov_wrap carry -markov_class_background stationary failed"
+for f in low_d1.950mm low_d2.820mm; do
+  cmp <(tail -n +2 "$work/run-bg/markov_zone_$f.csv") <(tail -n +2 "$work/carried-bg/zone_$f.csv") && ok ||
+    fail "with the stationary background, the run's markov_zone_$f.csv differs from rcfd markov's"
+  cmp -s <(tail -n +2 "$work/run-bg/markov_zone_$f.csv") <(tail -n +2 "$work/run/markov_zone_$f.csv") && 
+    fail "the stationary background left the run's markov_zone_$f.csv as the mean composition's" || ok
+done
 expect_error "-monitors markov needs zones" run -db "$db" -t_end 0.01 -monitors markov -output_dir "$work/refused-run"
 # The figures, where matplotlib is there to draw them.
 if /usr/bin/python3 -c "import matplotlib, numpy" 2>/dev/null; then

@@ -295,16 +295,8 @@ PetscErrorCode markovCommand(MPI_Comm comm, const char *positional) {
   // Class i's steps after the shift: its drift (read off once as a matrix per
   // frame into `matrices`, unless -drift_every or -markov_class_drift
   // operator says otherwise), then the carry at the wrap.
-  auto classStepsOf = [&](int i, DriftMatrices *matrices, std::vector<ChainStep *> *steps) -> PetscErrorCode {
-    PetscFunctionBeginUser;
-    classDrift.setClass(i);
-    *steps = {&classDrift};
-    if (o.driftMatrices && classDrift.sameEveryPeriod()) {
-      PetscCall(matrices->setUp(chain, classDrift));
-      (*steps)[0] = matrices;
-    }
-    if (o.carryWrap) steps->push_back(&wrapCarry);
-    PetscFunctionReturn(PETSC_SUCCESS);
+  auto classStepsOf = [&](int i, DriftMatrices *matrices, std::vector<ChainStep *> *steps) {
+    return classSteps(chain, classDrift, i, o.driftMatrices, o.carryWrap ? &wrapCarry : nullptr, matrices, steps);
   };
 
   // -markov_class_background stationary: the bed the classes' drift is

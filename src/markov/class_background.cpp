@@ -56,6 +56,19 @@ std::vector<std::vector<double>> ClassBackground::composition(const std::vector<
   return w;
 }
 
+PetscErrorCode classSteps(const FrameChain &chain, ClassDrift &drift, int i, bool asMatrices, ChainStep *after,
+                          DriftMatrices *matrices, std::vector<ChainStep *> *steps) {
+  PetscFunctionBeginUser;
+  drift.setClass(i);
+  *steps = {&drift};
+  if (asMatrices && drift.sameEveryPeriod()) {
+    PetscCall(matrices->setUp(chain, drift));
+    (*steps)[0] = matrices;
+  }
+  if (after) steps->push_back(after);
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
 PetscErrorCode findBackground(const FrameChain &chain, PeriodChain &period, ChainEigensolver &solver,
                               ClassDrift &drift, const FractionSet &fractions, const ClassSteps &steps,
                               const BackgroundSettings &settings, BackgroundIterations *out) {

@@ -51,6 +51,13 @@ private:
 /// it (the carry at the wrap).
 using ClassSteps = std::function<PetscErrorCode(int i, DriftMatrices *matrices, std::vector<ChainStep *> *steps)>;
 
+/// Collective.  Class i's steps as rcfd markov and the run's monitor take
+/// them: `drift` set to class i, read off into `matrices` when `asMatrices`
+/// and the drift acts at every step (else the operator itself), then `after`
+/// (the carry at the wrap; null: nothing).
+PetscErrorCode classSteps(const FrameChain &chain, ClassDrift &drift, int i, bool asMatrices, ChainStep *after,
+                          DriftMatrices *matrices, std::vector<ChainStep *> *steps);
+
 struct BackgroundSettings {
   int iterations = 8;      ///< at most this many rounds of the classes' period chains
   double tolerance = 1e-4; ///< [m] stop when no class's stationary centre moves more than this

@@ -14,6 +14,8 @@
 namespace rcfd {
 
 PetscErrorCode MarkovMonitor::setFromOptions(MPI_Comm comm) {
+  const char *backgrounds[] = {"mean", "stationary"};
+  PetscInt background = stationaryBackground_ ? 1 : 0, iterations = background_.iterations;
   PetscFunctionBeginUser;
   PetscOptionsBegin(comm, prefix.c_str(), "The run's zones from its database as the solid's Markov chain", "rcfd");
   PetscCall(checkedInt(PetscOptionsObject, "-departures", "Frames whose zone crossings are followed (spread evenly)",
@@ -22,7 +24,19 @@ PetscErrorCode MarkovMonitor::setFromOptions(MPI_Comm comm) {
                         &passages_.horizon, kChainTime));
   PetscCall(checkedReal(PetscOptionsObject, "-passage_tail", "Stop following a crossing when less than this is left",
                         &passages_.tail, kOpenUnit));
+  PetscCall(PetscOptionsEList("-class_background",
+                              "With several size classes: the bed each class's drift is linearised on: mean or "
+                              "stationary (the composition the classes' own period chains give, iterated)",
+                              "", backgrounds, 2, backgrounds[background], &background, nullptr));
+  PetscCall(checkedInt(PetscOptionsObject, "-class_background_iterations",
+                       "With the stationary background: at most this many iterations", &iterations, 1, 100));
+  PetscCall(checkedReal(PetscOptionsObject, "-class_background_tolerance",
+                        "With the stationary background: stop when no class's centre moves more than this [m]",
+                        &background_.tolerance, kPositive));
   PetscOptionsEnd();
+  stationaryBackground_ = background == 1;
+  background_.iterations = static_cast<int>(iterations);
+  if (stationaryBackground_) PetscCall(solver_.setFromOptions(comm, prefix.c_str()));
   // The run's own zones, drift and carry: the chain is the run's.
   PetscCall(zones_.setFromOptions(comm));
   PetscCall(drift_.setFromOptions(comm));
@@ -50,16 +64,25 @@ PetscErrorCode MarkovMonitor::setUp(const RunContext &run, const FractionState &
   std::vector<std::pair<std::string, std::vector<ZonePassages>>> chains(1);
   chains[0].first = "bulk";
   PetscCall(zonePassages(chain, list, passages_, &chains[0].second, {&carry_}));
+  // Each class's steps as rcfd markov takes them: the drift read off once per
+  // frame as matrices (unless -drift_every), then the carry.
+  auto stepsOf = [&](int i, DriftMatrices *matrices, std::vector<ChainStep *> *steps) {
+    return classSteps(chain, drift_, i, true, &carry_, matrices, steps);
+  };
+  if (classes && stationaryBackground_ && drift_.moves()) { // the bed as the classes' chains say, as rcfd markov finds it
+    ChainSpectrum spectrum;
+    PetscCall(solver_.solve(chain, FrameChain::Average::Mass, 1e-3, &spectrum));
+    PeriodChain period;
+    PetscCall(period.setUp(chain, spectrum.absorbingLocal));
+    BackgroundIterations found;
+    PetscCall(findBackground(chain, period, solver_, drift_, run.fractions, stepsOf, background_, &found));
+  }
   for (int i = 0; classes && i < run.fractions.size(); ++i) {
-    drift_.setClass(i);
     chains.emplace_back(run.fractions.label(i), std::vector<ZonePassages>());
-    DriftMatrices matrices; // the drift read off once per frame, as rcfd markov does (unless -drift_every)
-    ChainStep *drift = &drift_;
-    if (drift_.sameEveryPeriod()) {
-      PetscCall(matrices.setUp(chain, drift_));
-      drift = &matrices;
-    }
-    PetscCall(zonePassages(chain, list, passages_, &chains.back().second, {drift, &carry_}));
+    DriftMatrices matrices;
+    std::vector<ChainStep *> steps;
+    PetscCall(stepsOf(i, &matrices, &steps));
+    PetscCall(zonePassages(chain, list, passages_, &chains.back().second, steps));
   }
   const std::string dir = outputDirectory + "/";
   const double dt = chain.dt();
