@@ -18,6 +18,7 @@ PetscErrorCode OperatorStep::setUp(const FrameChain &chain, Operator &op, const 
   rho_ = solidDensity;
   frame_ = -1;
   class_ = 0;
+  composition_.clear(); // a background set for another chain does not carry over
   names_.clear();
   for (PetscInt c = 0; c < kWidth; ++c) names_.push_back("chain" + std::to_string(c));
   PetscCall(state_.create(db.layout(), fractions.size()));
@@ -65,6 +66,9 @@ PetscErrorCode OperatorStep::apply(long long n, Vec x, PetscInt width) {
              "A chain step moves 1 to %d distributions at once, not %d", static_cast<int>(kWidth),
              static_cast<int>(width));
   if (!acts(n)) PetscFunctionReturn(PETSC_SUCCESS);
+  PetscCheck(composition_.empty() || (static_cast<int>(composition_.size()) == K &&
+                                      composition_[static_cast<size_t>(k)].size() == cells.size() * static_cast<size_t>(nf)),
+             comm, PETSC_ERR_ARG_SIZ, "The background set on a chain step is not one of its chain's frames and cells");
   PetscCall(background(k));
   // The bed at its mean composition (or the one set), and the distributions
   // as amounts of the current class; the other classes' amounts are zeroed and hold nothing.
