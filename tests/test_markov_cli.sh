@@ -147,7 +147,7 @@ done
 expect_error "-monitors markov needs zones" run -db "$db" -t_end 0.01 -monitors markov -output_dir "$work/refused-run"
 # The figures, where matplotlib is there to draw them.
 if /usr/bin/python3 -c "import matplotlib, numpy" 2>/dev/null; then
-  for png in relaxation zone_low; do
+  for png in relaxation zone_low passes_low; do
     [ "$(head -c 4 "$work/np1/$png.png" | tail -c 3)" = PNG ] && ok || fail "$work/np1/$png.png is not a PNG"
   done
   [ ! -e "$work/np2/relaxation.png" ] && ok || fail "RCFD_PLOT=0 drew $work/np2/relaxation.png"

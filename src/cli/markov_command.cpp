@@ -543,6 +543,16 @@ PetscErrorCode markovCommand(MPI_Comm comm, const char *positional) {
     PetscCall(drawFigure(comm, "markov_stationary.py",
                          {dir + "stationary.csv", "-o", dir + "stationary.png", "--title",
                           "period chain at frame 0, " + o.file}));
+  for (const PassCounts &c : counts)
+    if (o.plot) { // the bulk's entries and each class's beside them
+      std::vector<std::string> args{dir + "passes_" + c.zone + ".csv", "-o", dir + "passes_" + c.zone + ".png",
+                                    "--title", "entries into zone " + c.zone + " within " + number(c.steps * dt) + " s, " + o.file};
+      if (!classes.empty() && classDrift.moves()) {
+        args.push_back("--classes");
+        for (int i = 0; i < fractions.size(); ++i) args.push_back(dir + "passes_" + c.zone + "_" + fractions.label(i) + ".csv");
+      }
+      PetscCall(drawFigure(comm, "markov_passes.py", args));
+    }
   for (const ZonePassages &p : passages)
     if (o.plot && (!p.residence.probability.empty() || !p.away.probability.empty()))
       PetscCall(drawFigure(comm, "markov_zone.py",
