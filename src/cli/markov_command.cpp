@@ -292,19 +292,18 @@ PetscErrorCode markovCommand(MPI_Comm comm, const char *positional) {
   }
   const double tZones = MPI_Wtime();
 
-  // Class i's steps after the shift: its drift (read off once as a matrix per
-  // frame into `matrices`, unless -drift_every or -markov_class_drift
-  // operator says otherwise), then the carry at the wrap.
-  auto classStepsOf = [&](int i, DriftMatrices *matrices, std::vector<ChainStep *> *steps) {
-    return classSteps(chain, classDrift, i, o.driftMatrices, o.carryWrap ? &wrapCarry : nullptr, matrices, steps);
-  };
+  // A class's steps after the shift: its drift (read off once as a matrix per
+  // frame, unless -drift_every or -markov_class_drift operator says
+  // otherwise), then the carry at the wrap.
+  ChainStep *const afterDrift = o.carryWrap ? &wrapCarry : nullptr;
 
   // -markov_class_background stationary: the bed the classes' drift is
   // linearised on, from the classes' own period chains, iterated
   // (markov/class_background.hpp).
   BackgroundIterations background;
   if (o.classes && o.segregatedBackground && classDrift.moves())
-    PetscCall(findBackground(chain, periodChain, solver, classDrift, fractions, classStepsOf, o.background, &background));
+    PetscCall(findBackground(chain, periodChain, solver, classDrift, fractions, o.driftMatrices, afterDrift, o.background,
+                             &background));
   const double tBackground = MPI_Wtime();
 
   // Each size class's chain: the frame's shift, then the class's drift
@@ -327,7 +326,7 @@ PetscErrorCode markovCommand(MPI_Comm comm, const char *positional) {
       DriftMatrices matrices;
       std::vector<ChainStep *> classSteps;
       const double start = MPI_Wtime();
-      PetscCall(classStepsOf(i, &matrices, &classSteps));
+      PetscCall(rcfd::classSteps(chain, classDrift, i, o.driftMatrices, afterDrift, &matrices, &classSteps));
       a.reach = matrices.reach();
       a.matrixSeconds = MPI_Wtime() - start;
       if (o.period) { // the class's chain over one period: where the class lives at frame 0

@@ -70,7 +70,7 @@ PetscErrorCode classSteps(const FrameChain &chain, ClassDrift &drift, int i, boo
 }
 
 PetscErrorCode findBackground(const FrameChain &chain, PeriodChain &period, ChainEigensolver &solver,
-                              ClassDrift &drift, const FractionSet &fractions, const ClassSteps &steps,
+                              ClassDrift &drift, const FractionSet &fractions, bool asMatrices, ChainStep *after,
                               const BackgroundSettings &settings, BackgroundIterations *out) {
   const Database &db = chain.database();
   PetscFunctionBeginUser;
@@ -83,15 +83,15 @@ PetscErrorCode findBackground(const FrameChain &chain, PeriodChain &period, Chai
     std::vector<double> centres;
     for (int i = 0; i < fractions.size(); ++i) {
       DriftMatrices matrices;
-      std::vector<ChainStep *> classSteps;
-      PetscCall(steps(i, &matrices, &classSteps));
+      std::vector<ChainStep *> steps;
+      PetscCall(classSteps(chain, drift, i, asMatrices, after, &matrices, &steps));
       PeriodSpectrum p;
       const std::string what = "the period chain of size class " + fractions.label(i);
-      PetscCall(period.solve(solver, classSteps, what.c_str(), &p));
+      PetscCall(period.solve(solver, steps, what.c_str(), &p));
       std::vector<double> share;
       PetscCall(db.layout().gatherToAll(1, p.stationary, &share));
       centres.push_back(centreHeight(db.mesh(), db.metadata().gravity, share));
-      PetscCall(bed.add(i, inventory[static_cast<size_t>(i)], p.stationary, classSteps));
+      PetscCall(bed.add(i, inventory[static_cast<size_t>(i)], p.stationary, steps));
     }
     if (!out->centres.empty()) {
       out->lastChange = 0.0;

@@ -22,7 +22,6 @@
 #include "markov/period_chain.hpp"
 
 #include <cmath>
-#include <functional>
 #include <vector>
 
 namespace rcfd {
@@ -46,11 +45,6 @@ private:
   std::vector<std::vector<double>> mass_; // per frame: chain cell x class
 };
 
-/// Class i's steps after each frame's shift: its drift (set up in `matrices`
-/// when read off as matrices, else the drift operator) and whatever follows
-/// it (the carry at the wrap).
-using ClassSteps = std::function<PetscErrorCode(int i, DriftMatrices *matrices, std::vector<ChainStep *> *steps)>;
-
 /// Collective.  Class i's steps as rcfd markov and the run's monitor take
 /// them: `drift` set to class i, read off into `matrices` when `asMatrices`
 /// and the drift acts at every step (else the operator itself), then `after`
@@ -72,12 +66,13 @@ struct BackgroundIterations {
 };
 
 /// Collective.  Finds the background (docs/markov.md, "The background"): each
-/// round solves every class's period chain with `steps`, and unless the
+/// round solves every class's period chain with its classSteps(asMatrices,
+/// after), and unless the
 /// centres moved less than the tolerance sets the bed they give on `drift`
 /// (OperatorStep::setComposition) for the next.  `drift` keeps the last
 /// background set, the one the last round's chains were linearised on.
 PetscErrorCode findBackground(const FrameChain &chain, PeriodChain &period, ChainEigensolver &solver,
-                              ClassDrift &drift, const FractionSet &fractions, const ClassSteps &steps,
+                              ClassDrift &drift, const FractionSet &fractions, bool asMatrices, ChainStep *after,
                               const BackgroundSettings &settings, BackgroundIterations *out);
 
 } // namespace rcfd

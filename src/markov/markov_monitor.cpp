@@ -64,24 +64,21 @@ PetscErrorCode MarkovMonitor::setUp(const RunContext &run, const FractionState &
   std::vector<std::pair<std::string, std::vector<ZonePassages>>> chains(1);
   chains[0].first = "bulk";
   PetscCall(zonePassages(chain, list, passages_, &chains[0].second, {&carry_}));
-  // Each class's steps as rcfd markov takes them: the drift read off once per
-  // frame as matrices (unless -drift_every), then the carry.
-  auto stepsOf = [&](int i, DriftMatrices *matrices, std::vector<ChainStep *> *steps) {
-    return classSteps(chain, drift_, i, true, &carry_, matrices, steps);
-  };
   if (classes && stationaryBackground_ && drift_.moves()) { // the bed as the classes' chains say, as rcfd markov finds it
     ChainSpectrum spectrum;
     PetscCall(solver_.solve(chain, FrameChain::Average::Mass, 1e-3, &spectrum));
     PeriodChain period;
     PetscCall(period.setUp(chain, spectrum.absorbingLocal));
     BackgroundIterations found;
-    PetscCall(findBackground(chain, period, solver_, drift_, run.fractions, stepsOf, background_, &found));
+    PetscCall(findBackground(chain, period, solver_, drift_, run.fractions, true, &carry_, background_, &found));
   }
   for (int i = 0; classes && i < run.fractions.size(); ++i) {
     chains.emplace_back(run.fractions.label(i), std::vector<ZonePassages>());
     DriftMatrices matrices;
     std::vector<ChainStep *> steps;
-    PetscCall(stepsOf(i, &matrices, &steps));
+    // As rcfd markov takes them: the drift read off once per frame as
+    // matrices (unless -drift_every), then the carry.
+    PetscCall(classSteps(chain, drift_, i, true, &carry_, &matrices, &steps));
     PetscCall(zonePassages(chain, list, passages_, &chains.back().second, steps));
   }
   const std::string dir = outputDirectory + "/";
